@@ -1,0 +1,357 @@
+#include "mean_value_coordinates.h"
+
+#include "error.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <string>
+#include <vector>
+
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
+namespace bary
+{
+namespace
+{
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+/// Scratch space reused by the per-point kernels of one thread.
+std::vector<double>& scratch(std::size_t size)
+{
+  thread_local std::vector<double> buffer;
+  if (buffer.size() < size)
+    buffer.resize(size);
+  return buffer;
+}
+
+/// Normalises raw weights; returns false (and fills NaN) if their sum is too small to divide by.
+bool normalize(double* w, Index n)
+{
+  double sum = 0.0, abs_sum = 0.0;
+  for (Index i = 0; i < n; ++i)
+  {
+    sum += w[i];
+    abs_sum += std::abs(w[i]);
+  }
+  if (!(std::abs(sum) > 1e-14 * abs_sum) || !std::isfinite(sum))
+  {
+    std::fill(w, w + n, kNaN);
+    return false;
+  }
+  const double inv = 1.0 / sum;
+  for (Index i = 0; i < n; ++i)
+    w[i] *= inv;
+  return true;
+}
+
+/// Closest point to p on triangle (a, b, c), returned as barycentric coordinates (Ericson,
+/// Real-Time Collision Detection, Sect. 5.1.5). Also returns the squared distance.
+double closest_on_triangle(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
+  const Eigen::Vector3d& b, const Eigen::Vector3d& c, double bary[3])
+{
+  auto finish = [&](double u, double v, double w) {
+    bary[0] = u;
+    bary[1] = v;
+    bary[2] = w;
+    return (u * a + v * b + w * c - p).squaredNorm();
+  };
+  const Eigen::Vector3d ab = b - a, ac = c - a, ap = p - a;
+  const double d1 = ab.dot(ap), d2 = ac.dot(ap);
+  if (d1 <= 0 && d2 <= 0)
+    return finish(1, 0, 0);
+  const Eigen::Vector3d bp = p - b;
+  const double d3 = ab.dot(bp), d4 = ac.dot(bp);
+  if (d3 >= 0 && d4 <= d3)
+    return finish(0, 1, 0);
+  const double vc = d1 * d4 - d3 * d2;
+  if (vc <= 0 && d1 >= 0 && d3 <= 0)
+  {
+    const double v = d1 / (d1 - d3);
+    return finish(1 - v, v, 0);
+  }
+  const Eigen::Vector3d cp = p - c;
+  const double d5 = ab.dot(cp), d6 = ac.dot(cp);
+  if (d6 >= 0 && d5 <= d6)
+    return finish(0, 0, 1);
+  const double vb = d5 * d2 - d1 * d6;
+  if (vb <= 0 && d2 >= 0 && d6 <= 0)
+  {
+    const double w = d2 / (d2 - d6);
+    return finish(1 - w, 0, w);
+  }
+  const double va = d3 * d6 - d5 * d4;
+  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0)
+  {
+    const double w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
+    return finish(0, 1 - w, w);
+  }
+  const double denom = 1.0 / (va + vb + vc);
+  const double v = vb * denom, w = vc * denom;
+  return finish(1 - v - w, v, w);
+}
+
+} // namespace
+
+MeanValueCoordinates::MeanValueCoordinates(Cage cage, const MeanValueOptions& options)
+  : cage_(std::move(cage))
+  , options_(options)
+{
+  if (!(options.boundary_tolerance >= 0.0 && options.boundary_tolerance <= 1e-3))
+    throw Error(ErrorCode::InvalidArgument,
+      "boundary_tolerance must lie in [0, 1e-3], got " + std::to_string(options.boundary_tolerance));
+  if (options.threads < 0)
+    throw Error(ErrorCode::InvalidArgument, "threads must be >= 0 (0 = default)");
+  if (options.validate)
+    validate_cage(cage_, options.validation);
+  else if (cage_.V.rows() == 0)
+    throw Error(ErrorCode::EmptyInput, "the cage has no vertices");
+  else if (cage_.dimension() != 2 && cage_.dimension() != 3)
+    throw Error(ErrorCode::SizeMismatch, "cage vertices must have 2 or 3 coordinates");
+  tolerance_ = options.boundary_tolerance * cage_.diameter();
+  if (cage_.dimension() == 3)
+  {
+    twice_area_.resize(static_cast<std::size_t>(cage_.F.rows()));
+    for (Index f = 0; f < cage_.F.rows(); ++f)
+    {
+      const Eigen::Vector3d a = cage_.V.row(cage_.F(f, 0)), b = cage_.V.row(cage_.F(f, 1)),
+                            c = cage_.V.row(cage_.F(f, 2));
+      twice_area_[static_cast<std::size_t>(f)] = (b - a).cross(c - a).norm();
+    }
+  }
+}
+
+PointLocation MeanValueCoordinates::evaluate(const double* x, double* w) const
+{
+  return dimension() == 2 ? evaluate_2d(x, w) : evaluate_3d(x, w);
+}
+
+// Hormann & Floater 2006, Eq. (7) with Sect. 4's treatment of the boundary.
+PointLocation MeanValueCoordinates::evaluate_2d(const double* x, double* w) const
+{
+  const Eigen::MatrixXd& V = cage_.V;
+  const Index n = V.rows();
+  std::vector<double>& buf = scratch(static_cast<std::size_t>(5 * n));
+  double* sx = buf.data();
+  double* sy = sx + n;
+  double* r = sy + n;
+  double* t = r + n; // tan(alpha_i / 2) of the angle at x spanned by edge i
+
+  for (Index i = 0; i < n; ++i)
+  {
+    sx[i] = V(i, 0) - x[0];
+    sy[i] = V(i, 1) - x[1];
+    r[i] = std::hypot(sx[i], sy[i]);
+    if (r[i] <= tolerance_)
+    { // at a vertex: Lagrange property
+      std::fill(w, w + n, 0.0);
+      w[i] = 1.0;
+      return PointLocation::Boundary;
+    }
+  }
+  double winding = 0.0;
+  for (Index i = 0; i < n; ++i)
+  {
+    const Index j = (i + 1 == n) ? 0 : i + 1;
+    const double det = sx[i] * sy[j] - sy[i] * sx[j]; // 2 A_i
+    const double dot = sx[i] * sx[j] + sy[i] * sy[j]; // D_i
+    const double edge = std::hypot(V(j, 0) - V(i, 0), V(j, 1) - V(i, 1));
+    if (dot < 0.0 && std::abs(det) <= tolerance_ * edge)
+    { // on edge i: the coordinates are linear along the edge
+      std::fill(w, w + n, 0.0);
+      w[i] = r[j] / (r[i] + r[j]);
+      w[j] = r[i] / (r[i] + r[j]);
+      return PointLocation::Boundary;
+    }
+    // tan(a/2) = sin(a) / (1 + cos(a)) = det / (r_i r_j + dot): no cancellation unless a ~ pi,
+    // which is the on-edge case handled above.
+    t[i] = det / (r[i] * r[j] + dot);
+    winding += std::atan(t[i]);
+  }
+  for (Index i = 0; i < n; ++i)
+  {
+    const Index h = (i == 0) ? n - 1 : i - 1;
+    w[i] = (t[h] + t[i]) / r[i];
+  }
+  normalize(w, n);
+  // sum of the angles a_i = 2 atan(t_i) is 2 pi times the winding number
+  return std::abs(winding) > 0.5 * kPi ? PointLocation::Inside : PointLocation::Outside;
+}
+
+// Ju, Schaefer & Warren 2005, Fig. 4, with explicit on-cage handling.
+PointLocation MeanValueCoordinates::evaluate_3d(const double* x, double* w) const
+{
+  const Eigen::MatrixXd& V = cage_.V;
+  const Eigen::MatrixXi& F = cage_.F;
+  const Index n = V.rows();
+  std::vector<double>& buf = scratch(static_cast<std::size_t>(4 * n));
+  double* d = buf.data();
+  double* u = d + n; // unit vectors, 3 per vertex
+
+  for (Index i = 0; i < n; ++i)
+  {
+    const double ux = V(i, 0) - x[0], uy = V(i, 1) - x[1], uz = V(i, 2) - x[2];
+    d[i] = std::sqrt(ux * ux + uy * uy + uz * uz);
+    if (d[i] <= tolerance_)
+    { // at a vertex: Lagrange property
+      std::fill(w, w + n, 0.0);
+      w[i] = 1.0;
+      return PointLocation::Boundary;
+    }
+    const double inv = 1.0 / d[i];
+    u[3 * i] = ux * inv;
+    u[3 * i + 1] = uy * inv;
+    u[3 * i + 2] = uz * inv;
+  }
+  std::fill(w, w + n, 0.0);
+  double solid_angle = 0.0;
+
+  for (Index f = 0, nf = F.rows(); f < nf; ++f)
+  {
+    const int p[3] = { F(f, 0), F(f, 1), F(f, 2) };
+    const double* u0 = u + 3 * p[0];
+    const double* u1 = u + 3 * p[1];
+    const double* u2 = u + 3 * p[2];
+    // det[u0, u1, u2]: its sign tells which side of the face x is on
+    const double det = u0[0] * (u1[1] * u2[2] - u1[2] * u2[1]) -
+      u0[1] * (u1[0] * u2[2] - u1[2] * u2[0]) + u0[2] * (u1[0] * u2[1] - u1[1] * u2[0]);
+
+    // Distance from x to the face's plane is d0 d1 d2 |det| / (2 area).
+    const double plane_distance =
+      d[p[0]] * d[p[1]] * d[p[2]] * std::abs(det) / twice_area_[static_cast<std::size_t>(f)];
+    if (plane_distance <= tolerance_)
+    {
+      {
+        const Eigen::Vector3d a = V.row(p[0]), b = V.row(p[1]), c = V.row(p[2]);
+        double lambda[3];
+        const double dist2 =
+          closest_on_triangle(Eigen::Vector3d(x[0], x[1], x[2]), a, b, c, lambda);
+        if (dist2 <= tolerance_ * tolerance_)
+        { // on this face (or its edges): barycentric interpolation
+          std::fill(w, w + n, 0.0);
+          for (int k = 0; k < 3; ++k)
+            w[p[k]] = lambda[k];
+          return PointLocation::Boundary;
+        }
+        continue; // in the face's plane but outside it: the face contributes nothing
+      }
+    }
+
+    // l_i = |u_{i+1} - u_{i-1}|, theta_i = 2 asin(l_i / 2): the arc opposite vertex i
+    double l[3], theta[3], sin_t[3], cos_t[3];
+    for (int k = 0; k < 3; ++k)
+    {
+      const double* a = u + 3 * p[(k + 1) % 3];
+      const double* b = u + 3 * p[(k + 2) % 3];
+      const double dx = a[0] - b[0], dy = a[1] - b[1], dz = a[2] - b[2];
+      l[k] = std::sqrt(dx * dx + dy * dy + dz * dz);
+      const double half = std::min(1.0, 0.5 * l[k]);
+      theta[k] = 2.0 * std::asin(half);
+      sin_t[k] = 2.0 * half * std::sqrt(std::max(0.0, 1.0 - half * half)); // sin(2 asin(l/2))
+      cos_t[k] = 1.0 - 2.0 * half * half;                                   // cos(2 asin(l/2))
+    }
+    // solid angle of the face seen from x (Van Oosterom & Strackee), for the winding number
+    solid_angle += 2.0 * std::atan2(det, 1.0 + cos_t[0] + cos_t[1] + cos_t[2]);
+
+    const double h = 0.5 * (theta[0] + theta[1] + theta[2]);
+    if (kPi - h <= 1e-12)
+    { // x on the face seen from no distance: only reachable with tolerance 0
+      double s = 0.0, lam[3];
+      for (int k = 0; k < 3; ++k)
+        s += (lam[k] = sin_t[k] * d[p[(k + 1) % 3]] * d[p[(k + 2) % 3]]);
+      std::fill(w, w + n, 0.0);
+      for (int k = 0; k < 3; ++k)
+        w[p[k]] = lam[k] / s;
+      return PointLocation::Boundary;
+    }
+    const double sin_h = std::sin(h), cos_h = std::cos(h);
+    const double sign = det < 0.0 ? -1.0 : 1.0;
+    double c[3], s[3];
+    bool skip = false;
+    for (int k = 0; k < 3; ++k)
+    {
+      const double denom = sin_t[(k + 1) % 3] * sin_t[(k + 2) % 3];
+      if (denom <= 1e-300)
+      {
+        skip = true;
+        break;
+      }
+      const double sin_h_minus = sin_h * cos_t[k] - cos_h * sin_t[k]; // sin(h - theta_k)
+      c[k] = 2.0 * sin_h * sin_h_minus / denom - 1.0;
+      s[k] = sign * std::sqrt(std::max(0.0, 1.0 - c[k] * c[k]));
+      if (std::abs(s[k]) <= 1e-14)
+        skip = true; // x in the plane of the face, outside it: no contribution
+    }
+    if (skip)
+      continue;
+    for (int k = 0; k < 3; ++k)
+    {
+      const int k1 = (k + 1) % 3, k2 = (k + 2) % 3;
+      w[p[k]] += (theta[k] - c[k1] * theta[k2] - c[k2] * theta[k1]) /
+        (d[p[k]] * sin_t[k1] * s[k2]);
+    }
+  }
+  normalize(w, n);
+  return std::abs(solid_angle) > 2.0 * kPi ? PointLocation::Inside : PointLocation::Outside;
+}
+
+MeanValueResult MeanValueCoordinates::evaluate(const Points& P, const ProgressCallback& progress) const
+{
+  const Index dim = dimension();
+  if (P.cols() != dim)
+    throw Error(ErrorCode::SizeMismatch,
+      "the points have " + std::to_string(P.cols()) + " coordinates but the cage is " +
+        std::to_string(dim) + "D");
+  for (Index p = 0; p < P.rows(); ++p)
+    if (!P.row(p).allFinite())
+      throw Error(ErrorCode::NonFinite,
+        "point " + std::to_string(p) + " has a non-finite coordinate");
+
+  const Index np = P.rows(), nc = num_controls();
+  MeanValueResult result;
+  result.W.resize(np, nc);
+  result.location.assign(static_cast<std::size_t>(np), PointLocation::Inside);
+
+  // Blocks: the calling thread reports progress and checks for cancellation between blocks.
+  const Index block = std::max<Index>(256, std::min<Index>(16384, np / 64 + 1));
+  ProgressReporter reporter(progress, np);
+  const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> X = P;
+#ifdef _OPENMP
+  const int threads = options_.threads > 0 ? options_.threads : omp_get_max_threads();
+#endif
+  for (Index begin = 0; begin < np; begin += block)
+  {
+    const Index end = std::min(np, begin + block);
+#pragma omp parallel for schedule(dynamic, 64) num_threads(threads)
+    for (Index p = begin; p < end; ++p)
+      result.location[static_cast<std::size_t>(p)] = evaluate(X.row(p).data(), result.W.row(p).data());
+    if (!reporter.step(end - begin))
+      reporter.throw_if_cancelled("mean value coordinates");
+  }
+  reporter.finish();
+  reporter.throw_if_cancelled("mean value coordinates");
+
+  for (Index p = 0; p < np; ++p)
+  {
+    switch (result.location[static_cast<std::size_t>(p)])
+    {
+      case PointLocation::Inside: ++result.inside; break;
+      case PointLocation::Outside: ++result.outside; break;
+      case PointLocation::Boundary: ++result.boundary; break;
+    }
+    if (std::isnan(result.W(p, 0)))
+      result.undefined.push_back(p);
+  }
+  return result;
+}
+
+DenseWeights mean_value_coordinates(const Cage& cage, const Points& P, const MeanValueOptions& options)
+{
+  return MeanValueCoordinates(cage, options).evaluate(P).W;
+}
+
+} // namespace bary

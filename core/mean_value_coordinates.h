@@ -1,0 +1,99 @@
+#pragma once
+/// @file mean_value_coordinates.h
+/// Mean value coordinates.
+/// - 2D: Hormann & Floater, "Mean value coordinates for arbitrary planar polygons", ACM TOG
+///   25(4), 2006 — Eq. (7) with tan(a/2) evaluated as sin(a)/(1+cos(a)), which is stable
+///   everywhere except on the edge itself, where the coordinates are the linear interpolant of
+///   the edge's end points (Sect. 4 of the paper).
+/// - 3D: Ju, Schaefer & Warren, "Mean value coordinates for closed triangular meshes", ACM TOG
+///   24(3), 2005 — the robust pseudo-code of its Fig. 4, with explicit handling of points at a
+///   vertex, on an edge and on a face (linear/barycentric interpolation there).
+///
+/// Properties (inside the cage): partition of unity, linear reproduction, Lagrange property at
+/// the cage vertices, linear on cage edges (2D) and faces (3D), smooth (C-infinity) away from the
+/// cage, may be negative for non-convex cages. Outside the cage they are still defined (and
+/// still reproduce linear functions) wherever the denominator does not vanish.
+
+#include "cage.h"
+#include "progress.h"
+#include "types.h"
+
+#include <vector>
+
+namespace bary
+{
+
+/// Where a query point lies relative to the cage.
+enum class PointLocation : unsigned char
+{
+  Inside = 0,   ///< strictly inside (winding number 1)
+  Outside = 1,  ///< strictly outside (winding number 0)
+  Boundary = 2, ///< on a cage vertex, edge or face (within the boundary tolerance)
+};
+
+/// Options for mean value coordinates.
+struct MeanValueOptions
+{
+  /// Points closer to the cage than this (relative to the cage's bounding-box diagonal) are
+  /// treated as lying on the cage: their weights are the exact linear (2D edge) or barycentric
+  /// (3D face) interpolant, which is the limit of the coordinates there. Range [0, 1e-3].
+  double boundary_tolerance = 1e-10;
+  /// Validate the cage (validate_cage) when the evaluator is built.
+  bool validate = true;
+  /// Options passed to validate_cage.
+  CageValidationOptions validation;
+  /// Number of threads for batch evaluation; 0 = OpenMP's default. The result does not depend
+  /// on it: every point is computed independently and written to its own row.
+  int threads = 0;
+};
+
+/// Result of a batch evaluation.
+struct MeanValueResult
+{
+  DenseWeights W;                              ///< #P by #C weights
+  std::vector<PointLocation> location;         ///< #P, where each point lies
+  Index inside = 0, outside = 0, boundary = 0; ///< counts of each location
+  /// Points whose weights could not be normalised (sum of raw weights ~ 0; can only happen
+  /// outside the cage): their rows are NaN and their ids are listed here.
+  std::vector<Index> undefined;
+};
+
+/// Precomputes what a cage needs once and evaluates mean value coordinates at many points.
+///
+/// Thread-safe for concurrent const calls.
+class MeanValueCoordinates
+{
+public:
+  /// Validates the cage (unless options.validate is false) and keeps a copy.
+  /// @throws Error(InvalidCage | EmptyInput | NonFinite | SizeMismatch | InvalidArgument)
+  explicit MeanValueCoordinates(Cage cage, const MeanValueOptions& options = {});
+
+  const Cage& cage() const noexcept { return cage_; }
+  int dimension() const noexcept { return cage_.dimension(); }
+  Index num_controls() const noexcept { return cage_.num_controls(); }
+
+  /// Weights at one point @p x (dimension() doubles) written to @p w (num_controls() doubles).
+  /// Returns where x lies. If the weights are undefined there (sum ~ 0, outside only), @p w is
+  /// filled with NaN. Does not allocate (beyond a thread-local scratch buffer); pure.
+  PointLocation evaluate(const double* x, double* w) const;
+
+  /// Weights at the rows of @p P (#P by dimension()), in parallel.
+  /// @throws Error(SizeMismatch) if P has the wrong number of columns, Error(NonFinite) naming
+  /// the first non-finite point, Error(Cancelled) if @p progress returned false.
+  MeanValueResult evaluate(const Points& P, const ProgressCallback& progress = {}) const;
+
+private:
+  PointLocation evaluate_2d(const double* x, double* w) const;
+  PointLocation evaluate_3d(const double* x, double* w) const;
+
+  Cage cage_;
+  MeanValueOptions options_;
+  double tolerance_ = 0.0;          // absolute boundary tolerance
+  std::vector<double> twice_area_; // 3D: twice the area of each face
+};
+
+/// One-call form: the #P by #C mean value coordinates of the rows of @p P w.r.t. @p cage.
+DenseWeights mean_value_coordinates(
+  const Cage& cage, const Points& P, const MeanValueOptions& options = {});
+
+} // namespace bary
