@@ -1,7 +1,7 @@
 # Warning and sanitizer flags, applied per target through barylab_set_flags(target).
 add_library(barylab_flags INTERFACE)
 target_compile_options(barylab_flags INTERFACE
-  $<$<CXX_COMPILER_ID:GNU,Clang>:-Wall -Wextra -Wpedantic -Wshadow=local -Wnon-virtual-dtor>)
+  $<$<CXX_COMPILER_ID:GNU,Clang>:-Wall -Wextra -Wshadow=local -Wnon-virtual-dtor>)
 if(BARYLAB_SANITIZE)
   target_compile_options(barylab_flags INTERFACE
     -fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=undefined)
@@ -9,5 +9,5 @@ if(BARYLAB_SANITIZE)
 endif()
 
 function(barylab_set_flags target)
-  target_link_libraries(${target} PRIVATE barylab_flags)
+  target_link_libraries(${target} PRIVATE $<BUILD_INTERFACE:barylab_flags>)
 endfunction()

@@ -3,6 +3,8 @@
 #include "detail/cgal_intersections.h"
 #include "error.h"
 
+#include <Eigen/Geometry>
+
 #include <algorithm>
 #include <cmath>
 #include <map>

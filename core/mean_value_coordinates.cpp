@@ -2,6 +2,8 @@
 
 #include "error.h"
 
+#include <Eigen/Geometry>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>

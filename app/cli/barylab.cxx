@@ -1,0 +1,508 @@
+// barylab — the command line: a thin shell over the pipeline builder (barylabPipeline.h).
+//
+//   barylab weights --method mvc --cage CAGE --points MODEL --output OUT [--json SUMMARY]
+//   barylab deform  --method mvc --cage REST --deformed-cage POSED --points MODEL --output OUT
+//                   [--weights FILE]
+//   barylab stats   --input WEIGHTS_FILE [--cage CAGE] [--json] [--threshold T]
+//   barylab render  --input WEIGHTS_FILE [--cage CAGE] --output PNG [--control I]
+//   barylab demo    [--output-dir DIR]
+//
+// Exit codes: 0 success, 1 bad input or failed computation (one line on stderr naming the
+// problem), 2 bad command line.
+
+#include "barylabPipeline.h"
+#include "barylabRender.h"
+
+#include "vtkBaryConversion.h"
+#include "vtkBaryCoordinates.h"
+#include "vtkBaryDataIO.h"
+
+#include "core/error.h"
+
+#include "vtkDataArray.h"
+#include "vtkDataSet.h"
+#include "vtkPointData.h"
+#include "vtkPointSet.h"
+#include "vtkPolyData.h"
+#include "vtkRenderWindow.h"
+
+#include <CLI/CLI.hpp>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <unistd.h>
+
+namespace fs = std::filesystem;
+using barylab::RunCallbacks;
+using barylab::WeightsParameters;
+using nlohmann::json;
+
+namespace
+{
+
+/// A progress bar on stderr when it is a terminal (nothing in logs and pipes).
+class ProgressBar
+{
+public:
+  explicit ProgressBar(bool enabled, std::string label)
+    : enabled_(enabled && isatty(fileno(stderr)))
+    , label_(std::move(label))
+  {
+  }
+  ~ProgressBar() { done(); }
+  void update(double f)
+  {
+    if (!enabled_)
+      return;
+    const int percent = static_cast<int>(std::lround(100.0 * std::clamp(f, 0.0, 1.0)));
+    if (percent == last_)
+      return;
+    last_ = percent;
+    const int width = 40, filled = percent * width / 100;
+    std::fprintf(stderr, "\r%-12s [%s%s] %3d%%", label_.c_str(), std::string(filled, '#').c_str(),
+      std::string(width - filled, ' ').c_str(), percent);
+    std::fflush(stderr);
+    shown_ = true;
+  }
+  void done()
+  {
+    if (shown_)
+      std::fprintf(stderr, "\n");
+    shown_ = false;
+  }
+
+private:
+  bool enabled_;
+  std::string label_;
+  int last_ = -1;
+  bool shown_ = false;
+};
+
+RunCallbacks callbacks(ProgressBar& bar, bool quiet)
+{
+  RunCallbacks c;
+  c.progress = [&bar](double f) { bar.update(f); };
+  c.warning = [quiet](const std::string& w) {
+    if (!quiet)
+      std::cerr << "barylab: warning: " << w << "\n";
+  };
+  return c;
+}
+
+void add_method_options(CLI::App* cmd, WeightsParameters& p)
+{
+  std::string names;
+  for (int i = 0; i < vtkBaryCoordinates::NUMBER_OF_METHODS; ++i)
+    names += (i ? "|" : "") + std::string(vtkBaryCoordinates::GetMethodName(i));
+  cmd->add_option("--method,-m", p.method, "coordinate method: " + names)
+    ->default_val(p.method);
+  cmd->add_option("--boundary-tolerance", p.boundary_tolerance,
+       "points closer to the cage than this fraction of its diagonal count as on the cage")
+    ->default_val(p.boundary_tolerance)
+    ->check(CLI::Range(0.0, 1e-3));
+  cmd->add_option("--threads", p.threads, "threads (0 = all cores); results do not depend on it")
+    ->default_val(0)
+    ->check(CLI::Range(0, 1024));
+  cmd->add_option("--cage-dimension", p.cage_dimension,
+       "how to read the cage: 0 automatic (triangles: 3D; one polygon/polyline/bare points: 2D), 2, 3")
+    ->default_val(0)
+    ->check(CLI::IsMember({ 0, 2, 3 }));
+  cmd->add_option("--weights-name", p.weights_name, "name of the weights point-data array")
+    ->default_val(p.weights_name);
+}
+
+void ensure_parent_exists(const std::string& path)
+{
+  const fs::path parent = fs::path(path).parent_path();
+  if (!parent.empty() && !fs::is_directory(parent))
+    throw bary::Error(bary::ErrorCode::Io,
+      "cannot write '" + path + "': folder '" + parent.string() + "' does not exist");
+}
+
+/// Counts and statistics printed after a weights computation.
+void print_summary(const json& s)
+{
+  const json& p = s["points"];
+  std::cerr << "barylab: " << s["method"].get<std::string>() << " weights: "
+            << p["count"] << " points x " << s["cage"]["control_points"] << " control points ("
+            << s["cage"]["dimension"] << "D cage) in " << s["seconds"].get<double>() << " s; "
+            << p["inside"] << " inside, " << p["outside"] << " outside, " << p["on_cage"]
+            << " on the cage";
+  if (p["undefined"].get<long long>() > 0)
+    std::cerr << ", " << p["undefined"] << " undefined (NaN)";
+  std::cerr << "\n";
+}
+
+// ---- subcommands ------------------------------------------------------------------------------
+
+struct WeightsArgs
+{
+  WeightsParameters parameters;
+  std::string cage, points, output, json_path;
+  bool quiet = false;
+};
+
+int run_weights(const WeightsArgs& a)
+{
+  ensure_parent_exists(a.output);
+  if (!a.json_path.empty())
+    ensure_parent_exists(a.json_path);
+  barylab::MethodFromName(a.parameters.method);
+  auto cage = vtkBaryDataIO::ReadPolyData(a.cage);
+  auto points = vtkBaryDataIO::Read(a.points);
+  ProgressBar bar(!a.quiet, "weights");
+  json summary;
+  auto result =
+    barylab::ComputeWeights(points, cage, a.parameters, callbacks(bar, a.quiet), &summary);
+  bar.done();
+  summary["cage"]["file"] = a.cage;
+  summary["points"]["file"] = a.points;
+  summary["output"] = a.output;
+  summary["statistics"] =
+    barylab::WeightStatisticsJson(result, a.parameters.weights_name, cage, -1.0,
+      a.parameters.cage_dimension);
+  vtkBaryDataIO::Write(result, a.output);
+  if (!a.json_path.empty())
+    barylab::WriteJson(summary, a.json_path);
+  if (!a.quiet)
+  {
+    print_summary(summary);
+    if (summary["points"]["outside"].get<long long>() > 0)
+      std::cerr << "barylab: note: " << summary["points"]["outside"]
+                << " point(s) lie outside the cage; mean value coordinates are defined there "
+                   "but may be negative\n";
+  }
+  return 0;
+}
+
+struct DeformArgs
+{
+  WeightsParameters parameters;
+  std::string cage, posed, points, weights, output, json_path;
+  bool quiet = false;
+};
+
+int run_deform(const DeformArgs& a)
+{
+  ensure_parent_exists(a.output);
+  barylab::MethodFromName(a.parameters.method);
+  if (a.points.empty() && a.weights.empty())
+    throw bary::Error(bary::ErrorCode::InvalidArgument, "give --points MODEL or --weights FILE");
+  auto cage = vtkBaryDataIO::ReadPolyData(a.cage);
+  auto posedData = vtkBaryDataIO::Read(a.posed);
+  vtkPointSet* posed = vtkPointSet::SafeDownCast(posedData);
+  if (!posed)
+    throw bary::Error(bary::ErrorCode::Io, "'" + a.posed + "' does not hold a point set");
+
+  vtkSmartPointer<vtkDataSet> modelData = a.points.empty() ? nullptr : vtkBaryDataIO::Read(a.points);
+  if (!a.weights.empty())
+  {
+    auto weighted = vtkBaryDataIO::Read(a.weights);
+    vtkDataArray* w = weighted->GetPointData()->GetArray(a.parameters.weights_name.c_str());
+    if (!w)
+      throw bary::Error(bary::ErrorCode::InvalidArgument,
+        "'" + a.weights + "' has no point-data array '" + a.parameters.weights_name +
+          "' (write it with 'barylab weights')");
+    if (w->GetNumberOfComponents() != cage->GetNumberOfPoints())
+      throw bary::Error(bary::ErrorCode::SizeMismatch,
+        "the weights in '" + a.weights + "' have " + std::to_string(w->GetNumberOfComponents()) +
+          " components but the cage '" + a.cage + "' has " +
+          std::to_string(cage->GetNumberOfPoints()) + " points");
+    if (modelData)
+    {
+      if (modelData->GetNumberOfPoints() != weighted->GetNumberOfPoints())
+        throw bary::Error(bary::ErrorCode::SizeMismatch,
+          "the weights in '" + a.weights + "' are for " +
+            std::to_string(weighted->GetNumberOfPoints()) + " points but '" + a.points +
+            "' has " + std::to_string(modelData->GetNumberOfPoints()));
+      double scale = modelData->GetLength();
+      for (vtkIdType i = 0; i < modelData->GetNumberOfPoints(); ++i)
+      {
+        double x[3], y[3];
+        modelData->GetPoint(i, x);
+        weighted->GetPoint(i, y);
+        if (std::abs(x[0] - y[0]) + std::abs(x[1] - y[1]) + std::abs(x[2] - y[2]) > 1e-9 * scale)
+          throw bary::Error(bary::ErrorCode::SizeMismatch,
+            "the weights in '" + a.weights + "' were computed for other points: point " +
+              std::to_string(i) + " differs from '" + a.points + "'");
+      }
+      modelData->GetPointData()->AddArray(w);
+    }
+    else
+      modelData = weighted;
+  }
+  vtkPointSet* model = vtkPointSet::SafeDownCast(modelData);
+  if (!model)
+    throw bary::Error(bary::ErrorCode::Io, "the model does not hold a point set");
+  ProgressBar bar(!a.quiet, "deform");
+  json summary;
+  auto deformed =
+    barylab::Deform(model, cage, posed, a.parameters, callbacks(bar, a.quiet), &summary);
+  bar.done();
+  vtkBaryDataIO::Write(deformed, a.output);
+  if (!a.json_path.empty())
+    barylab::WriteJson(summary, a.json_path);
+  if (!a.quiet)
+    std::cerr << "barylab: deformed " << model->GetNumberOfPoints() << " points in "
+              << summary["seconds"].get<double>() << " s ("
+              << (summary["weights_computed"].get<bool>() ? "weights computed"
+                                                          : "weights from the input")
+              << ")\n";
+  return 0;
+}
+
+struct StatsArgs
+{
+  std::string input, cage, array = "Weights";
+  double threshold = -1.0;
+  bool json_out = false;
+  int cage_dimension = 0;
+};
+
+int run_stats(const StatsArgs& a)
+{
+  auto data = vtkBaryDataIO::Read(a.input);
+  vtkSmartPointer<vtkPolyData> cage = a.cage.empty() ? nullptr : vtkBaryDataIO::ReadPolyData(a.cage);
+  json s = barylab::WeightStatisticsJson(data, a.array, cage, a.threshold, a.cage_dimension);
+  if (a.json_out)
+  {
+    std::cout << s.dump(2) << "\n";
+    return 0;
+  }
+  std::cout << "points                     " << s["points"] << "\n"
+            << "control points             " << s["controls"] << "\n"
+            << "min / max weight           " << s["min_weight"] << " / " << s["max_weight"] << "\n"
+            << "negative weights           " << s["negative_weights"] << "\n"
+            << "non-finite rows            " << s["non_finite_rows"] << "\n"
+            << "partition of unity error   max " << s["partition_of_unity"]["max_error"]
+            << ", mean " << s["partition_of_unity"]["mean_error"] << "\n";
+  if (s.contains("reproduction"))
+    std::cout << "reproduction error         max " << s["reproduction"]["max_error"] << ", mean "
+              << s["reproduction"]["mean_error"] << " (relative to the cage diagonal)\n";
+  std::cout << "weights > " << s["significant"]["threshold"] << " per point: mean "
+            << s["significant"]["mean_per_point"] << ", max " << s["significant"]["max_per_point"]
+            << "\n";
+  return 0;
+}
+
+struct RenderArgs
+{
+  std::string input, cage, output, title;
+  barylab::RenderOptions options;
+};
+
+int run_render(const RenderArgs& a)
+{
+  ensure_parent_exists(a.output);
+  auto data = vtkBaryDataIO::Read(a.input);
+  vtkSmartPointer<vtkPolyData> cage = a.cage.empty() ? nullptr : vtkBaryDataIO::ReadPolyData(a.cage);
+  barylab::RenderOptions options = a.options;
+  options.title = a.title;
+  auto window = barylab::WeightFieldWindow(data, cage, options);
+  barylab::WritePNG(window, a.output);
+  return 0;
+}
+
+struct DemoArgs
+{
+  std::string output_dir = "barylab-demo";
+  std::string data_dir = BARYLAB_DEFAULT_DATA_DIR;
+  bool render = true;
+  int threads = 0;
+};
+
+/// One demo pipeline: weights, statistics, deformation, images.
+json demo_case(const DemoArgs& a, const std::string& name, const std::string& cage_file,
+  const std::string& posed_file, const std::string& model_file, int component /* -1: auto */)
+{
+  const fs::path data(a.data_dir), out(a.output_dir);
+  auto cage = vtkBaryDataIO::ReadPolyData((data / cage_file).string());
+  auto posedData = vtkBaryDataIO::Read((data / posed_file).string());
+  auto model = vtkBaryDataIO::Read((data / model_file).string());
+  WeightsParameters parameters;
+  parameters.threads = a.threads;
+  ProgressBar bar(true, name);
+  json summary;
+  auto weighted = barylab::ComputeWeights(model, cage, parameters, callbacks(bar, false), &summary);
+  bar.done();
+  summary["cage"]["file"] = (data / cage_file).string();
+  summary["points"]["file"] = (data / model_file).string();
+  summary["statistics"] = barylab::WeightStatisticsJson(weighted, "Weights", cage);
+  const std::string weights_out = (out / (name + "_weights.vtp")).string();
+  vtkBaryDataIO::Write(weighted, weights_out);
+  summary["output"] = weights_out;
+  print_summary(summary);
+
+  json deform_summary;
+  auto deformed = barylab::Deform(vtkPointSet::SafeDownCast(weighted), cage,
+    vtkPointSet::SafeDownCast(posedData), parameters, {}, &deform_summary);
+  const std::string deformed_out = (out / (name + "_deformed.vtp")).string();
+  vtkBaryDataIO::Write(deformed, deformed_out);
+  summary["deformation"] = deform_summary;
+  summary["deformation"]["posed_cage"] = (data / posed_file).string();
+  summary["deformation"]["output"] = deformed_out;
+
+  if (component < 0)
+  { // the control point with the strongest influence on the model
+    vtkDataArray* w = weighted->GetPointData()->GetArray("Weights");
+    double best = -1.0;
+    for (int k = 0; k < w->GetNumberOfComponents(); ++k)
+    {
+      double r[2];
+      w->GetRange(r, k);
+      if (r[1] > best)
+      {
+        best = r[1];
+        component = k;
+      }
+    }
+  }
+  if (a.render)
+  {
+    barylab::RenderOptions options;
+    options.component = component;
+    options.title = name + ": mean value coordinate of control point " + std::to_string(component);
+    const std::string field_png = (out / (name + "_weights.png")).string();
+    barylab::WritePNG(barylab::WeightFieldWindow(weighted, cage, options), field_png);
+    options.title.clear();
+    options.width = 1200;
+    options.height = 600;
+    const std::string deformed_png = (out / (name + "_deformed.png")).string();
+    barylab::WritePNG(barylab::DeformationWindow(weighted, cage, deformed,
+                        vtkPointSet::SafeDownCast(posedData), options),
+      deformed_png);
+    summary["images"] = { field_png, deformed_png };
+  }
+  std::cerr << "barylab: " << name << ": wrote " << weights_out << ", " << deformed_out
+            << (a.render ? " and two PNG images" : "") << "\n";
+  return summary;
+}
+
+int run_demo(const DemoArgs& a)
+{
+  if (a.render && !barylab::HasDisplay())
+    throw bary::Error(bary::ErrorCode::InvalidArgument,
+      "the demo renders PNG images and needs an X display (DISPLAY is not set): run it under "
+      "Xvfb (xvfb-run -a barylab demo), or pass --no-render");
+  fs::create_directories(a.output_dir);
+  json summary;
+  summary["demo"] = "mean value coordinates: weights and cage deformation on bundled data";
+  summary["cases"]["2d"] = demo_case(a, "gingerbread2d", "cage2d.obj", "cage2d_posed.obj",
+    "model2d.obj", 14);
+  summary["cases"]["3d"] = demo_case(a, "kidney3d", "cage3d.obj", "cage3d_posed.obj",
+    "model3d.off", -1);
+  const std::string path = (fs::path(a.output_dir) / "summary.json").string();
+  barylab::WriteJson(summary, path);
+  std::cerr << "barylab: demo finished; summary in " << path << "\n";
+  return 0;
+}
+
+} // namespace
+
+int main(int argc, char** argv)
+{
+  CLI::App app{ "BaryLab: generalized barycentric coordinates and cage deformation.\n"
+                "Weights are written as a point-data array 'Weights' with one component per "
+                "control point (component i = cage point i, in the cage file's order).",
+    "barylab" };
+  app.require_subcommand(1);
+  app.set_version_flag("--version", "barylab 0.1.0");
+
+  WeightsArgs wa;
+  auto* weights = app.add_subcommand("weights", "compute coordinates of points w.r.t. a cage");
+  weights->add_option("--cage,-c", wa.cage, "cage: closed triangle surface (3D) or polygon (2D)")
+    ->required();
+  weights->add_option("--points,-p", wa.points, "points/mesh to evaluate at")->required();
+  weights->add_option("--output,-o", wa.output, "output file (.vtp/.vtu/.vtk keep the weights)")
+    ->required();
+  weights->add_option("--json", wa.json_path, "write a JSON summary (counts, timings, statistics)");
+  weights->add_flag("--quiet,-q", wa.quiet, "no progress bar, no summary");
+  add_method_options(weights, wa.parameters);
+
+  DeformArgs da;
+  auto* deform = app.add_subcommand("deform", "deform a model by moving its cage");
+  deform->add_option("--cage,-c", da.cage, "rest cage")->required();
+  deform->add_option("--deformed-cage,-d", da.posed, "moved cage (same points, same order)")
+    ->required();
+  deform->add_option("--points,-p", da.points, "model to deform");
+  deform->add_option("--weights,-w", da.weights,
+    "reuse weights from a file written by 'barylab weights' (then --points is optional)");
+  deform->add_option("--output,-o", da.output, "output file")->required();
+  deform->add_option("--json", da.json_path, "write a JSON summary");
+  deform->add_flag("--quiet,-q", da.quiet, "no progress bar, no summary");
+  add_method_options(deform, da.parameters);
+
+  StatsArgs sa;
+  auto* stats = app.add_subcommand("stats", "property statistics of a weights file");
+  stats->add_option("--input,-i", sa.input, "file with a weights point-data array")->required();
+  stats->add_option("--cage,-c", sa.cage, "the cage, for the reproduction error");
+  stats->add_option("--array", sa.array, "weights array name")->default_val(sa.array);
+  stats->add_option("--threshold", sa.threshold,
+    "a weight is significant above this (default 1e-3 / #controls)");
+  stats->add_option("--cage-dimension", sa.cage_dimension, "0 automatic, 2, 3")
+    ->check(CLI::IsMember({ 0, 2, 3 }));
+  stats->add_flag("--json", sa.json_out, "print JSON");
+
+  RenderArgs ra;
+  auto* render = app.add_subcommand("render", "render one weight field to a PNG (needs X/Xvfb)");
+  render->add_option("--input,-i", ra.input, "file with a weights point-data array")->required();
+  render->add_option("--cage,-c", ra.cage, "the cage (drawn as wireframe)");
+  render->add_option("--output,-o", ra.output, "PNG file")->required();
+  render->add_option("--control", ra.options.component, "control point whose weight is shown")
+    ->default_val(0);
+  render->add_option("--size", ra.options.width, "image width")->default_val(900);
+  render->add_option("--title", ra.title, "title text");
+  render->add_option("--array", ra.options.weights_name, "weights array name")->default_val("Weights");
+
+  DemoArgs ma;
+  auto* demo = app.add_subcommand("demo", "the main job: 2D and 3D pipelines on bundled data");
+  demo->add_option("--output-dir", ma.output_dir, "where results go")->default_val(ma.output_dir);
+  demo->add_option("--data-dir", ma.data_dir, "bundled data folder")->default_val(ma.data_dir);
+  demo->add_option("--threads", ma.threads, "threads (0 = all)")->default_val(0);
+  bool no_render = false;
+  demo->add_flag("--no-render", no_render, "skip the PNG images (no X display needed)");
+
+  try
+  {
+    app.parse(argc, argv);
+  }
+  catch (const CLI::ParseError& e)
+  {
+    const int code = app.exit(e);
+    return code == 0 ? 0 : 2;
+  }
+
+  try
+  {
+    if (*weights)
+      return run_weights(wa);
+    if (*deform)
+      return run_deform(da);
+    if (*stats)
+      return run_stats(sa);
+    if (*render)
+    {
+      ra.options.height = ra.options.width * 7 / 9;
+      return run_render(ra);
+    }
+    if (*demo)
+    {
+      ma.render = !no_render;
+      return run_demo(ma);
+    }
+  }
+  catch (const bary::Error& e)
+  {
+    std::cerr << "barylab: error: " << e.what() << "\n";
+    return 1;
+  }
+  catch (const std::exception& e)
+  {
+    std::cerr << "barylab: error: " << e.what() << "\n";
+    return 1;
+  }
+  return 1;
+}

@@ -1,0 +1,258 @@
+#include "barylabPipeline.h"
+
+#include "vtkBaryCageDeformation.h"
+#include "vtkBaryConversion.h"
+#include "vtkBaryCoordinates.h"
+
+#include "core/weight_statistics.h"
+
+#include "vtkCallbackCommand.h"
+#include "vtkCommand.h"
+#include "vtkDataArray.h"
+#include "vtkDataSet.h"
+#include "vtkExecutive.h"
+#include "vtkPointData.h"
+#include "vtkPointSet.h"
+#include "vtkPolyData.h"
+
+#include <chrono>
+#include <cstdio>
+#include <fstream>
+
+namespace barylab
+{
+namespace
+{
+/// Routes a filter's events to the callbacks and remembers the first error.
+class Observer : public vtkCommand
+{
+public:
+  static Observer* New() { return new Observer; }
+  void Execute(vtkObject* caller, unsigned long event, void* data) override
+  {
+    if (event == vtkCommand::ErrorEvent)
+    {
+      if (Error.empty() && data)
+        Error = Clean(static_cast<const char*>(data));
+    }
+    else if (event == vtkCommand::WarningEvent)
+    {
+      if (Callbacks && Callbacks->warning && data)
+        Callbacks->warning(Clean(static_cast<const char*>(data)));
+    }
+    else if (event == vtkCommand::ProgressEvent)
+    {
+      if (Callbacks && Callbacks->progress && data)
+        Callbacks->progress(*static_cast<double*>(data));
+      if (Callbacks && Callbacks->cancel && Callbacks->cancel())
+        if (auto* a = vtkAlgorithm::SafeDownCast(caller))
+          a->SetAbortExecute(1);
+    }
+  }
+  /// VTK messages start with "ERROR: In file, line N\nvtkClass (0x..): "; keep the text.
+  static std::string Clean(std::string message)
+  {
+    const auto colon = message.rfind("): ");
+    if (colon != std::string::npos)
+      message = message.substr(colon + 3);
+    while (!message.empty() && (message.back() == '\n' || message.back() == ' '))
+      message.pop_back();
+    return message;
+  }
+  std::string Error;
+  const RunCallbacks* Callbacks = nullptr;
+};
+
+double seconds_since(std::chrono::steady_clock::time_point t0)
+{
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+} // namespace
+
+void RunAlgorithm(vtkAlgorithm* algorithm, const RunCallbacks& callbacks, bary::ErrorCode code)
+{
+  vtkNew<Observer> observer;
+  observer->Callbacks = &callbacks;
+  const unsigned long e = algorithm->AddObserver(vtkCommand::ErrorEvent, observer);
+  const unsigned long w = algorithm->AddObserver(vtkCommand::WarningEvent, observer);
+  const unsigned long p = algorithm->AddObserver(vtkCommand::ProgressEvent, observer);
+  // The executive repeats a failure as "Algorithm ... returned failure": record, don't print.
+  vtkExecutive* executive = algorithm->GetExecutive();
+  const unsigned long x = executive->AddObserver(vtkCommand::ErrorEvent, observer);
+  algorithm->SetAbortExecute(0);
+  algorithm->Update();
+  const bool aborted = algorithm->GetAbortExecute() != 0;
+  algorithm->RemoveObserver(e);
+  algorithm->RemoveObserver(w);
+  algorithm->RemoveObserver(p);
+  executive->RemoveObserver(x);
+  if (!observer->Error.empty())
+  {
+    const bool cancelled = observer->Error.find("cancelled") != std::string::npos;
+    throw bary::Error(cancelled ? bary::ErrorCode::Cancelled : code, observer->Error);
+  }
+  if (aborted)
+    throw bary::Error(bary::ErrorCode::Cancelled, "the computation was cancelled");
+}
+
+int MethodFromName(const std::string& name)
+{
+  const int m = vtkBaryCoordinates::GetMethodFromName(name.c_str());
+  if (m < 0)
+  {
+    std::string known;
+    for (int i = 0; i < vtkBaryCoordinates::NUMBER_OF_METHODS; ++i)
+      known += (i ? ", " : "") + std::string(vtkBaryCoordinates::GetMethodName(i));
+    throw bary::Error(bary::ErrorCode::InvalidArgument,
+      "unknown method '" + name + "' (available: " + known + ")");
+  }
+  return m;
+}
+
+int CageDimension(vtkPolyData* cage, int requested)
+{
+  return vtkBaryConversion::ToCage(cage, requested).Cage.dimension();
+}
+
+vtkSmartPointer<vtkDataSet> ComputeWeights(vtkDataSet* points, vtkPolyData* cage,
+  const WeightsParameters& parameters, const RunCallbacks& callbacks, nlohmann::json* summary)
+{
+  vtkNew<vtkBaryCoordinates> filter;
+  filter->SetMethod(MethodFromName(parameters.method));
+  filter->SetCageDimension(parameters.cage_dimension);
+  filter->SetBoundaryTolerance(parameters.boundary_tolerance);
+  filter->SetValidateCage(parameters.validate_cage);
+  filter->SetNumberOfThreads(parameters.threads);
+  filter->SetWeightsArrayName(parameters.weights_name.c_str());
+  filter->SetInputData(0, points);
+  filter->SetCageData(cage);
+  const auto t0 = std::chrono::steady_clock::now();
+  RunAlgorithm(filter, callbacks, bary::ErrorCode::InvalidCage);
+  const double elapsed = seconds_since(t0);
+  vtkSmartPointer<vtkDataSet> out = vtkDataSet::SafeDownCast(filter->GetOutputDataObject(0));
+  if (summary)
+  {
+    const vtkBaryCage c = vtkBaryConversion::ToCage(cage, parameters.cage_dimension);
+    (*summary)["method"] = parameters.method;
+    (*summary)["cage"] = { { "dimension", c.Cage.dimension() },
+      { "control_points", c.Cage.num_controls() }, { "faces", c.Cage.F.rows() } };
+    (*summary)["points"] = { { "count", points->GetNumberOfPoints() },
+      { "inside", filter->GetNumberOfInsidePoints() },
+      { "outside", filter->GetNumberOfOutsidePoints() },
+      { "on_cage", filter->GetNumberOfBoundaryPoints() },
+      { "undefined", filter->GetNumberOfUndefinedPoints() } };
+    (*summary)["weights_array"] = parameters.weights_name;
+    (*summary)["seconds"] = elapsed;
+  }
+  return out;
+}
+
+vtkSmartPointer<vtkPointSet> Deform(vtkPointSet* model, vtkPolyData* rest_cage,
+  vtkPointSet* posed_cage, const WeightsParameters& parameters, const RunCallbacks& callbacks,
+  nlohmann::json* summary)
+{
+  vtkNew<vtkBaryCageDeformation> filter;
+  filter->SetMethod(MethodFromName(parameters.method));
+  filter->SetCageDimension(parameters.cage_dimension);
+  filter->SetBoundaryTolerance(parameters.boundary_tolerance);
+  filter->SetValidateCage(parameters.validate_cage);
+  filter->SetNumberOfThreads(parameters.threads);
+  filter->SetWeightsArrayName(parameters.weights_name.c_str());
+  filter->SetInputData(0, model);
+  filter->SetRestCageData(rest_cage);
+  filter->SetDeformedCageData(posed_cage);
+  const auto t0 = std::chrono::steady_clock::now();
+  RunAlgorithm(filter, callbacks, bary::ErrorCode::InvalidCage);
+  if (summary)
+  {
+    (*summary)["method"] = parameters.method;
+    (*summary)["weights_computed"] = filter->GetNumberOfWeightComputations() > 0;
+    (*summary)["points"] = model->GetNumberOfPoints();
+    (*summary)["seconds"] = seconds_since(t0);
+  }
+  return filter->GetOutput();
+}
+
+nlohmann::json WeightStatisticsJson(vtkDataSet* data, const std::string& array_name,
+  vtkPolyData* cage, double threshold, int cage_dimension)
+{
+  vtkDataArray* array = data ? data->GetPointData()->GetArray(array_name.c_str()) : nullptr;
+  if (!array)
+  {
+    std::string names;
+    for (int i = 0; data && i < data->GetPointData()->GetNumberOfArrays(); ++i)
+      if (const char* n = data->GetPointData()->GetArrayName(i))
+        names += (names.empty() ? "" : ", ") + std::string(n);
+    throw bary::Error(bary::ErrorCode::InvalidArgument,
+      "no point-data array named '" + array_name + "' (arrays present: " +
+        (names.empty() ? "none" : names) + ")");
+  }
+  const vtkIdType np = array->GetNumberOfTuples();
+  const int nc = array->GetNumberOfComponents();
+  bary::DenseWeights W(np, nc);
+  for (vtkIdType p = 0; p < np; ++p)
+    for (int k = 0; k < nc; ++k)
+      W(p, k) = array->GetComponent(p, k);
+
+  bary::WeightStatisticsOptions options;
+  options.threshold = threshold;
+  bary::WeightStatistics s;
+  if (cage)
+  {
+    const vtkBaryCage c = vtkBaryConversion::ToCage(cage, cage_dimension);
+    if (c.Cage.num_controls() != nc)
+      throw bary::Error(bary::ErrorCode::SizeMismatch,
+        "the weights array '" + array_name + "' has " + std::to_string(nc) +
+          " components but the cage has " + std::to_string(c.Cage.num_controls()) + " points");
+    const int dim = c.Cage.dimension();
+    const Eigen::MatrixXd C = vtkBaryConversion::ToMatrix(cage->GetPoints(), dim);
+    const Eigen::MatrixXd P = vtkBaryConversion::PointsToMatrix(data, dim);
+    s = bary::weight_statistics(W, &C, &P, options);
+  }
+  else
+    s = bary::weight_statistics(W, nullptr, nullptr, options);
+
+  nlohmann::json j;
+  j["points"] = s.points;
+  j["controls"] = s.controls;
+  j["min_weight"] = s.min_weight;
+  j["max_weight"] = s.max_weight;
+  j["negative_weights"] = s.negative_weights;
+  j["non_finite_rows"] = s.non_finite_rows;
+  j["partition_of_unity"] = { { "max_error", s.max_partition_error },
+    { "mean_error", s.mean_partition_error } };
+  if (s.has_reproduction)
+    j["reproduction"] = { { "max_error", s.max_reproduction_error },
+      { "mean_error", s.mean_reproduction_error },
+      { "relative_to", "cage bounding-box diagonal" } };
+  // histogram of the number of significant weights per point: count -> number of points
+  std::vector<vtkIdType> histogram(static_cast<std::size_t>(s.max_significant) + 1, 0);
+  for (auto k : s.significant)
+    ++histogram[static_cast<std::size_t>(k)];
+  j["significant"] = { { "threshold", s.threshold }, { "mean_per_point", s.mean_significant },
+    { "max_per_point", s.max_significant }, { "histogram", histogram } };
+  return j;
+}
+
+void WriteJson(const nlohmann::json& json, const std::string& path)
+{
+  const std::string tmp = path + ".tmp";
+  {
+    std::ofstream out(tmp);
+    if (!out)
+      throw bary::Error(bary::ErrorCode::Io, "cannot write '" + path + "'");
+    out << json.dump(2) << '\n';
+    if (!out)
+    {
+      std::remove(tmp.c_str());
+      throw bary::Error(bary::ErrorCode::Io, "cannot write '" + path + "' (disk full?)");
+    }
+  }
+  if (std::rename(tmp.c_str(), path.c_str()) != 0)
+  {
+    std::remove(tmp.c_str());
+    throw bary::Error(bary::ErrorCode::Io, "cannot write '" + path + "'");
+  }
+}
+
+} // namespace barylab

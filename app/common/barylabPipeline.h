@@ -1,0 +1,77 @@
+#pragma once
+/// @file barylabPipeline.h
+/// The pipeline builder shared by the command line, the viewer and the tests: reading inputs,
+/// running the coordinate and deformation filters with errors turned into exceptions, and
+/// summarising results. No algorithm code: everything numerical is in core/ and filters/.
+
+#include "core/error.h"
+
+#include <nlohmann/json.hpp>
+
+#include "vtkSmartPointer.h"
+
+#include <functional>
+#include <string>
+#include <vector>
+
+class vtkAlgorithm;
+class vtkDataSet;
+class vtkPointSet;
+class vtkPolyData;
+
+namespace barylab
+{
+
+/// Callbacks for long runs; both optional.
+struct RunCallbacks
+{
+  std::function<void(double)> progress;               ///< fraction in [0, 1]
+  std::function<void(const std::string&)> warning;    ///< a filter's warning message
+  std::function<bool()> cancel;                       ///< return true to abort
+};
+
+/// Updates @p algorithm; an error event becomes bary::Error with the filter's message (code
+/// @p code), warnings go to callbacks.warning, progress to callbacks.progress.
+void RunAlgorithm(vtkAlgorithm* algorithm, const RunCallbacks& callbacks,
+  bary::ErrorCode code = bary::ErrorCode::InvalidArgument);
+
+/// The parameter object of a weights computation (what the CLI flags and the viewer's panel
+/// edit). Defaults match the filters'.
+struct WeightsParameters
+{
+  std::string method = "mvc";        ///< vtkBaryCoordinates::GetMethodName values
+  int cage_dimension = 0;            ///< 0 automatic, 2, 3
+  double boundary_tolerance = 1e-10; ///< relative to the cage diameter
+  bool validate_cage = true;
+  int threads = 0;                   ///< 0 = all
+  std::string weights_name = "Weights";
+};
+
+/// Method id for @p name; throws bary::Error(InvalidArgument) listing the known names.
+int MethodFromName(const std::string& name);
+
+/// Weights of the points of @p points w.r.t. @p cage: a copy of @p points with the weights
+/// array (and the CageLocation array). Fills @p summary (if given) with counts and timings.
+vtkSmartPointer<vtkDataSet> ComputeWeights(vtkDataSet* points, vtkPolyData* cage,
+  const WeightsParameters& parameters, const RunCallbacks& callbacks = {},
+  nlohmann::json* summary = nullptr);
+
+/// Deforms @p model by moving @p rest_cage to @p posed_cage. If @p model carries the weights
+/// array (e.g. read from a file written by ComputeWeights), it is used as is.
+vtkSmartPointer<vtkPointSet> Deform(vtkPointSet* model, vtkPolyData* rest_cage,
+  vtkPointSet* posed_cage, const WeightsParameters& parameters,
+  const RunCallbacks& callbacks = {}, nlohmann::json* summary = nullptr);
+
+/// Property statistics of the weights array @p array_name of @p data (partition of unity,
+/// min/max, negative entries, significant weights per point above @p threshold, where a
+/// negative threshold means 1e-3 / #C). With @p cage, also the reproduction error.
+nlohmann::json WeightStatisticsJson(vtkDataSet* data, const std::string& array_name,
+  vtkPolyData* cage, double threshold = -1.0, int cage_dimension = 0);
+
+/// Dimension (2 or 3) of @p cage as the filters interpret it.
+int CageDimension(vtkPolyData* cage, int requested = 0);
+
+/// Writes @p json to @p path (pretty, atomically). Throws bary::Error(Io).
+void WriteJson(const nlohmann::json& json, const std::string& path);
+
+} // namespace barylab

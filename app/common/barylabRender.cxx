@@ -1,0 +1,408 @@
+#include "barylabRender.h"
+
+#include "vtkBaryConversion.h"
+
+#include "core/error.h"
+
+#include "vtkActor.h"
+#include "vtkCamera.h"
+#include "vtkCellArray.h"
+#include "vtkColorTransferFunction.h"
+#include "vtkContourFilter.h"
+#include "vtkCoordinate.h"
+#include "vtkDataArray.h"
+#include "vtkDataSet.h"
+#include "vtkDataSetSurfaceFilter.h"
+#include "vtkDoubleArray.h"
+#include "vtkExtractEdges.h"
+#include "vtkGlyph3D.h"
+#include "vtkMath.h"
+#include "vtkPNGWriter.h"
+#include "vtkPointData.h"
+#include "vtkPointSet.h"
+#include "vtkPoints.h"
+#include "vtkPolyData.h"
+#include "vtkPolyDataMapper.h"
+#include "vtkProperty.h"
+#include "vtkRenderWindow.h"
+#include "vtkRenderer.h"
+#include "vtkScalarBarActor.h"
+#include "vtkSphereSource.h"
+#include "vtkTextActor.h"
+#include "vtkTextProperty.h"
+#include "vtkWindowToImageFilter.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+
+namespace barylab
+{
+namespace
+{
+using bary::Error;
+using bary::ErrorCode;
+
+/// Perceptually uniform map (viridis control points).
+vtkSmartPointer<vtkColorTransferFunction> make_colormap(double lo, double hi)
+{
+  static const double viridis[][3] = { { 0.267, 0.005, 0.329 }, { 0.283, 0.141, 0.458 },
+    { 0.254, 0.265, 0.530 }, { 0.207, 0.372, 0.553 }, { 0.164, 0.471, 0.558 },
+    { 0.128, 0.567, 0.551 }, { 0.135, 0.659, 0.518 }, { 0.267, 0.749, 0.441 },
+    { 0.478, 0.821, 0.318 }, { 0.741, 0.873, 0.150 }, { 0.993, 0.906, 0.144 } };
+  auto ctf = vtkSmartPointer<vtkColorTransferFunction>::New();
+  for (int i = 0; i <= 10; ++i)
+    ctf->AddRGBPoint(lo + (hi - lo) * i / 10.0, viridis[i][0], viridis[i][1], viridis[i][2]);
+  return ctf;
+}
+
+/// The surface of @p data with one weight component as active scalars named "weight".
+vtkSmartPointer<vtkPolyData> surface_with_component(
+  vtkDataSet* data, const RenderOptions& options, double range[2])
+{
+  vtkDataArray* weights = data->GetPointData()->GetArray(options.weights_name.c_str());
+  vtkNew<vtkDataSetSurfaceFilter> surface;
+  surface->SetInputData(data);
+  surface->Update();
+  auto poly = vtkSmartPointer<vtkPolyData>::New();
+  poly->ShallowCopy(surface->GetOutput());
+  range[0] = 0.0;
+  range[1] = 1.0;
+  if (!weights)
+    return poly;
+  if (options.component < 0 || options.component >= weights->GetNumberOfComponents())
+    throw Error(ErrorCode::InvalidArgument,
+      "control point " + std::to_string(options.component) + " does not exist (the weights have " +
+        std::to_string(weights->GetNumberOfComponents()) + " components)");
+  vtkDataArray* surfaceWeights = poly->GetPointData()->GetArray(options.weights_name.c_str());
+  vtkNew<vtkDoubleArray> w;
+  w->SetName("weight");
+  w->SetNumberOfTuples(poly->GetNumberOfPoints());
+  for (vtkIdType i = 0; i < poly->GetNumberOfPoints(); ++i)
+    w->SetValue(i, surfaceWeights->GetComponent(i, options.component));
+  poly->GetPointData()->SetScalars(w);
+  w->GetRange(range);
+  range[0] = std::min(range[0], 0.0);
+  range[1] = std::max(range[1], range[0] + 1e-12);
+  return poly;
+}
+
+void add_weight_actors(vtkRenderer* renderer, vtkPolyData* surface, const double range[2],
+  const RenderOptions& options, bool colored)
+{
+  vtkNew<vtkPolyDataMapper> mapper;
+  mapper->SetInputData(surface);
+  vtkNew<vtkActor> actor;
+  actor->SetMapper(mapper);
+  if (colored)
+  {
+    mapper->SetLookupTable(make_colormap(range[0], range[1]));
+    mapper->SetScalarRange(range[0], range[1]);
+    mapper->ScalarVisibilityOn();
+    mapper->SetScalarModeToUsePointData();
+  }
+  else
+  {
+    mapper->ScalarVisibilityOff();
+    actor->GetProperty()->SetColor(0.85, 0.75, 0.6);
+  }
+  renderer->AddActor(actor);
+  if (!colored || options.isolines <= 0)
+    return;
+  vtkNew<vtkContourFilter> contour;
+  contour->SetInputData(surface);
+  // evenly spaced over the positive part of the range (0.1 ... 0.9 for a [0, 1] field)
+  const int n = options.isolines;
+  const double top = std::max(range[1], 1e-12);
+  for (int i = 0; i < n; ++i)
+    contour->SetValue(i, top * (i + 1.0) / (n + 1.0));
+  vtkNew<vtkPolyDataMapper> lines;
+  lines->SetInputConnection(contour->GetOutputPort());
+  lines->ScalarVisibilityOff();
+  vtkNew<vtkActor> lineActor;
+  lineActor->SetMapper(lines);
+  lineActor->GetProperty()->SetColor(0.05, 0.05, 0.05);
+  lineActor->GetProperty()->SetLineWidth(1.5);
+  renderer->AddActor(lineActor);
+  if (range[0] < 0.0)
+  { // where the weight changes sign
+    vtkNew<vtkContourFilter> zero;
+    zero->SetInputData(surface);
+    zero->SetValue(0, 0.0);
+    vtkNew<vtkPolyDataMapper> zm;
+    zm->SetInputConnection(zero->GetOutputPort());
+    zm->ScalarVisibilityOff();
+    vtkNew<vtkActor> za;
+    za->SetMapper(zm);
+    za->GetProperty()->SetColor(0.9, 0.1, 0.1);
+    za->GetProperty()->SetLineWidth(2.5);
+    renderer->AddActor(za);
+  }
+}
+
+/// The cage as a wireframe (2D: the polygon in order; 3D: the triangle edges), its control
+/// points as spheres, control point @p highlight in red.
+void add_cage_actors(vtkRenderer* renderer, vtkPolyData* rest_cage, vtkPointSet* posed,
+  const RenderOptions& options)
+{
+  const vtkBaryCage cage = vtkBaryConversion::ToCage(rest_cage, options.cage_dimension);
+  vtkPoints* points = posed ? posed->GetPoints() : rest_cage->GetPoints();
+  vtkNew<vtkPolyData> wire;
+  wire->SetPoints(points);
+  if (cage.Cage.dimension() == 2)
+  {
+    vtkNew<vtkCellArray> loop;
+    const vtkIdType n = static_cast<vtkIdType>(cage.ControlPointIds.size());
+    loop->InsertNextCell(n + 1);
+    for (vtkIdType k = 0; k <= n; ++k)
+      loop->InsertCellPoint(cage.ControlPointIds[static_cast<std::size_t>(k % n)]);
+    wire->SetLines(loop);
+  }
+  else
+    wire->SetPolys(rest_cage->GetPolys());
+  vtkNew<vtkExtractEdges> edges;
+  edges->SetInputData(wire);
+  vtkNew<vtkPolyDataMapper> wm;
+  wm->SetInputConnection(cage.Cage.dimension() == 2 ? nullptr : edges->GetOutputPort());
+  if (cage.Cage.dimension() == 2)
+    wm->SetInputData(wire);
+  wm->ScalarVisibilityOff();
+  vtkNew<vtkActor> wa;
+  wa->SetMapper(wm);
+  wa->GetProperty()->SetColor(0.25, 0.25, 0.3);
+  wa->GetProperty()->SetLineWidth(2.0);
+  renderer->AddActor(wa);
+
+  const double radius = 0.012 * cage.Cage.diameter();
+  vtkNew<vtkPolyData> verts;
+  verts->SetPoints(points);
+  vtkNew<vtkSphereSource> sphere;
+  sphere->SetRadius(radius);
+  sphere->SetThetaResolution(12);
+  sphere->SetPhiResolution(12);
+  vtkNew<vtkGlyph3D> glyphs;
+  glyphs->SetInputData(verts);
+  glyphs->SetSourceConnection(sphere->GetOutputPort());
+  glyphs->ScalingOff();
+  vtkNew<vtkPolyDataMapper> gm;
+  gm->SetInputConnection(glyphs->GetOutputPort());
+  gm->ScalarVisibilityOff();
+  vtkNew<vtkActor> ga;
+  ga->SetMapper(gm);
+  ga->GetProperty()->SetColor(0.2, 0.35, 0.8);
+  renderer->AddActor(ga);
+
+  if (options.component >= 0 && options.component < points->GetNumberOfPoints())
+  {
+    vtkNew<vtkSphereSource> selected;
+    selected->SetCenter(points->GetPoint(options.component));
+    selected->SetRadius(2.0 * radius);
+    selected->SetThetaResolution(16);
+    selected->SetPhiResolution(16);
+    vtkNew<vtkPolyDataMapper> sm;
+    sm->SetInputConnection(selected->GetOutputPort());
+    vtkNew<vtkActor> sa;
+    sa->SetMapper(sm);
+    sa->GetProperty()->SetColor(0.9, 0.15, 0.1);
+    renderer->AddActor(sa);
+  }
+}
+
+/// 2D: orthographic view from +z. 3D: perspective view from the side of the selected control
+/// point @p towards (if given), so the region it influences most faces the viewer.
+void set_camera(vtkRenderer* renderer, int dimension, const double* towards = nullptr)
+{
+  renderer->ResetCamera();
+  vtkCamera* camera = renderer->GetActiveCamera();
+  if (dimension == 2)
+  {
+    camera->ParallelProjectionOn();
+    renderer->ResetCamera();
+    camera->SetParallelScale(camera->GetParallelScale() * 0.92);
+  }
+  else
+  {
+    double focal[3], position[3];
+    camera->GetFocalPoint(focal);
+    camera->GetPosition(position);
+    if (towards)
+    {
+      const double distance = std::sqrt(vtkMath::Distance2BetweenPoints(focal, position));
+      double dir[3] = { towards[0] - focal[0], towards[1] - focal[1], towards[2] - focal[2] };
+      // tilt towards +z a little so the shape reads as 3D
+      const double n = vtkMath::Norm(dir);
+      if (n > 0.0)
+      {
+        for (double& d : dir)
+          d /= n;
+        dir[2] += 0.5;
+        vtkMath::Normalize(dir);
+        camera->SetPosition(focal[0] + distance * dir[0], focal[1] + distance * dir[1],
+          focal[2] + distance * dir[2]);
+        camera->SetViewUp(std::abs(dir[2]) > 0.9 ? 0.0 : 0.0, std::abs(dir[2]) > 0.9 ? 1.0 : 0.0,
+          std::abs(dir[2]) > 0.9 ? 0.0 : 1.0);
+      }
+    }
+    else
+    {
+      camera->Azimuth(35.0);
+      camera->Elevation(20.0);
+    }
+    camera->OrthogonalizeViewUp();
+    renderer->ResetCamera();
+    camera->Zoom(1.15);
+  }
+  renderer->ResetCameraClippingRange();
+}
+
+vtkSmartPointer<vtkRenderWindow> make_window(const RenderOptions& options)
+{
+  if (!HasDisplay())
+    throw Error(ErrorCode::InvalidArgument,
+      "rendering needs an X display, but DISPLAY is not set; run under Xvfb "
+      "(e.g. xvfb-run -a barylab ...)");
+  auto window = vtkSmartPointer<vtkRenderWindow>::New();
+  window->SetSize(options.width, options.height);
+  window->SetMultiSamples(0);
+  window->SetOffScreenRendering(options.offscreen ? 1 : 0);
+  return window;
+}
+
+void add_title(vtkRenderer* renderer, const std::string& text)
+{
+  if (text.empty())
+    return;
+  vtkNew<vtkTextActor> title;
+  title->SetInput(text.c_str());
+  title->GetTextProperty()->SetFontSize(18);
+  title->GetTextProperty()->SetColor(0.1, 0.1, 0.1);
+  title->GetPositionCoordinate()->SetCoordinateSystemToNormalizedViewport();
+  title->GetPositionCoordinate()->SetValue(0.015, 0.02);
+  renderer->AddViewProp(title);
+}
+} // namespace
+
+bool HasDisplay()
+{
+  const char* display = std::getenv("DISPLAY");
+  return display && *display;
+}
+
+vtkSmartPointer<vtkRenderWindow> WeightFieldWindow(
+  vtkDataSet* data, vtkPolyData* cage, const RenderOptions& options)
+{
+  if (!data || !data->GetPointData()->GetArray(options.weights_name.c_str()))
+    throw Error(ErrorCode::InvalidArgument,
+      "the data to render have no point-data array '" + options.weights_name + "'");
+  auto window = make_window(options);
+  vtkNew<vtkRenderer> renderer;
+  renderer->SetBackground(1.0, 1.0, 1.0);
+  window->AddRenderer(renderer);
+  double range[2];
+  auto surface = surface_with_component(data, options, range);
+  add_weight_actors(renderer, surface, range, options, true);
+  int dimension = 3;
+  double selected[3];
+  bool has_selected = false;
+  if (cage)
+  {
+    dimension = vtkBaryConversion::ToCage(cage, options.cage_dimension).Cage.dimension();
+    if (options.show_cage)
+      add_cage_actors(renderer, cage, nullptr, options);
+    if (options.component >= 0 && options.component < cage->GetNumberOfPoints())
+    {
+      cage->GetPoint(options.component, selected);
+      has_selected = true;
+    }
+  }
+  vtkNew<vtkScalarBarActor> bar;
+  bar->SetLookupTable(make_colormap(range[0], range[1]));
+  bar->SetTitle(("w" + std::to_string(options.component)).c_str());
+  bar->SetNumberOfLabels(5);
+  bar->SetMaximumWidthInPixels(90);
+  bar->GetTitleTextProperty()->SetColor(0.1, 0.1, 0.1);
+  bar->GetLabelTextProperty()->SetColor(0.1, 0.1, 0.1);
+  bar->SetPosition(0.88, 0.1);
+  bar->SetWidth(0.1);
+  bar->SetHeight(0.8);
+  renderer->AddViewProp(bar);
+  add_title(renderer, options.title);
+  set_camera(renderer, dimension, has_selected ? selected : nullptr);
+  return window;
+}
+
+vtkSmartPointer<vtkRenderWindow> DeformationWindow(vtkDataSet* rest, vtkPolyData* rest_cage,
+  vtkDataSet* deformed, vtkPointSet* posed_cage, const RenderOptions& options)
+{
+  auto window = make_window(options);
+  const int dimension =
+    rest_cage ? vtkBaryConversion::ToCage(rest_cage, options.cage_dimension).Cage.dimension() : 3;
+  vtkDataSet* datas[2] = { rest, deformed };
+  vtkRenderer* first = nullptr;
+  for (int side = 0; side < 2; ++side)
+  {
+    vtkNew<vtkRenderer> renderer;
+    renderer->SetViewport(0.5 * side, 0.0, 0.5 * side + 0.5, 1.0);
+    renderer->SetBackground(side == 0 ? 0.97 : 1.0, side == 0 ? 0.97 : 1.0, 1.0);
+    window->AddRenderer(renderer);
+    double range[2];
+    const bool colored = datas[side]->GetPointData()->GetArray(options.weights_name.c_str());
+    auto surface = surface_with_component(datas[side], options, range);
+    add_weight_actors(renderer, surface, range, options, colored);
+    if (rest_cage && options.show_cage)
+      add_cage_actors(renderer, rest_cage, side == 0 ? nullptr : posed_cage, options);
+    add_title(renderer, side == 0 ? "rest" : "deformed");
+    if (!first)
+    {
+      // frame both poses: camera fitted to the union of both scenes, then shared
+      renderer->ResetCamera();
+      first = renderer;
+    }
+    else
+      renderer->SetActiveCamera(first->GetActiveCamera());
+    if (side == 1)
+    {
+      double b0[6], b1[6], b[6];
+      first->ComputeVisiblePropBounds(b0);
+      renderer->ComputeVisiblePropBounds(b1);
+      for (int k = 0; k < 3; ++k)
+      {
+        b[2 * k] = std::min(b0[2 * k], b1[2 * k]);
+        b[2 * k + 1] = std::max(b0[2 * k + 1], b1[2 * k + 1]);
+      }
+      double selected[3];
+      const bool has_selected = rest_cage && options.component >= 0 &&
+        options.component < rest_cage->GetNumberOfPoints();
+      if (has_selected)
+        rest_cage->GetPoint(options.component, selected);
+      set_camera(first, dimension, has_selected ? selected : nullptr);
+      first->ResetCamera(b);
+      first->ResetCameraClippingRange(b);
+      renderer->ResetCameraClippingRange(b);
+    }
+  }
+  return window;
+}
+
+void WritePNG(vtkRenderWindow* window, const std::string& path)
+{
+  window->Render();
+  vtkNew<vtkWindowToImageFilter> grab;
+  grab->SetInput(window);
+  grab->SetInputBufferTypeToRGB();
+  grab->ReadFrontBufferOff();
+  grab->Update();
+  const std::string tmp = path + ".tmp.png";
+  vtkNew<vtkPNGWriter> writer;
+  writer->SetFileName(tmp.c_str());
+  writer->SetInputConnection(grab->GetOutputPort());
+  writer->Write();
+  if (writer->GetErrorCode() != 0 || std::rename(tmp.c_str(), path.c_str()) != 0)
+  {
+    std::remove(tmp.c_str());
+    throw Error(ErrorCode::Io, "cannot write image '" + path + "'");
+  }
+}
+
+} // namespace barylab

@@ -1,0 +1,49 @@
+#pragma once
+/// @file barylabRender.h
+/// Rendering of weight fields and deformations, shared by the command line (PNG output), the
+/// viewer and the regression image tests. Fixed size, camera and background; no multisampling,
+/// so images are reproducible. Needs an X display (Xvfb in headless runs).
+
+#include "vtkSmartPointer.h"
+
+#include <string>
+
+class vtkDataSet;
+class vtkPointSet;
+class vtkPolyData;
+class vtkRenderWindow;
+
+namespace barylab
+{
+
+struct RenderOptions
+{
+  int width = 900;
+  int height = 700;
+  int component = 0;        ///< which control point's weight to show
+  int isolines = 9;         ///< isolines evenly spaced in (0, max w) (0 = none), plus w = 0 if negative
+  bool show_cage = true;
+  bool offscreen = true;
+  std::string title;        ///< text in the upper-left corner
+  std::string weights_name = "Weights";
+  int cage_dimension = 0;   ///< 0 automatic
+};
+
+/// The weight of control point options.component over @p data (which carries the weights
+/// array), as a colour map with isolines, the cage as a wireframe with its control points and
+/// the selected one highlighted, and a colour bar.
+vtkSmartPointer<vtkRenderWindow> WeightFieldWindow(
+  vtkDataSet* data, vtkPolyData* cage, const RenderOptions& options);
+
+/// Rest pose (left) and deformed pose (right) side by side, each with its cage; both coloured
+/// by the weight of options.component when the data carry the weights array.
+vtkSmartPointer<vtkRenderWindow> DeformationWindow(vtkDataSet* rest, vtkPolyData* rest_cage,
+  vtkDataSet* deformed, vtkPointSet* posed_cage, const RenderOptions& options);
+
+/// Renders @p window and writes it as PNG to @p path (atomically). Throws bary::Error(Io).
+void WritePNG(vtkRenderWindow* window, const std::string& path);
+
+/// True if an X display is available (DISPLAY is set); rendering needs one.
+bool HasDisplay();
+
+} // namespace barylab

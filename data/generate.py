@@ -1,0 +1,924 @@
+#!/usr/bin/env python3
+"""Generate BaryLab's bundled example data (data/*.obj, data/*.off, data/bad/*).
+
+Deterministic, standard library only:
+
+    /usr/bin/python3 data/generate.py            # writes next to this script
+    /usr/bin/python3 data/generate.py OUT_DIR    # writes into OUT_DIR instead
+
+Every shape is built from fixed parameters (no randomness), every coordinate is
+rounded to 6 decimals *before* the geometric checks run, so the checks apply to
+exactly what is written.  Any failed check raises AssertionError and nothing is
+written.  See data/README.md for what each file is.
+"""
+
+import math
+import os
+import sys
+
+# ---------------------------------------------------------------------------
+# Parameters (change them here; the README quotes them)
+# ---------------------------------------------------------------------------
+
+# 2D gingerbread man -------------------------------------------------------
+MODEL2D_SPACING = 0.024     # edge length of the regular triangular grid
+MODEL2D_MARGIN = 0.025      # grid vertices kept at least this far inside the cage
+MODEL2D_MIN_CLEARANCE = 0.02  # asserted minimum distance model vertex -> cage edge
+POSE2D_ARM_DEG = 30.0       # right arm raised about the shoulder
+POSE2D_HEAD_DEG = 12.0      # head tilted (counter-clockwise) about the neck
+POSE2D_LEG_DEG = -15.0      # left leg kicked outwards about the hip
+
+# 3D kidney -----------------------------------------------------------------
+MODEL3D_SUBDIVISIONS = 4    # icosphere level: 10*4^k+2 vertices -> 2562
+KIDNEY_RADII = (1.0, 0.55, 0.42)   # half-length (x), half-width (y), half-thickness (z)
+KIDNEY_BEND_RADIUS = 1.2    # centre line bent around the z axis, ends curl toward +y
+KIDNEY_DENT_DEPTH = 0.40    # hilum dent on the +y side (fraction of half-width)
+KIDNEY_DENT_SIZE = (0.35, 0.40)    # dent extent in normalised (x, z)
+CAGE3D_RINGS = 7            # rings of the cage along the long axis (+2 pole vertices)
+CAGE3D_RING_SIZE = 10       # vertices per ring -> 7*10+2 = 72 vertices, 140 triangles
+CAGE3D_OFFSET = (0.16, 0.17, 0.17)  # added to the kidney radii before the cage is built
+CAGE3D_MIN_CLEARANCE = 0.05  # asserted minimum distance model vertex -> cage face
+POSE3D_SQUEEZE = 0.18       # middle squeezed by 18% across the long axis
+POSE3D_BEND_DEG = 30.0      # +x end bent further (about z) by up to 30 degrees
+POSE3D_TWIST_DEG = 20.0     # -x end twisted about the long axis by up to 20 degrees
+
+DECIMALS = 6
+
+
+# ---------------------------------------------------------------------------
+# Small vector helpers
+# ---------------------------------------------------------------------------
+
+def rnd(x):
+    """Round to the written precision; normalise -0.0 to 0.0."""
+    r = round(x, DECIMALS)
+    return 0.0 if r == 0.0 else r
+
+
+def fmt(x):
+    return "%.*f" % (DECIMALS, rnd(x))
+
+
+def sub(a, b):
+    return (a[0] - b[0], a[1] - b[1], a[2] - b[2])
+
+
+def add(a, b):
+    return (a[0] + b[0], a[1] + b[1], a[2] + b[2])
+
+
+def scale(a, s):
+    return (a[0] * s, a[1] * s, a[2] * s)
+
+
+def dot(a, b):
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+
+
+def cross(a, b):
+    return (a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0])
+
+
+def norm(a):
+    return math.sqrt(dot(a, a))
+
+
+def cross2(o, a, b):
+    """z component of (a - o) x (b - o)."""
+    return (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0])
+
+
+def rotate2(p, pivot, deg):
+    c, s = math.cos(math.radians(deg)), math.sin(math.radians(deg))
+    x, y = p[0] - pivot[0], p[1] - pivot[1]
+    return (pivot[0] + c * x - s * y, pivot[1] + s * x + c * y)
+
+
+def smoothstep(t):
+    t = min(1.0, max(0.0, t))
+    return t * t * (3.0 - 2.0 * t)
+
+
+# ---------------------------------------------------------------------------
+# 2D geometry checks
+# ---------------------------------------------------------------------------
+
+def polygon_area(P):
+    """Signed area (positive for counter-clockwise)."""
+    n = len(P)
+    return 0.5 * sum(P[i][0] * P[(i + 1) % n][1] - P[(i + 1) % n][0] * P[i][1] for i in range(n))
+
+
+def on_segment(p, a, b):
+    return (min(a[0], b[0]) <= p[0] <= max(a[0], b[0]) and
+            min(a[1], b[1]) <= p[1] <= max(a[1], b[1]))
+
+
+def segments_intersect(p1, p2, q1, q2):
+    """True if closed segments p1p2 and q1q2 share a point (touching counts)."""
+    d1 = cross2(q1, q2, p1)
+    d2 = cross2(q1, q2, p2)
+    d3 = cross2(p1, p2, q1)
+    d4 = cross2(p1, p2, q2)
+    if ((d1 > 0 > d2) or (d1 < 0 < d2)) and ((d3 > 0 > d4) or (d3 < 0 < d4)):
+        return True
+    if d1 == 0 and on_segment(p1, q1, q2):
+        return True
+    if d2 == 0 and on_segment(p2, q1, q2):
+        return True
+    if d3 == 0 and on_segment(q1, p1, p2):
+        return True
+    if d4 == 0 and on_segment(q2, p1, p2):
+        return True
+    return False
+
+
+def polygon_self_intersections(P):
+    """Pairs of edges (i, j) that intersect although they should not.
+
+    Non-consecutive edges must not touch at all; consecutive edges may only share
+    their common vertex (no fold-back / overlap)."""
+    n = len(P)
+    bad = []
+    for i in range(n):
+        a, b = P[i], P[(i + 1) % n]
+        for j in range(i + 1, n):
+            c, d = P[j], P[(j + 1) % n]
+            if j == i + 1:          # edges (a,b) and (b,d): d must not lie on ab, a not on bd
+                if (cross2(a, b, d) == 0 and on_segment(d, a, b)) or \
+                   (cross2(b, d, a) == 0 and on_segment(a, b, d)):
+                    bad.append((i, j))
+            elif i == 0 and j == n - 1:  # edges (P0,P1) and (P[n-1],P0)
+                if (cross2(a, b, c) == 0 and on_segment(c, a, b)) or \
+                   (cross2(c, a, b) == 0 and on_segment(b, c, a)):
+                    bad.append((i, j))
+            elif segments_intersect(a, b, c, d):
+                bad.append((i, j))
+    return bad
+
+
+def point_in_polygon(p, P):
+    """Crossing-number test (p assumed not on the boundary)."""
+    inside = False
+    n = len(P)
+    x, y = p
+    for i in range(n):
+        (x1, y1), (x2, y2) = P[i], P[(i + 1) % n]
+        if (y1 > y) != (y2 > y):
+            xc = x1 + (y - y1) * (x2 - x1) / (y2 - y1)
+            if xc > x:
+                inside = not inside
+    return inside
+
+
+def dist_point_segment2(p, a, b):
+    abx, aby = b[0] - a[0], b[1] - a[1]
+    t = ((p[0] - a[0]) * abx + (p[1] - a[1]) * aby) / (abx * abx + aby * aby)
+    t = min(1.0, max(0.0, t))
+    dx, dy = a[0] + t * abx - p[0], a[1] + t * aby - p[1]
+    return math.sqrt(dx * dx + dy * dy)
+
+
+def dist_to_polygon(p, P):
+    n = len(P)
+    return min(dist_point_segment2(p, P[i], P[(i + 1) % n]) for i in range(n))
+
+
+def check_simple_ccw_polygon(P, name):
+    assert 12 <= len(P) <= 20, "%s: %d vertices" % (name, len(P))
+    bad = polygon_self_intersections(P)
+    assert not bad, "%s: self-intersecting edges %s" % (name, bad)
+    assert polygon_area(P) > 0, "%s: not counter-clockwise" % name
+    convex = all(cross2(P[i - 1], P[i], P[(i + 1) % len(P)]) > 0 for i in range(len(P)))
+    assert not convex, "%s: polygon is convex" % name
+
+
+# ---------------------------------------------------------------------------
+# 2D shapes
+# ---------------------------------------------------------------------------
+
+# Indices into the gingerbread polygon (used by the pose).
+GB_RIGHT_HAND = (5, 6)
+GB_HEAD = (8, 9, 10, 11, 12)
+GB_LEFT_FOOT = (18, 19)
+
+
+def gingerbread_cage():
+    """A 20-vertex gingerbread man, counter-clockwise, starting at the crotch."""
+    right = [
+        (0.10, -0.95),   # 1  right foot, inner
+        (0.45, -0.95),   # 2  right foot, outer
+        (0.30, -0.20),   # 3  right hip
+        (0.30, 0.08),    # 4  right armpit
+        (0.92, 0.10),    # 5  right hand, bottom
+        (0.92, 0.34),    # 6  right hand, top
+        (0.14, 0.42),    # 7  right side of the neck
+        (0.32, 0.56),    # 8  right cheek
+        (0.24, 0.82),    # 9  right temple
+    ]
+    left = [(-x, y) for (x, y) in reversed(right)]
+    P = [(0.0, -0.40)] + right + [(0.0, 0.92)] + left
+    # index: 0 crotch, 1-9 right side, 10 top of head, 11-19 left side (mirrored)
+    return [(rnd(x), rnd(y)) for (x, y) in P]
+
+
+def gingerbread_posed(P):
+    """Right arm raised, head tilted, left leg kicked out; same vertex order."""
+    Q = list(P)
+    shoulder = (0.30, 0.22)
+    for i in GB_RIGHT_HAND:
+        Q[i] = rotate2(P[i], shoulder, POSE2D_ARM_DEG)
+    neck = (0.0, 0.42)
+    for i in GB_HEAD:   # right cheek, right temple, top, left temple, left cheek
+        Q[i] = rotate2(P[i], neck, POSE2D_HEAD_DEG)
+    hip = (-0.20, -0.35)
+    for i in GB_LEFT_FOOT:
+        Q[i] = rotate2(P[i], hip, POSE2D_LEG_DEG)
+    return [(rnd(x), rnd(y)) for (x, y) in Q]
+
+
+class UnionFind:
+    def __init__(self, n):
+        self.parent = list(range(n))
+
+    def find(self, i):
+        while self.parent[i] != i:
+            self.parent[i] = self.parent[self.parent[i]]
+            i = self.parent[i]
+        return i
+
+    def union(self, i, j):
+        ri, rj = self.find(i), self.find(j)
+        if ri != rj:
+            self.parent[max(ri, rj)] = min(ri, rj)
+
+
+def edge_connected_groups(tris, subset):
+    """Groups (lists of triangle indices, in order) of `subset` connected through edges."""
+    uf = UnionFind(len(tris))
+    owner = {}
+    for t in subset:
+        a, b, c = tris[t]
+        for e in ((a, b), (b, c), (c, a)):
+            key = (min(e), max(e))
+            if key in owner:
+                uf.union(owner[key], t)
+            else:
+                owner[key] = t
+    groups = {}
+    for t in subset:
+        groups.setdefault(uf.find(t), []).append(t)
+    return sorted(groups.values(), key=lambda g: (-len(g), g[0]))
+
+
+def clean_2d_mesh(tris):
+    """Keep the largest edge-connected component and make every vertex manifold
+    (its triangles form one fan) by dropping the smaller fans; repeat until stable."""
+    keep = list(range(len(tris)))
+    while True:
+        keep = edge_connected_groups(tris, keep)[0]
+        around = {}
+        for t in keep:
+            for v in tris[t]:
+                around.setdefault(v, []).append(t)
+        drop = set()
+        for v in sorted(around):
+            ts = around[v]
+            # Fans: triangles around v linked through the edges they share (all contain v).
+            uf = UnionFind(len(ts))
+            for i in range(len(ts)):
+                for j in range(i + 1, len(ts)):
+                    if len(set(tris[ts[i]]) & set(tris[ts[j]])) == 2:
+                        uf.union(i, j)
+            fans = {}
+            for i, t in enumerate(ts):
+                fans.setdefault(uf.find(i), []).append(t)
+            fans = sorted(fans.values(), key=lambda g: (-len(g), g[0]))
+            for fan in fans[1:]:
+                drop.update(fan)
+        if not drop:
+            return [tris[t] for t in keep]
+        keep = [t for t in keep if t not in drop]
+
+
+def triangulated_interior(P, spacing, margin):
+    """Regular triangular grid clipped to the polygon P offset inwards by `margin`.
+
+    Returns (vertices, triangles) with 0-based, counter-clockwise triangles."""
+    xs = [p[0] for p in P]
+    ys = [p[1] for p in P]
+    dy = spacing * math.sqrt(3.0) / 2.0
+    x0, y0 = min(xs), min(ys)
+    ni = int(math.ceil((max(xs) - x0) / spacing)) + 2
+    nj = int(math.ceil((max(ys) - y0) / dy)) + 2
+
+    def grid_point(i, j):
+        return (x0 + (i + 0.5 * (j % 2)) * spacing, y0 + j * dy)
+
+    ok = {}
+    for j in range(nj):
+        for i in range(ni):
+            p = grid_point(i, j)
+            ok[(i, j)] = point_in_polygon(p, P) and dist_to_polygon(p, P) >= margin
+
+    tris = []
+    for j in range(nj - 1):
+        for i in range(ni - 1):
+            if j % 2 == 0:
+                cand = [((i, j), (i + 1, j), (i, j + 1)), ((i + 1, j), (i + 1, j + 1), (i, j + 1))]
+            else:
+                cand = [((i, j), (i + 1, j), (i + 1, j + 1)), ((i, j), (i + 1, j + 1), (i, j + 1))]
+            for t in cand:
+                if all(ok[k] for k in t):
+                    tris.append(t)
+
+    # Number the grid points row by row and orient every triangle counter-clockwise.
+    keys = sorted({k for t in tris for k in t}, key=lambda k: (k[1], k[0]))
+    index = {k: n for n, k in enumerate(keys)}
+    V = [grid_point(*k) for k in keys]
+    F = []
+    for t in tris:
+        a, b, c = (index[k] for k in t)
+        if cross2(V[a], V[b], V[c]) < 0:
+            b, c = c, b
+        F.append((a, b, c))
+
+    F = clean_2d_mesh(F)
+    used = sorted({v for t in F for v in t})
+    remap = {v: n for n, v in enumerate(used)}
+    V = [(rnd(V[v][0]), rnd(V[v][1])) for v in used]
+    F = [tuple(remap[v] for v in t) for t in F]
+    return V, F
+
+
+def check_model2d(V, F, P):
+    assert 1500 <= len(V) <= 4000, "model2d: %d vertices" % len(V)
+    for t in F:
+        assert cross2(V[t[0]], V[t[1]], V[t[2]]) > 0, "model2d: triangle %s not CCW" % (t,)
+    assert len({v for t in F for v in t}) == len(V), "model2d: unreferenced vertices"
+    # Edge-manifold with a consistent orientation: each directed edge once, each edge <= 2 faces.
+    directed = set()
+    for a, b, c in F:
+        for e in ((a, b), (b, c), (c, a)):
+            assert e not in directed, "model2d: directed edge %s twice" % (e,)
+            directed.add(e)
+    assert len(edge_connected_groups(F, range(len(F)))) == 1, "model2d: not connected"
+    n_edges = len({(min(e), max(e)) for e in directed})
+    assert len(V) - n_edges + len(F) == 1, "model2d: not a disk (Euler characteristic != 1)"
+    min_clear = float("inf")
+    for i, p in enumerate(V):
+        assert point_in_polygon(p, P), "model2d: vertex %d outside the cage" % i
+        d = dist_to_polygon(p, P)
+        assert d >= MODEL2D_MIN_CLEARANCE, "model2d: vertex %d only %g inside" % (i, d)
+        min_clear = min(min_clear, d)
+    # No mesh edge crosses a cage edge (guards concave cage corners between grid points).
+    edges = sorted({(min(a, b), max(a, b)) for t in F for a, b in ((t[0], t[1]), (t[1], t[2]), (t[2], t[0]))})
+    n = len(P)
+    for a, b in edges:
+        for k in range(n):
+            assert not segments_intersect(V[a], V[b], P[k], P[(k + 1) % n]), \
+                "model2d: edge (%d,%d) crosses cage edge %d" % (a, b, k)
+    area = sum(0.5 * cross2(V[a], V[b], V[c]) for a, b, c in F)
+    return {"min_clearance": min_clear, "area_fraction": area / polygon_area(P)}
+
+
+# ---------------------------------------------------------------------------
+# 3D geometry checks
+# ---------------------------------------------------------------------------
+
+def directed_edges_ok(F, name):
+    """Closed (each edge in exactly two faces) and consistently oriented (each
+    directed edge exactly once)."""
+    directed = {}
+    for f, (a, b, c) in enumerate(F):
+        assert len({a, b, c}) == 3, "%s: face %d repeats a vertex" % (name, f)
+        for e in ((a, b), (b, c), (c, a)):
+            assert e not in directed, "%s: directed edge %s in faces %d and %d (inconsistent " \
+                "orientation or non-manifold)" % (name, e, directed[e], f)
+            directed[e] = f
+    for (a, b) in directed:
+        assert (b, a) in directed, "%s: edge (%d,%d) is a boundary edge (open surface)" % (name, a, b)
+    return directed
+
+
+def vertex_manifold_ok(V, F, name):
+    """Every vertex used, and its faces form a single fan (one cycle of edges)."""
+    nxt = {}
+    for a, b, c in F:
+        for v, p, q in ((a, b, c), (b, c, a), (c, a, b)):
+            nxt.setdefault(v, {})[p] = q      # around v: p -> q
+    assert len(nxt) == len(V), "%s: unreferenced vertices" % name
+    for v, ring in nxt.items():
+        start = min(ring)
+        cur, steps = ring[start], 1
+        while cur != start:
+            cur = ring[cur]
+            steps += 1
+        assert steps == len(ring), "%s: vertex %d is not manifold" % (name, v)
+
+
+def signed_volume(V, F):
+    return sum(dot(V[a], cross(V[b], V[c])) for a, b, c in F) / 6.0
+
+
+def face_normal(V, f):
+    a, b, c = (V[i] for i in f)
+    return cross(sub(b, a), sub(c, a))
+
+
+def check_closed_surface(V, F, name):
+    directed = directed_edges_ok(F, name)
+    vertex_manifold_ok(V, F, name)
+    euler = len(V) - len(directed) // 2 + len(F)
+    assert euler == 2, "%s: Euler characteristic %d, not a sphere" % (name, euler)
+    for f, t in enumerate(F):
+        assert norm(face_normal(V, t)) > 1e-10, "%s: face %d is degenerate" % (name, f)
+    vol = signed_volume(V, F)
+    assert vol > 0, "%s: signed volume %g is not positive (not outward)" % (name, vol)
+    return vol
+
+
+def concave_edge_count(V, F):
+    """Edges where the surface folds inward: the far vertex of one face lies
+    in front of the other face's plane."""
+    directed = {}
+    for f, (a, b, c) in enumerate(F):
+        directed[(a, b)] = (f, c)
+        directed[(b, c)] = (f, a)
+        directed[(c, a)] = (f, b)
+    count = 0
+    for (a, b), (f, _) in directed.items():
+        if a < b:
+            _, far = directed[(b, a)]
+            n = face_normal(V, F[f])
+            if dot(n, sub(V[far], V[a])) > 1e-12:
+                count += 1
+    return count
+
+
+def solid_angle(p, a, b, c):
+    """Signed solid angle of triangle abc seen from p (Van Oosterom & Strackee)."""
+    a, b, c = sub(a, p), sub(b, p), sub(c, p)
+    la, lb, lc = norm(a), norm(b), norm(c)
+    num = dot(a, cross(b, c))
+    den = la * lb * lc + dot(a, b) * lc + dot(a, c) * lb + dot(b, c) * la
+    return 2.0 * math.atan2(num, den)
+
+
+def winding_number(p, V, F):
+    return sum(solid_angle(p, V[a], V[b], V[c]) for a, b, c in F) / (4.0 * math.pi)
+
+
+def dist_point_triangle(p, a, b, c):
+    """Distance from p to triangle abc (closest-point regions, Ericson 5.1.5)."""
+    ab, ac, ap = sub(b, a), sub(c, a), sub(p, a)
+    d1, d2 = dot(ab, ap), dot(ac, ap)
+    if d1 <= 0 and d2 <= 0:
+        return norm(ap)
+    bp = sub(p, b)
+    d3, d4 = dot(ab, bp), dot(ac, bp)
+    if d3 >= 0 and d4 <= d3:
+        return norm(bp)
+    vc = d1 * d4 - d3 * d2
+    if vc <= 0 and d1 >= 0 and d3 <= 0:
+        return norm(sub(p, add(a, scale(ab, d1 / (d1 - d3)))))
+    cp = sub(p, c)
+    d5, d6 = dot(ab, cp), dot(ac, cp)
+    if d6 >= 0 and d5 <= d6:
+        return norm(cp)
+    vb = d5 * d2 - d1 * d6
+    if vb <= 0 and d2 >= 0 and d6 <= 0:
+        return norm(sub(p, add(a, scale(ac, d2 / (d2 - d6)))))
+    va = d3 * d6 - d5 * d4
+    if va <= 0 and (d4 - d3) >= 0 and (d5 - d6) >= 0:
+        w = (d4 - d3) / ((d4 - d3) + (d5 - d6))
+        return norm(sub(p, add(b, scale(sub(c, b), w))))
+    denom = 1.0 / (va + vb + vc)
+    v, w = vb * denom, vc * denom
+    return norm(sub(p, add(a, add(scale(ab, v), scale(ac, w)))))
+
+
+EPS = 1e-12
+
+
+def segment_hits_triangle(p, q, a, b, c):
+    """True if the segment pq crosses the (closed) triangle abc, not coplanar case."""
+    n = cross(sub(b, a), sub(c, a))
+    dp, dq = dot(n, sub(p, a)), dot(n, sub(q, a))
+    if (dp > EPS and dq > EPS) or (dp < -EPS and dq < -EPS):
+        return False
+    if abs(dp - dq) <= EPS:           # parallel to the plane (coplanar handled elsewhere)
+        return False
+    t = dp / (dp - dq)
+    x = add(p, scale(sub(q, p), t))
+    # x inside abc (closed)?
+    s1 = dot(n, cross(sub(b, a), sub(x, a)))
+    s2 = dot(n, cross(sub(c, b), sub(x, b)))
+    s3 = dot(n, cross(sub(a, c), sub(x, c)))
+    tol = -1e-12 * dot(n, n)
+    return s1 >= tol and s2 >= tol and s3 >= tol
+
+
+def coplanar(V, f, g):
+    n = face_normal(V, f)
+    ln = norm(n)
+    return all(abs(dot(n, sub(V[v], V[f[0]]))) <= 1e-9 * ln for v in g)
+
+
+def coplanar_overlap(V, f, g):
+    """2D overlap test of two coplanar triangles (interiors overlapping)."""
+    n = face_normal(V, f)
+    ax = max(range(3), key=lambda i: abs(n[i]))
+    u, w = [(1, 2), (0, 2), (0, 1)][ax]
+    A = [(V[i][u], V[i][w]) for i in f]
+    B = [(V[i][u], V[i][w]) for i in g]
+    shared = set(f) & set(g)
+    for i in range(3):
+        for j in range(3):
+            ei, ej = (f[i], f[(i + 1) % 3]), (g[j], g[(j + 1) % 3])
+            if set(ei) & set(ej):
+                continue
+            if segments_intersect(A[i], A[(i + 1) % 3], B[j], B[(j + 1) % 3]):
+                return True
+
+    def inside(p, T):
+        s = [cross2(T[k], T[(k + 1) % 3], p) for k in range(3)]
+        return all(x > 0 for x in s) or all(x < 0 for x in s)
+    for k, v in enumerate(g):
+        if v not in shared and inside(B[k], A):
+            return True
+    for k, v in enumerate(f):
+        if v not in shared and inside(A[k], B):
+            return True
+    return False
+
+
+def triangles_intersect(V, f, g):
+    """Intersection test for two faces, ignoring contact along what they share."""
+    shared = set(f) & set(g)
+    if len(shared) == 2:
+        # Two planes through the common edge meet only along it, unless the faces fold flat.
+        nf, ng = face_normal(V, f), face_normal(V, g)
+        return dot(nf, ng) <= -(1.0 - 1e-9) * norm(nf) * norm(ng)
+    if coplanar(V, f, g):
+        return coplanar_overlap(V, f, g)
+    if len(shared) == 1:
+        # Edges through the shared vertex can meet the other plane only there; test the
+        # opposite edges.
+        s = next(iter(shared))
+        ef = [v for v in f if v != s]
+        eg = [v for v in g if v != s]
+        return (segment_hits_triangle(V[ef[0]], V[ef[1]], *(V[v] for v in g)) or
+                segment_hits_triangle(V[eg[0]], V[eg[1]], *(V[v] for v in f)))
+    for (x, y) in ((f[0], f[1]), (f[1], f[2]), (f[2], f[0])):
+        if segment_hits_triangle(V[x], V[y], *(V[v] for v in g)):
+            return True
+    for (x, y) in ((g[0], g[1]), (g[1], g[2]), (g[2], g[0])):
+        if segment_hits_triangle(V[x], V[y], *(V[v] for v in f)):
+            return True
+    return False
+
+
+def self_intersections(V, F):
+    """All pairs of faces that intersect other than along shared edges/vertices.
+    Brute force over pairs whose bounding boxes overlap (sweep along x)."""
+    boxes = []
+    for f in F:
+        pts = [V[i] for i in f]
+        boxes.append((tuple(min(p[k] for p in pts) for k in range(3)),
+                      tuple(max(p[k] for p in pts) for k in range(3))))
+    order = sorted(range(len(F)), key=lambda i: (boxes[i][0][0], i))
+    bad, active, tested = [], [], 0
+    for i in order:
+        lo, hi = boxes[i]
+        active = [j for j in active if boxes[j][1][0] >= lo[0]]
+        for j in active:
+            lo2, hi2 = boxes[j]
+            if lo2[1] > hi[1] or hi2[1] < lo[1] or lo2[2] > hi[2] or hi2[2] < lo[2]:
+                continue
+            tested += 1
+            if triangles_intersect(V, F[i], F[j]):
+                bad.append((min(i, j), max(i, j)))
+        active.append(i)
+    return sorted(bad), tested
+
+
+def check_no_self_intersections(V, F, name):
+    bad, tested = self_intersections(V, F)
+    assert not bad, "%s: intersecting faces %s" % (name, bad[:10])
+    return tested
+
+
+# ---------------------------------------------------------------------------
+# 3D shapes
+# ---------------------------------------------------------------------------
+
+def icosphere(levels):
+    """Unit icosphere, outward counter-clockwise faces, deterministic vertex order."""
+    t = (1.0 + math.sqrt(5.0)) / 2.0
+    V = [(-1, t, 0), (1, t, 0), (-1, -t, 0), (1, -t, 0),
+         (0, -1, t), (0, 1, t), (0, -1, -t), (0, 1, -t),
+         (t, 0, -1), (t, 0, 1), (-t, 0, -1), (-t, 0, 1)]
+    F = [(0, 11, 5), (0, 5, 1), (0, 1, 7), (0, 7, 10), (0, 10, 11),
+         (1, 5, 9), (5, 11, 4), (11, 10, 2), (10, 7, 6), (7, 1, 8),
+         (3, 9, 4), (3, 4, 2), (3, 2, 6), (3, 6, 8), (3, 8, 9),
+         (4, 9, 5), (2, 4, 11), (6, 2, 10), (8, 6, 7), (9, 8, 1)]
+    V = [scale(v, 1.0 / norm(v)) for v in V]
+    for _ in range(levels):
+        mid = {}
+
+        def midpoint(a, b):
+            key = (min(a, b), max(a, b))
+            if key not in mid:
+                m = scale(add(V[a], V[b]), 0.5)
+                V.append(scale(m, 1.0 / norm(m)))
+                mid[key] = len(V) - 1
+            return mid[key]
+        G = []
+        for a, b, c in F:
+            ab, bc, ca = midpoint(a, b), midpoint(b, c), midpoint(c, a)
+            G += [(a, ab, ca), (b, bc, ab), (c, ca, bc), (ab, bc, ca)]
+        F = G
+    return V, F
+
+
+def bend(p, radius=KIDNEY_BEND_RADIUS):
+    """Bend the x axis into an arc of the given radius around the z axis, curling
+    the ends toward +y. (0, y, z) is fixed; injective while y < radius and
+    |x| < pi * radius."""
+    x, y, z = p
+    phi = x / radius
+    r = radius - y
+    return (r * math.sin(phi), radius - r * math.cos(phi), z)
+
+
+def kidney_straight(p):
+    """Unit-sphere point -> unbent kidney: ellipsoid with a hilum dent on +y.
+
+    y -> y * (1 - D g(x,z) s(y)) is strictly increasing in y (D (s + y s') < 1), so
+    the map is injective and the surface stays embedded."""
+    x, y, z = p
+    sx, sz = KIDNEY_DENT_SIZE
+    g = math.exp(-((x / sx) ** 2 + (z / sz) ** 2))
+    s = 1.0 / (1.0 + math.exp(-y / 0.15))
+    y = y * (1.0 - KIDNEY_DENT_DEPTH * g * s)
+    a, b, c = KIDNEY_RADII
+    return (a * x, b * y, c * z)
+
+
+def kidney_model():
+    S, F = icosphere(MODEL3D_SUBDIVISIONS)
+    V = [bend(kidney_straight(p)) for p in S]
+    return V, F
+
+
+def ring_tube(rings, ring_size, radii):
+    """A closed ring-and-pole triangle mesh around the x axis, in the unbent frame:
+    `rings` elliptical rings at x = -a cos(t_k) with half-axes (b sin t_k, c sin t_k),
+    plus one pole vertex at each end. Vertex 0 is the -x pole, the last the +x pole."""
+    a, b, c = radii
+    V = [(-a, 0.0, 0.0)]
+    for k in range(1, rings + 1):
+        t = math.pi * k / (rings + 1)
+        for m in range(ring_size):
+            th = 2.0 * math.pi * (m + 0.5 * (k % 2)) / ring_size
+            V.append((-a * math.cos(t), b * math.sin(t) * math.cos(th), c * math.sin(t) * math.sin(th)))
+    V.append((a, 0.0, 0.0))
+    last = len(V) - 1
+
+    def ring(k, m):
+        return 1 + (k - 1) * ring_size + (m % ring_size)
+    F = []
+    for m in range(ring_size):
+        F.append((0, ring(1, m + 1), ring(1, m)))
+    for k in range(1, rings):
+        for m in range(ring_size):
+            a0, a1 = ring(k, m), ring(k, m + 1)
+            b0, b1 = ring(k + 1, m), ring(k + 1, m + 1)
+            if k % 2 == 0:   # ring k+1 is half a step ahead: b0 lies between a0 and a1
+                F += [(a0, a1, b0), (a1, b1, b0)]
+            else:            # ring k+1 is half a step behind: b1 lies between a0 and a1
+                F += [(a0, b1, b0), (a0, a1, b1)]
+    for m in range(ring_size):
+        F.append((last, ring(rings, m), ring(rings, m + 1)))
+    return V, F
+
+
+def kidney_cage_straight():
+    radii = tuple(r + o for r, o in zip(KIDNEY_RADII, CAGE3D_OFFSET))
+    return ring_tube(CAGE3D_RINGS, CAGE3D_RING_SIZE, radii)
+
+
+def kidney_cage():
+    S, F = kidney_cage_straight()
+    return [bend(p) for p in S], F
+
+
+def kidney_cage_posed():
+    """Same cage, deformed in the unbent frame before bending:
+    - the middle is squeezed across the long axis (y, z scaled down around x = 0),
+    - the -x end is twisted about the long axis,
+    and after bending the +x end is bent further about the z axis."""
+    S, F = kidney_cage_straight()
+    a = KIDNEY_RADII[0] + CAGE3D_OFFSET[0]
+    out = []
+    for (x, y, z) in S:
+        sq = 1.0 - POSE3D_SQUEEZE * math.exp(-(x / 0.45) ** 2)
+        y, z = y * sq, z * sq
+        tw = math.radians(POSE3D_TWIST_DEG) * smoothstep((-x - 0.1) / (a - 0.1))
+        y, z = y * math.cos(tw) - z * math.sin(tw), y * math.sin(tw) + z * math.cos(tw)
+        p = bend((x, y, z))
+        # Extra bend of the +x end about the z axis through the bent centre line at x = 0.2.
+        al = math.radians(POSE3D_BEND_DEG) * smoothstep((x - 0.2) / (a - 0.2))
+        pivot = bend((0.2, 0.0, 0.0))
+        q = rotate2((p[0], p[1]), (pivot[0], pivot[1]), math.degrees(al))
+        out.append((q[0], q[1], p[2]))
+    return out, F
+
+
+def center_and_round(Vs, shift):
+    return [[tuple(rnd(v[k] - shift[k]) for k in range(3)) for v in V] for V in Vs]
+
+
+def check_cage_encloses(model, cage_V, cage_F):
+    min_d, min_w, max_w = float("inf"), float("inf"), -float("inf")
+    for i, p in enumerate(model):
+        w = winding_number(p, cage_V, cage_F)
+        assert abs(w - 1.0) < 1e-6, "cage3d: model vertex %d has winding number %g" % (i, w)
+        min_w, max_w = min(min_w, w), max(max_w, w)
+        d = min(dist_point_triangle(p, *(cage_V[v] for v in f)) for f in cage_F)
+        assert d >= CAGE3D_MIN_CLEARANCE, "cage3d: model vertex %d only %g inside" % (i, d)
+        min_d = min(min_d, d)
+    return min_d
+
+
+# ---------------------------------------------------------------------------
+# Intentionally broken inputs
+# ---------------------------------------------------------------------------
+
+CUBE_V = [(-1, -1, -1), (1, -1, -1), (1, 1, -1), (-1, 1, -1),
+          (-1, -1, 1), (1, -1, 1), (1, 1, 1), (-1, 1, 1)]
+CUBE_QUADS = [(0, 3, 2, 1), (4, 5, 6, 7), (0, 1, 5, 4),
+              (1, 2, 6, 5), (2, 3, 7, 6), (3, 0, 4, 7)]   # outward, 0-based
+
+
+def cube_triangles():
+    F = []
+    for a, b, c, d in CUBE_QUADS:
+        F += [(a, b, c), (a, c, d)]
+    return F
+
+
+def bad_files():
+    """name -> text. Also asserts that each file is broken in the intended way."""
+    V = [tuple(float(x) for x in v) for v in CUBE_V]
+    tris = cube_triangles()
+    check_closed_surface(V, tris, "cube")            # the unbroken base is valid
+
+    def obj(Vs, Fs, vstr=None):
+        lines = [vstr(i, v) if vstr else "v %s %s %s" % tuple(fmt(x) for x in v)
+                 for i, v in enumerate(Vs)]
+        lines += ["f " + " ".join(str(i + 1) for i in f) for f in Fs]
+        return "\n".join(lines) + "\n"
+
+    files = {}
+    # open: the top side (+z, quad 1 = two triangles) removed -> 4 boundary edges.
+    open_F = [t for k, t in enumerate(tris) if k not in (2, 3)]
+    try:
+        directed_edges_ok(open_F, "open")
+        raise RuntimeError("open_cage is not open")
+    except AssertionError:
+        pass
+    files["bad/open_cage.obj"] = obj(V, open_F)
+
+    # nan: valid closed cube, vertex 7 (1-based) has y = nan.
+    files["bad/nan_cage.obj"] = obj(V, tris, lambda i, v: "v %s %s %s" % (
+        fmt(v[0]), "nan" if i == 6 else fmt(v[1]), fmt(v[2])))
+
+    # bowtie: figure-of-eight quadrilateral, edges 0 and 2 cross at the origin.
+    bow = [(-0.5, -0.5), (0.5, 0.5), (0.5, -0.5), (-0.5, 0.5)]
+    assert polygon_self_intersections(bow), "bowtie is simple?"
+    files["bad/bowtie2d.obj"] = "".join("v %s %s 0\n" % (fmt(x), fmt(y)) for x, y in bow)
+
+    # inconsistent: the 5th triangle (first of the -y side) has reversed winding.
+    inc = list(tris)
+    a, b, c = inc[4]
+    inc[4] = (a, c, b)
+    try:
+        directed_edges_ok(inc, "inconsistent")
+        raise RuntimeError("inconsistent_cage is consistent")
+    except AssertionError:
+        pass
+    files["bad/inconsistent_cage.obj"] = obj(V, inc)
+
+    # quads: closed, outward cube with 6 quadrilateral faces.
+    files["bad/quad_cage.obj"] = obj(V, CUBE_QUADS)
+
+    files["bad/empty.obj"] = ""
+    files["bad/garbage.off"] = ("this is not an OFF file\n"
+                                "OF F 8 6 0\n"
+                                "1.0 two 3,0 @@@ -- ~~\n"
+                                "\x7fgarbage\tfields 1e999999 0x1p3\n")
+    return files
+
+
+# ---------------------------------------------------------------------------
+# Writers
+# ---------------------------------------------------------------------------
+
+def obj_polygon_text(P):
+    return "".join("v %s %s 0\n" % (fmt(x), fmt(y)) for x, y in P)
+
+
+def obj_mesh2d_text(V, F):
+    return ("".join("v %s %s 0\n" % (fmt(x), fmt(y)) for x, y in V) +
+            "".join("f %d %d %d\n" % (a + 1, b + 1, c + 1) for a, b, c in F))
+
+
+def obj_mesh3d_text(V, F):
+    return ("".join("v %s %s %s\n" % tuple(fmt(x) for x in v) for v in V) +
+            "".join("f %d %d %d\n" % (a + 1, b + 1, c + 1) for a, b, c in F))
+
+
+def off_text(V, F):
+    return ("OFF\n%d %d 0\n" % (len(V), len(F)) +
+            "".join("%s %s %s\n" % tuple(fmt(x) for x in v) for v in V) +
+            "".join("3 %d %d %d\n" % f for f in F))
+
+
+# ---------------------------------------------------------------------------
+
+def main(argv):
+    out_dir = argv[1] if len(argv) > 1 else os.path.dirname(os.path.abspath(__file__))
+    files = {}
+    summary = []
+
+    # 2D ----------------------------------------------------------------------
+    cage2d = gingerbread_cage()
+    check_simple_ccw_polygon(cage2d, "cage2d")
+    posed2d = gingerbread_posed(cage2d)
+    check_simple_ccw_polygon(posed2d, "cage2d_posed")
+    assert len(posed2d) == len(cage2d)
+    model2d_V, model2d_F = triangulated_interior(cage2d, MODEL2D_SPACING, MODEL2D_MARGIN)
+    stats2d = check_model2d(model2d_V, model2d_F, cage2d)
+    files["cage2d.obj"] = obj_polygon_text(cage2d)
+    files["cage2d_posed.obj"] = obj_polygon_text(posed2d)
+    files["model2d.obj"] = obj_mesh2d_text(model2d_V, model2d_F)
+    summary.append("cage2d: %d vertices, area %.4f" % (len(cage2d), polygon_area(cage2d)))
+    summary.append("cage2d_posed: %d vertices, area %.4f" % (len(posed2d), polygon_area(posed2d)))
+    summary.append("model2d: %d vertices, %d triangles, min clearance %.4f, covers %.1f%% of "
+                   "the cage" % (len(model2d_V), len(model2d_F), stats2d["min_clearance"],
+                                 100.0 * stats2d["area_fraction"]))
+
+    # 3D ----------------------------------------------------------------------
+    model_V, model_F = kidney_model()
+    cage_V, cage_F = kidney_cage()
+    posed_V, posed_F = kidney_cage_posed()
+    # Centre everything on the model's bounding box (same shift for all three).
+    shift = tuple(0.5 * (min(v[k] for v in model_V) + max(v[k] for v in model_V)) for k in range(3))
+    model_V, cage_V, posed_V = center_and_round([model_V, cage_V, posed_V], shift)
+
+    assert 2000 <= len(model_V) <= 6000
+    vol = check_closed_surface(model_V, model_F, "model3d")
+    concave = concave_edge_count(model_V, model_F)
+    assert concave > 0, "model3d is convex"
+    tested_m = check_no_self_intersections(model_V, model_F, "model3d")
+
+    assert 30 <= len(cage_V) <= 150
+    cvol = check_closed_surface(cage_V, cage_F, "cage3d")
+    tested_c = check_no_self_intersections(cage_V, cage_F, "cage3d")
+    clearance = check_cage_encloses(model_V, cage_V, cage_F)
+
+    assert len(posed_V) == len(cage_V) and posed_F == cage_F
+    pvol = check_closed_surface(posed_V, posed_F, "cage3d_posed")
+    tested_p = check_no_self_intersections(posed_V, posed_F, "cage3d_posed")
+
+    files["model3d.off"] = off_text(model_V, model_F)
+    files["cage3d.obj"] = obj_mesh3d_text(cage_V, cage_F)
+    files["cage3d_posed.obj"] = obj_mesh3d_text(posed_V, posed_F)
+    bbox = [(min(v[k] for v in model_V), max(v[k] for v in model_V)) for k in range(3)]
+    summary.append("model3d: %d vertices, %d triangles, volume %.4f, %d concave edges, bbox %s, "
+                   "%d face pairs tested" % (len(model_V), len(model_F), vol, concave,
+                                             " x ".join("[%.3f, %.3f]" % b for b in bbox), tested_m))
+    summary.append("cage3d: %d vertices, %d triangles, volume %.4f, min clearance to model %.4f, "
+                   "%d face pairs tested" % (len(cage_V), len(cage_F), cvol, clearance, tested_c))
+    summary.append("cage3d_posed: %d vertices, %d triangles, volume %.4f, %d face pairs tested"
+                   % (len(posed_V), len(posed_F), pvol, tested_p))
+
+    # Broken inputs -----------------------------------------------------------
+    files.update(bad_files())
+
+    # Write (only after every check passed) --------------------------------------
+    os.makedirs(os.path.join(out_dir, "bad"), exist_ok=True)
+    for name in sorted(files):
+        with open(os.path.join(out_dir, name), "w", encoding="ascii", newline="\n") as fh:
+            fh.write(files[name])
+    for line in summary:
+        print(line)
+    for name in sorted(files):
+        print("wrote %-28s %8d bytes" % (name, len(files[name].encode("ascii"))))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv))

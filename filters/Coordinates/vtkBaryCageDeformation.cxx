@@ -1,0 +1,258 @@
+#include "vtkBaryCageDeformation.h"
+
+#include "vtkBaryConversion.h"
+#include "vtkBaryMethod.h"
+
+#include "core/cage_deformation.h"
+#include "core/error.h"
+
+#include "vtkCellArray.h"
+#include "vtkDataArray.h"
+#include "vtkDoubleArray.h"
+#include "vtkInformation.h"
+#include "vtkInformationVector.h"
+#include "vtkObjectFactory.h"
+#include "vtkPointData.h"
+#include "vtkPointSet.h"
+#include "vtkPoints.h"
+#include "vtkPolyData.h"
+
+#include <cstdint>
+#include <cstring>
+
+vtkStandardNewMacro(vtkBaryCageDeformation);
+
+namespace
+{
+/// FNV-1a over raw bytes: a content hash, so equal data give equal keys whatever their MTime.
+struct Hasher
+{
+  std::uint64_t h = 1469598103934665603ULL;
+  void add(const void* data, std::size_t bytes)
+  {
+    const auto* p = static_cast<const unsigned char*>(data);
+    for (std::size_t i = 0; i < bytes; ++i)
+      h = (h ^ p[i]) * 1099511628211ULL;
+  }
+  template <class T>
+  void add(const T& value)
+  {
+    add(&value, sizeof(T));
+  }
+};
+
+void hash_points(Hasher& hasher, vtkPoints* points)
+{
+  const vtkIdType n = points ? points->GetNumberOfPoints() : 0;
+  hasher.add(n);
+  for (vtkIdType i = 0; i < n; ++i)
+  {
+    double x[3];
+    points->GetPoint(i, x);
+    hasher.add(x, sizeof(x));
+  }
+}
+
+void hash_cells(Hasher& hasher, vtkCellArray* cells)
+{
+  const vtkIdType n = cells ? cells->GetNumberOfCells() : 0;
+  hasher.add(n);
+  for (vtkIdType c = 0; c < n; ++c)
+  {
+    vtkIdType size;
+    const vtkIdType* ids;
+    cells->GetCellAtId(c, size, ids);
+    hasher.add(size);
+    hasher.add(ids, sizeof(vtkIdType) * static_cast<std::size_t>(size));
+  }
+}
+} // namespace
+
+struct vtkBaryCageDeformation::Cache
+{
+  bool Valid = false;
+  std::uint64_t Key = 0;
+  bary::DenseWeights W; // core control order
+};
+
+vtkBaryCageDeformation::vtkBaryCageDeformation()
+  : WeightCache(new Cache)
+{
+  this->SetNumberOfInputPorts(3);
+  this->SetWeightsArrayName("Weights");
+}
+
+vtkBaryCageDeformation::~vtkBaryCageDeformation()
+{
+  this->SetWeightsArrayName(nullptr);
+}
+
+void vtkBaryCageDeformation::ClearCache()
+{
+  this->WeightCache->Valid = false;
+  this->WeightCache->W.resize(0, 0);
+}
+
+void vtkBaryCageDeformation::SetRestCageData(vtkPolyData* cage)
+{
+  this->SetInputData(1, cage);
+}
+void vtkBaryCageDeformation::SetRestCageConnection(vtkAlgorithmOutput* output)
+{
+  this->SetInputConnection(1, output);
+}
+void vtkBaryCageDeformation::SetDeformedCageData(vtkPointSet* cage)
+{
+  this->SetInputData(2, cage);
+}
+void vtkBaryCageDeformation::SetDeformedCageConnection(vtkAlgorithmOutput* output)
+{
+  this->SetInputConnection(2, output);
+}
+
+int vtkBaryCageDeformation::FillInputPortInformation(int port, vtkInformation* info)
+{
+  if (port == 1)
+    info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkPolyData");
+  else
+    info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkPointSet");
+  return 1;
+}
+
+int vtkBaryCageDeformation::RequestData(
+  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+{
+  vtkPointSet* input = vtkPointSet::GetData(inputVector[0]);
+  vtkPolyData* restCage = vtkPolyData::GetData(inputVector[1]);
+  vtkPointSet* deformedCage = vtkPointSet::GetData(inputVector[2]);
+  vtkPointSet* output = vtkPointSet::GetData(outputVector);
+  if (!input || !output)
+  {
+    vtkErrorMacro(<< "No input point set.");
+    return 0;
+  }
+  if (!restCage)
+  {
+    vtkErrorMacro(<< "No rest cage: connect a vtkPolyData to input port 1 (SetRestCageData).");
+    return 0;
+  }
+  if (!deformedCage)
+  {
+    vtkErrorMacro(<< "No deformed cage: connect a vtkPointSet to input port 2 "
+                     "(SetDeformedCageData).");
+    return 0;
+  }
+  output->ShallowCopy(input);
+  if (input->GetNumberOfPoints() == 0)
+  {
+    vtkWarningMacro(<< "The input has no points; nothing to deform.");
+    return 1;
+  }
+
+  try
+  {
+    const vtkBaryCage cage = vtkBaryConversion::ToCage(restCage, this->CageDimension);
+    const int dim = cage.Cage.dimension();
+    const vtkIdType nc = cage.Cage.num_controls();
+    if (deformedCage->GetNumberOfPoints() != nc)
+      throw bary::Error(bary::ErrorCode::SizeMismatch,
+        "the deformed cage has " + std::to_string(deformedCage->GetNumberOfPoints()) +
+          " points but the rest cage has " + std::to_string(nc) +
+          "; both must list the same control points in the same order");
+
+    // Deformed control points, in core control order.
+    Eigen::MatrixXd C(nc, dim);
+    for (vtkIdType k = 0; k < nc; ++k)
+    {
+      double x[3];
+      deformedCage->GetPoint(cage.ControlPointIds[static_cast<std::size_t>(k)], x);
+      for (int d = 0; d < dim; ++d)
+        C(k, d) = x[d];
+    }
+
+    const bary::DenseWeights* W = nullptr;
+    bary::DenseWeights fromInput;
+    vtkDataArray* given = this->UseInputWeights && this->WeightsArrayName
+      ? input->GetPointData()->GetArray(this->WeightsArrayName)
+      : nullptr;
+    if (given && given->GetNumberOfComponents() == nc)
+    {
+      fromInput = vtkBaryConversion::FromArray(given, cage);
+      W = &fromInput;
+      this->UpdateProgress(0.5);
+    }
+    else
+    {
+      if (given)
+        vtkWarningMacro(<< "Ignoring input array '" << this->WeightsArrayName << "': it has "
+                        << given->GetNumberOfComponents() << " components but the cage has "
+                        << nc << " points; computing weights instead.");
+      vtkBaryMethodParameters parameters;
+      parameters.Method = this->Method;
+      parameters.BoundaryTolerance = this->BoundaryTolerance;
+      parameters.ValidateCage = this->ValidateCage;
+      parameters.NumberOfThreads = this->NumberOfThreads;
+
+      Hasher hasher;
+      hash_points(hasher, restCage->GetPoints());
+      hash_cells(hasher, restCage->GetPolys());
+      hash_cells(hasher, restCage->GetLines());
+      hash_points(hasher, input->GetPoints());
+      hasher.add(this->CageDimension);
+      hasher.add(parameters.Method);
+      hasher.add(parameters.BoundaryTolerance);
+      hasher.add(parameters.ValidateCage);
+      if (!this->WeightCache->Valid || this->WeightCache->Key != hasher.h)
+      {
+        this->WeightCache->Valid = false;
+        const Eigen::MatrixXd points = vtkBaryConversion::PointsToMatrix(input, dim);
+        this->WeightCache->W = vtkBaryMethod::Compute(cage, points, parameters,
+          [this](double f) {
+            this->UpdateProgress(0.9 * f);
+            return !this->GetAbortExecute();
+          },
+          nullptr);
+        this->WeightCache->Key = hasher.h;
+        this->WeightCache->Valid = true;
+        ++this->NumberOfWeightComputations;
+      }
+      W = &this->WeightCache->W;
+    }
+
+    if (!W->allFinite())
+      vtkWarningMacro(<< "Some weights are undefined (NaN) — points far outside the cage; "
+                         "their deformed positions are NaN.");
+    const Eigen::MatrixXd X = bary::deform_points(*W, C);
+    vtkBaryConversion::SetPoints(output, X);
+    if (this->PassWeights && this->WeightsArrayName && *this->WeightsArrayName)
+      output->GetPointData()->AddArray(
+        vtkBaryConversion::ToArray(*W, cage, this->WeightsArrayName));
+    this->UpdateProgress(1.0);
+  }
+  catch (const bary::Error& e)
+  {
+    vtkErrorMacro(<< e.what());
+    return 0;
+  }
+  catch (const std::exception& e)
+  {
+    vtkErrorMacro(<< "Unexpected failure: " << e.what());
+    return 0;
+  }
+  return 1;
+}
+
+void vtkBaryCageDeformation::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  os << indent << "Method: " << this->Method << "\n";
+  os << indent << "CageDimension: " << this->CageDimension << "\n";
+  os << indent << "WeightsArrayName: " << (this->WeightsArrayName ? this->WeightsArrayName : "(none)")
+     << "\n";
+  os << indent << "UseInputWeights: " << this->UseInputWeights << "\n";
+  os << indent << "PassWeights: " << this->PassWeights << "\n";
+  os << indent << "BoundaryTolerance: " << this->BoundaryTolerance << "\n";
+  os << indent << "ValidateCage: " << this->ValidateCage << "\n";
+  os << indent << "NumberOfThreads: " << this->NumberOfThreads << "\n";
+  os << indent << "NumberOfWeightComputations: " << this->NumberOfWeightComputations << "\n";
+}

@@ -1,0 +1,125 @@
+/**
+ * @class   vtkBaryCageDeformation
+ * @brief   Deforms a point set by moving the control points of a cage.
+ *
+ * x'_p = sum_i w_i(x_p) c'_i, with w the generalized barycentric coordinates of the rest pose.
+ *
+ * Input 0: the model (any vtkPointSet). Input 1: the rest cage (vtkPolyData, as in
+ * vtkBaryCoordinates). Input 2: the deformed cage: a vtkPointSet with the same number of points
+ * as the rest cage, in the same order (its cells, if any, are ignored).
+ *
+ * Weights: if UseInputWeights is on and the model carries a point-data array named
+ * WeightsArrayName with one component per cage point, those weights are used. Otherwise they
+ * are computed with Method and cached; the cache is keyed on the *content* of the rest cage
+ * (points and cells), of the model's points and on the method parameters — not on counts or
+ * modification times — so a new rest cage or model always recomputes, and moving only the
+ * deformed cage (the interactive case) never does.
+ *
+ * Output: a copy of the model with moved points; with PassWeights (default on) the weights array
+ * is added too. For a 2D cage the z coordinate of every model point is kept.
+ *
+ * @sa vtkBaryCoordinates
+ */
+#ifndef vtkBaryCageDeformation_h
+#define vtkBaryCageDeformation_h
+
+#include "BaryLabFiltersModule.h" // for export macro
+#include "vtkPointSetAlgorithm.h"
+
+#include <memory> // for std::unique_ptr
+
+class vtkPointSet;
+class vtkPolyData;
+
+class BARYLABFILTERS_EXPORT vtkBaryCageDeformation : public vtkPointSetAlgorithm
+{
+public:
+  static vtkBaryCageDeformation* New();
+  vtkTypeMacro(vtkBaryCageDeformation, vtkPointSetAlgorithm);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  ///@{
+  /// Coordinate method (vtkBaryCoordinates::Methods). Default MEAN_VALUE.
+  vtkSetMacro(Method, int);
+  vtkGetMacro(Method, int);
+  ///@}
+
+  ///@{
+  /// Cage interpretation (see vtkBaryCoordinates). Default automatic (0).
+  vtkSetClampMacro(CageDimension, int, 0, 3);
+  vtkGetMacro(CageDimension, int);
+  ///@}
+
+  ///@{
+  /// Weights array read from the model (with UseInputWeights) and written to the output (with
+  /// PassWeights). Default "Weights".
+  vtkSetStringMacro(WeightsArrayName);
+  vtkGetStringMacro(WeightsArrayName);
+  ///@}
+
+  ///@{
+  /// Use weights stored on the model when present. Default on.
+  vtkSetMacro(UseInputWeights, bool);
+  vtkGetMacro(UseInputWeights, bool);
+  vtkBooleanMacro(UseInputWeights, bool);
+  ///@}
+
+  ///@{
+  /// Add the weights to the output. Default on.
+  vtkSetMacro(PassWeights, bool);
+  vtkGetMacro(PassWeights, bool);
+  vtkBooleanMacro(PassWeights, bool);
+  ///@}
+
+  ///@{
+  /// See vtkBaryCoordinates.
+  vtkSetClampMacro(BoundaryTolerance, double, 0.0, 1e-3);
+  vtkGetMacro(BoundaryTolerance, double);
+  vtkSetMacro(ValidateCage, bool);
+  vtkGetMacro(ValidateCage, bool);
+  vtkBooleanMacro(ValidateCage, bool);
+  vtkSetClampMacro(NumberOfThreads, int, 0, 1024);
+  vtkGetMacro(NumberOfThreads, int);
+  ///@}
+
+  ///@{
+  /// Inputs 1 and 2.
+  void SetRestCageData(vtkPolyData* cage);
+  void SetRestCageConnection(vtkAlgorithmOutput* output);
+  void SetDeformedCageData(vtkPointSet* cage);
+  void SetDeformedCageConnection(vtkAlgorithmOutput* output);
+  ///@}
+
+  /// How many times weights were computed (not taken from the cache or the input) since
+  /// construction. For tests and for users who want to see the cache work.
+  vtkGetMacro(NumberOfWeightComputations, vtkIdType);
+
+  /// Drop the cached weights.
+  void ClearCache();
+
+protected:
+  vtkBaryCageDeformation();
+  ~vtkBaryCageDeformation() override;
+
+  int FillInputPortInformation(int port, vtkInformation* info) override;
+  int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+
+  int Method = 0;
+  int CageDimension = 0;
+  char* WeightsArrayName = nullptr;
+  bool UseInputWeights = true;
+  bool PassWeights = true;
+  double BoundaryTolerance = 1e-10;
+  bool ValidateCage = true;
+  int NumberOfThreads = 0;
+  vtkIdType NumberOfWeightComputations = 0;
+
+private:
+  vtkBaryCageDeformation(const vtkBaryCageDeformation&) = delete;
+  void operator=(const vtkBaryCageDeformation&) = delete;
+
+  struct Cache;
+  std::unique_ptr<Cache> WeightCache;
+};
+
+#endif

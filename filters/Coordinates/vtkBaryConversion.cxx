@@ -1,0 +1,253 @@
+#include "vtkBaryConversion.h"
+
+#include "core/error.h"
+
+#include "vtkCellArray.h"
+#include "vtkDataSet.h"
+#include "vtkDoubleArray.h"
+#include "vtkIdList.h"
+#include "vtkObjectFactory.h"
+#include "vtkPointSet.h"
+#include "vtkPoints.h"
+#include "vtkPolyData.h"
+#include "vtkSmartPointer.h"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+vtkStandardNewMacro(vtkBaryConversion);
+
+namespace
+{
+using bary::Error;
+using bary::ErrorCode;
+
+[[noreturn]] void fail(const std::string& message)
+{
+  throw Error(ErrorCode::InvalidCage, "invalid cage: " + message);
+}
+
+void check_finite(vtkPoints* points)
+{
+  for (vtkIdType i = 0; i < points->GetNumberOfPoints(); ++i)
+  {
+    double x[3];
+    points->GetPoint(i, x);
+    if (!std::isfinite(x[0]) || !std::isfinite(x[1]) || !std::isfinite(x[2]))
+      throw Error(ErrorCode::NonFinite,
+        "cage point " + std::to_string(i) + " has a non-finite coordinate (NaN or inf)");
+  }
+}
+
+/// Builds a 2D cage from the polygon order @p order (point ids).
+vtkBaryCage make_polygon(vtkPoints* points, std::vector<vtkIdType> order, const char* source)
+{
+  const vtkIdType n = points->GetNumberOfPoints();
+  if (order.size() > 1 && order.front() == order.back())
+    order.pop_back(); // closed polyline repeats its first point
+  if (static_cast<vtkIdType>(order.size()) != n)
+    fail(std::string("the 2D cage ") + source + " visits " + std::to_string(order.size()) +
+      " points but the cage has " + std::to_string(n) +
+      "; every cage point must appear exactly once along the polygon");
+  std::vector<char> seen(static_cast<std::size_t>(n), 0);
+  for (vtkIdType id : order)
+  {
+    if (id < 0 || id >= n || seen[static_cast<std::size_t>(id)]++)
+      fail(std::string("the 2D cage ") + source + " visits point " + std::to_string(id) +
+        " twice; every cage point must appear exactly once along the polygon");
+  }
+  double bounds[6];
+  points->GetBounds(bounds);
+  const double extent = std::max(bounds[1] - bounds[0], bounds[3] - bounds[2]);
+  if (bounds[5] - bounds[4] > 1e-9 * std::max(1.0, extent))
+    fail("a 2D cage (polygon) must lie in a plane z = const, but its z ranges over [" +
+      std::to_string(bounds[4]) + ", " + std::to_string(bounds[5]) +
+      "]; a 3D cage needs triangle faces");
+  vtkBaryCage cage;
+  cage.Cage.V.resize(n, 2);
+  cage.ControlPointIds = order;
+  for (vtkIdType k = 0; k < n; ++k)
+  {
+    double x[3];
+    points->GetPoint(order[static_cast<std::size_t>(k)], x);
+    cage.Cage.V(k, 0) = x[0];
+    cage.Cage.V(k, 1) = x[1];
+    cage.IdentityOrder = cage.IdentityOrder && order[static_cast<std::size_t>(k)] == k;
+  }
+  return cage;
+}
+
+std::vector<vtkIdType> cell_ids(vtkCellArray* cells, vtkIdType cell)
+{
+  vtkNew<vtkIdList> ids;
+  cells->GetCellAtId(cell, ids);
+  return std::vector<vtkIdType>(ids->begin(), ids->end());
+}
+} // namespace
+
+vtkBaryCage vtkBaryConversion::ToCage(vtkPolyData* data, int dimension)
+{
+  if (!data || !data->GetPoints() || data->GetNumberOfPoints() == 0)
+    throw Error(ErrorCode::EmptyInput, "the cage has no points");
+  if (dimension != AUTOMATIC && dimension != CAGE_2D && dimension != CAGE_3D)
+    throw Error(ErrorCode::InvalidArgument, "cage dimension must be 0 (automatic), 2 or 3");
+  vtkPoints* points = data->GetPoints();
+  check_finite(points);
+  const vtkIdType npolys = data->GetNumberOfPolys(), nlines = data->GetNumberOfLines();
+  if (data->GetNumberOfStrips() > 0)
+    fail("triangle strips are not supported; convert the cage with vtkTriangleFilter");
+
+  bool three_d = false;
+  if (dimension == CAGE_3D)
+    three_d = true;
+  else if (dimension == AUTOMATIC && npolys > 0)
+  {
+    // a single polygon in a plane z = const is a 2D cage; anything else with faces is 3D
+    three_d = true;
+    if (npolys == 1)
+    {
+      double bounds[6];
+      points->GetBounds(bounds);
+      three_d = bounds[5] - bounds[4] > 0.0;
+    }
+  }
+
+  if (three_d)
+  {
+    if (npolys == 0)
+      fail("a 3D cage needs triangle faces, but the data has none (only " +
+        std::to_string(nlines) + " lines and " + std::to_string(data->GetNumberOfVerts()) +
+        " vertices)");
+    if (nlines > 0)
+      fail("a 3D cage must consist of triangles only, but it also has " +
+        std::to_string(nlines) + " line cells");
+    vtkBaryCage cage;
+    const vtkIdType n = points->GetNumberOfPoints();
+    cage.Cage.V.resize(n, 3);
+    for (vtkIdType i = 0; i < n; ++i)
+    {
+      double x[3];
+      points->GetPoint(i, x);
+      cage.Cage.V.row(i) << x[0], x[1], x[2];
+    }
+    vtkCellArray* polys = data->GetPolys();
+    cage.Cage.F.resize(npolys, 3);
+    for (vtkIdType f = 0; f < npolys; ++f)
+    {
+      const vtkIdType size = polys->GetCellSize(f);
+      if (size != 3)
+        fail("cage face " + std::to_string(f) + " has " + std::to_string(size) +
+          " vertices; 3D cages must be triangulated (e.g. with vtkTriangleFilter)");
+      const auto ids = cell_ids(polys, f);
+      for (int k = 0; k < 3; ++k)
+        cage.Cage.F(f, k) = static_cast<int>(ids[static_cast<std::size_t>(k)]);
+    }
+    cage.ControlPointIds.resize(static_cast<std::size_t>(n));
+    for (vtkIdType i = 0; i < n; ++i)
+      cage.ControlPointIds[static_cast<std::size_t>(i)] = i;
+    return cage;
+  }
+
+  // 2D
+  if (npolys > 1)
+    fail("a 2D cage is one polygon, but the data has " + std::to_string(npolys) +
+      " polygons (a 3D cage needs triangles forming a closed surface)");
+  if (npolys == 1)
+  {
+    if (nlines > 0)
+      fail("a 2D cage is one polygon, but the data also has line cells");
+    return make_polygon(points, cell_ids(data->GetPolys(), 0), "polygon");
+  }
+  if (nlines > 1)
+    fail("a 2D cage is one closed polyline, but the data has " + std::to_string(nlines) +
+      " line cells; join them into one polyline");
+  if (nlines == 1)
+    return make_polygon(points, cell_ids(data->GetLines(), 0), "polyline");
+  // bare points (an .obj with only v lines): the polygon in point order
+  std::vector<vtkIdType> order(static_cast<std::size_t>(points->GetNumberOfPoints()));
+  for (std::size_t i = 0; i < order.size(); ++i)
+    order[i] = static_cast<vtkIdType>(i);
+  return make_polygon(points, order, "given as points in order");
+}
+
+Eigen::MatrixXd vtkBaryConversion::ToMatrix(vtkPoints* points, int dimension)
+{
+  const vtkIdType n = points ? points->GetNumberOfPoints() : 0;
+  Eigen::MatrixXd X(n, dimension);
+  for (vtkIdType i = 0; i < n; ++i)
+  {
+    double x[3];
+    points->GetPoint(i, x);
+    for (int k = 0; k < dimension; ++k)
+      X(i, k) = x[k];
+  }
+  return X;
+}
+
+Eigen::MatrixXd vtkBaryConversion::PointsToMatrix(vtkDataSet* data, int dimension)
+{
+  const vtkIdType n = data ? data->GetNumberOfPoints() : 0;
+  Eigen::MatrixXd X(n, dimension);
+  for (vtkIdType i = 0; i < n; ++i)
+  {
+    double x[3];
+    data->GetPoint(i, x);
+    for (int k = 0; k < dimension; ++k)
+      X(i, k) = x[k];
+  }
+  return X;
+}
+
+vtkSmartPointer<vtkDoubleArray> vtkBaryConversion::ToArray(
+  const bary::DenseWeights& W, const vtkBaryCage& cage, const char* name)
+{
+  auto array = vtkSmartPointer<vtkDoubleArray>::New();
+  array->SetName(name);
+  array->SetNumberOfComponents(static_cast<int>(W.cols()));
+  array->SetNumberOfTuples(W.rows());
+  double* out = array->GetPointer(0);
+  const vtkIdType nc = W.cols();
+  if (cage.IdentityOrder)
+    std::copy(W.data(), W.data() + W.size(), out);
+  else
+    for (vtkIdType p = 0; p < W.rows(); ++p)
+      for (vtkIdType k = 0; k < nc; ++k)
+        out[p * nc + cage.ControlPointIds[static_cast<std::size_t>(k)]] = W(p, k);
+  for (vtkIdType k = 0; k < nc; ++k)
+    array->SetComponentName(k, ("c" + std::to_string(k)).c_str());
+  return array;
+}
+
+bary::DenseWeights vtkBaryConversion::FromArray(vtkDataArray* array, const vtkBaryCage& cage)
+{
+  const vtkIdType nc = static_cast<vtkIdType>(cage.ControlPointIds.size());
+  if (!array || array->GetNumberOfComponents() != nc)
+    throw Error(ErrorCode::SizeMismatch,
+      "the weights array has " + std::to_string(array ? array->GetNumberOfComponents() : 0) +
+        " components but the cage has " + std::to_string(nc) + " control points");
+  bary::DenseWeights W(array->GetNumberOfTuples(), nc);
+  for (vtkIdType p = 0; p < W.rows(); ++p)
+    for (vtkIdType k = 0; k < nc; ++k)
+      W(p, k) = array->GetComponent(p, static_cast<int>(cage.ControlPointIds[static_cast<std::size_t>(k)]));
+  if (!W.allFinite())
+    throw Error(ErrorCode::NonFinite, "the weights array contains NaN or infinite values");
+  return W;
+}
+
+void vtkBaryConversion::SetPoints(vtkPointSet* data, const Eigen::MatrixXd& X)
+{
+  vtkNew<vtkPoints> points;
+  points->SetDataTypeToDouble();
+  points->SetNumberOfPoints(X.rows());
+  for (vtkIdType i = 0; i < X.rows(); ++i)
+  {
+    double x[3] = { 0.0, 0.0, 0.0 };
+    if (X.cols() == 2)
+      data->GetPoint(i, x);
+    for (int k = 0; k < X.cols(); ++k)
+      x[k] = X(i, k);
+    points->SetPoint(i, x);
+  }
+  data->SetPoints(points);
+}

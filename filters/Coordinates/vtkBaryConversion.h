@@ -1,0 +1,102 @@
+/**
+ * @class   vtkBaryConversion
+ * @brief   The one place where VTK data become Eigen matrices for BaryLab's core, and back.
+ *
+ * Static helpers only. Cages:
+ * - A **3D cage** is a vtkPolyData whose polygons are all triangles (a closed surface); control
+ *   point i is point i of the polydata.
+ * - A **2D cage** is one closed polygon in the plane z = const, given either as a single polygon
+ *   cell, a single (closed or open) polyline, or — the geometry-processing habit of an .obj with
+ *   only `v` lines — as bare points with no cells, in order. Control point i is still point i of
+ *   the polydata; the polygon order may differ (the permutation is kept in vtkBaryCage).
+ *
+ * Errors are thrown as bary::Error (filters catch them in RequestData and report them with
+ * vtkErrorMacro).
+ *
+ * @sa vtkBaryCoordinates vtkBaryCageDeformation
+ */
+#ifndef vtkBaryConversion_h
+#define vtkBaryConversion_h
+
+#include "BaryLabFiltersModule.h" // for export macro
+#include "vtkObject.h"
+
+#ifndef __VTK_WRAP__
+#include "core/cage.h"  // for bary::Cage
+#include "core/types.h" // for bary::DenseWeights
+#include <vector>       // for std::vector
+#endif
+
+class vtkDataArray;
+class vtkDataSet;
+class vtkDoubleArray;
+class vtkPointSet;
+class vtkPoints;
+class vtkPolyData;
+
+#ifndef __VTK_WRAP__
+/// A cage as core sees it, plus where its control points come from.
+struct vtkBaryCage
+{
+  bary::Cage Cage;
+  /// ControlPointIds[k] = the polydata point id of core control point k (row k of Cage.V).
+  std::vector<vtkIdType> ControlPointIds;
+  /// True when ControlPointIds is the identity.
+  bool IdentityOrder = true;
+};
+#endif
+
+class BARYLABFILTERS_EXPORT vtkBaryConversion : public vtkObject
+{
+public:
+  static vtkBaryConversion* New();
+  vtkTypeMacro(vtkBaryConversion, vtkObject);
+
+  /// How a cage polydata is interpreted.
+  enum CageDimension
+  {
+    AUTOMATIC = 0, ///< triangles -> 3D; one polygon/polyline or bare planar points -> 2D
+    CAGE_2D = 2,
+    CAGE_3D = 3
+  };
+
+#ifndef __VTK_WRAP__
+  /**
+   * Interpret @p cage as a 2D or 3D cage (see the class description). Throws bary::Error
+   * naming the problem (no points, non-triangle cell k, several polygons, non-planar 2D cage,
+   * NaN coordinates ...). Topological validity (closed, manifold, simple) is checked later by
+   * bary::validate_cage.
+   */
+  static vtkBaryCage ToCage(vtkPolyData* cage, int dimension = AUTOMATIC);
+
+  /// The first @p dimension coordinates of every point of @p points, #P by dimension.
+  static Eigen::MatrixXd ToMatrix(vtkPoints* points, int dimension);
+  /// Same for the points of a data set (any vtkDataSet).
+  static Eigen::MatrixXd PointsToMatrix(vtkDataSet* data, int dimension);
+
+  /**
+   * Weights as a multi-component point-data array: tuple p, component j = weight of cage point
+   * j. @p cage gives the column permutation (core control k -> cage point ControlPointIds[k]).
+   */
+  static vtkSmartPointer<vtkDoubleArray> ToArray(
+    const bary::DenseWeights& W, const vtkBaryCage& cage, const char* name);
+  /// Inverse of ToArray: #tuples by #components, columns in core control order.
+  static bary::DenseWeights FromArray(vtkDataArray* array, const vtkBaryCage& cage);
+
+  /**
+   * Replace the point coordinates of @p data by the rows of @p X (#P by 2 or 3). With 2 columns
+   * the z coordinate of each point is kept.
+   */
+  static void SetPoints(vtkPointSet* data, const Eigen::MatrixXd& X);
+#endif
+
+protected:
+  vtkBaryConversion() = default;
+  ~vtkBaryConversion() override = default;
+
+private:
+  vtkBaryConversion(const vtkBaryConversion&) = delete;
+  void operator=(const vtkBaryConversion&) = delete;
+};
+
+#endif

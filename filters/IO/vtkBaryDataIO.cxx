@@ -1,0 +1,324 @@
+#include "vtkBaryDataIO.h"
+
+#include "vtkBaryOFFReader.h"
+#include "vtkBaryOFFWriter.h"
+
+#include "core/error.h"
+
+#include "vtkAlgorithm.h"
+#include "vtkCommand.h"
+#include "vtkDataSet.h"
+#include "vtkDataSetReader.h"
+#include "vtkDataSetWriter.h"
+#include "vtkOBJReader.h"
+#include "vtkOBJWriter.h"
+#include "vtkObjectFactory.h"
+#include "vtkPLYReader.h"
+#include "vtkPLYWriter.h"
+#include "vtkPolyData.h"
+#include "vtkSTLReader.h"
+#include "vtkSTLWriter.h"
+#include "vtkUnstructuredGrid.h"
+#include "vtkWriter.h"
+#include "vtkXMLWriter.h"
+#include "vtkXMLPolyDataReader.h"
+#include "vtkXMLPolyDataWriter.h"
+#include "vtkXMLUnstructuredGridReader.h"
+#include "vtkXMLUnstructuredGridWriter.h"
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstdlib>
+#include <cstdio>
+#include <fstream>
+#include <random>
+#include <sys/stat.h>
+
+vtkStandardNewMacro(vtkBaryDataIO);
+
+namespace
+{
+using bary::Error;
+using bary::ErrorCode;
+
+/// Collects the error (and warning) messages an algorithm emits, instead of printing them.
+class MessageCollector : public vtkCommand
+{
+public:
+  static MessageCollector* New() { return new MessageCollector; }
+  void Execute(vtkObject*, unsigned long event, void* data) override
+  {
+    if (event == vtkCommand::ErrorEvent && data)
+    {
+      std::string message = static_cast<const char*>(data);
+      // VTK prefixes "ERROR: In file, line N\nvtkClass (0x...): "; keep the last line.
+      const auto colon = message.rfind("): ");
+      if (colon != std::string::npos)
+        message = message.substr(colon + 3);
+      while (!message.empty() && std::isspace(static_cast<unsigned char>(message.back())))
+        message.pop_back();
+      if (Errors.empty())
+        Errors = message;
+    }
+  }
+  std::string Errors;
+};
+
+vtkSmartPointer<vtkAlgorithm> make_reader(const std::string& ext, const std::string& path)
+{
+  if (ext == ".vtp")
+  {
+    auto r = vtkSmartPointer<vtkXMLPolyDataReader>::New();
+    r->SetFileName(path.c_str());
+    return r;
+  }
+  if (ext == ".vtu")
+  {
+    auto r = vtkSmartPointer<vtkXMLUnstructuredGridReader>::New();
+    r->SetFileName(path.c_str());
+    return r;
+  }
+  if (ext == ".vtk")
+  {
+    auto r = vtkSmartPointer<vtkDataSetReader>::New();
+    r->SetFileName(path.c_str());
+    r->ReadAllScalarsOn();
+    r->ReadAllVectorsOn();
+    r->ReadAllFieldsOn();
+    return r;
+  }
+  if (ext == ".obj")
+  {
+    auto r = vtkSmartPointer<vtkOBJReader>::New();
+    r->SetFileName(path.c_str());
+    return r;
+  }
+  if (ext == ".stl")
+  {
+    auto r = vtkSmartPointer<vtkSTLReader>::New();
+    r->SetFileName(path.c_str());
+    return r;
+  }
+  if (ext == ".ply")
+  {
+    auto r = vtkSmartPointer<vtkPLYReader>::New();
+    r->SetFileName(path.c_str());
+    return r;
+  }
+  if (ext == ".off")
+  {
+    auto r = vtkSmartPointer<vtkBaryOFFReader>::New();
+    r->SetFileName(path.c_str());
+    return r;
+  }
+  return nullptr;
+}
+
+/// vtkOBJReader reads "nan" as 0 and skips malformed vertex lines silently: check the `v`
+/// lines ourselves so bad coordinates are an error that names the line.
+void check_obj_vertices(const std::string& path)
+{
+  std::ifstream in(path);
+  std::string line;
+  long number = 0;
+  while (std::getline(in, line))
+  {
+    ++number;
+    if (line.size() < 2 || line[0] != 'v' || !std::isspace(static_cast<unsigned char>(line[1])))
+      continue;
+    const char* s = line.c_str() + 1;
+    for (int k = 0; k < 3; ++k)
+    {
+      char* end = nullptr;
+      const double x = std::strtod(s, &end);
+      if (end == s)
+        throw Error(ErrorCode::Io,
+          "cannot read '" + path + "' line " + std::to_string(number) +
+            ": a vertex line needs three numbers: '" + line + "'");
+      if (!std::isfinite(x))
+        throw Error(ErrorCode::NonFinite,
+          "'" + path + "' line " + std::to_string(number) +
+            ": vertex coordinate is not finite (NaN or inf): '" + line + "'");
+      s = end;
+    }
+  }
+}
+
+const char* const kReadable = ".vtp, .vtu, .vtk, .obj, .stl, .ply, .off";
+} // namespace
+
+std::string vtkBaryDataIO::Extension(const std::string& path)
+{
+  const auto slash = path.find_last_of("/\\");
+  const auto dot = path.rfind('.');
+  if (dot == std::string::npos || (slash != std::string::npos && dot < slash))
+    return "";
+  std::string ext = path.substr(dot);
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+    [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return ext;
+}
+
+bool vtkBaryDataIO::CanRead(const std::string& path)
+{
+  return make_reader(Extension(path), path) != nullptr;
+}
+
+vtkSmartPointer<vtkDataSet> vtkBaryDataIO::Read(const std::string& path)
+{
+  const std::string ext = Extension(path);
+  vtkSmartPointer<vtkAlgorithm> reader = make_reader(ext, path);
+  if (!reader)
+    throw Error(ErrorCode::Io,
+      "cannot read '" + path + "': unknown file extension '" + ext + "' (readable: " +
+        kReadable + ")");
+  struct stat st;
+  if (stat(path.c_str(), &st) != 0)
+    throw Error(ErrorCode::Io, "cannot read '" + path + "': no such file");
+  if (!S_ISREG(st.st_mode))
+    throw Error(ErrorCode::Io, "cannot read '" + path + "': not a regular file");
+  {
+    std::ifstream probe(path);
+    if (!probe)
+      throw Error(ErrorCode::Io, "cannot read '" + path + "': permission denied");
+    if (st.st_size == 0)
+      throw Error(ErrorCode::Io, "cannot read '" + path + "': the file is empty");
+  }
+  if (ext == ".obj")
+    check_obj_vertices(path);
+  vtkNew<MessageCollector> collector;
+  reader->AddObserver(vtkCommand::ErrorEvent, collector);
+  reader->Update();
+  vtkDataSet* data = vtkDataSet::SafeDownCast(reader->GetOutputDataObject(0));
+  if (!collector->Errors.empty())
+    throw Error(ErrorCode::Io, "cannot read '" + path + "': " + collector->Errors);
+  if (!data)
+    throw Error(ErrorCode::Io, "cannot read '" + path + "': the reader produced no data set");
+  if (data->GetNumberOfPoints() == 0)
+    throw Error(ErrorCode::EmptyInput,
+      "'" + path + "' contains no points (empty or not a valid " + ext + " file)");
+  vtkSmartPointer<vtkDataSet> result;
+  result.TakeReference(data->NewInstance());
+  result->ShallowCopy(data);
+  return result;
+}
+
+vtkSmartPointer<vtkPolyData> vtkBaryDataIO::ReadPolyData(const std::string& path)
+{
+  vtkSmartPointer<vtkDataSet> data = Read(path);
+  vtkSmartPointer<vtkPolyData> poly = vtkPolyData::SafeDownCast(data);
+  if (!poly)
+    throw Error(ErrorCode::Io,
+      "'" + path + "' holds a " + data->GetClassName() +
+        " but a polygon/triangle surface (vtkPolyData) is needed here");
+  return poly;
+}
+
+void vtkBaryDataIO::Write(vtkDataSet* data, const std::string& path)
+{
+  if (!data)
+    throw Error(ErrorCode::Io, "nothing to write to '" + path + "'");
+  const std::string ext = Extension(path);
+  vtkPolyData* poly = vtkPolyData::SafeDownCast(data);
+  vtkSmartPointer<vtkAlgorithm> writer;
+  auto need_poly = [&](const char* format) {
+    if (!poly)
+      throw Error(ErrorCode::Io,
+        "cannot write a " + std::string(data->GetClassName()) + " to '" + path + "': " +
+          format + " holds surfaces only; use .vtu or .vtk");
+  };
+  // Temporary file beside the target (same file system, so rename is atomic); same extension,
+  // since some writers look at it.
+  std::random_device rd;
+  const std::string tmp = path + ".tmp" + std::to_string(rd() % 1000000) + ext;
+  if (ext == ".vtp")
+  {
+    need_poly(".vtp");
+    auto w = vtkSmartPointer<vtkXMLPolyDataWriter>::New();
+    w->SetFileName(tmp.c_str());
+    w->SetDataModeToAppended();
+    w->SetCompressorTypeToZLib();
+    writer = w;
+  }
+  else if (ext == ".vtu")
+  {
+    if (!vtkUnstructuredGrid::SafeDownCast(data))
+      throw Error(ErrorCode::Io,
+        "cannot write a " + std::string(data->GetClassName()) + " to '" + path +
+          "': .vtu holds unstructured grids; use .vtp for surfaces or .vtk for any data set");
+    auto w = vtkSmartPointer<vtkXMLUnstructuredGridWriter>::New();
+    w->SetFileName(tmp.c_str());
+    w->SetDataModeToAppended();
+    w->SetCompressorTypeToZLib();
+    writer = w;
+  }
+  else if (ext == ".vtk")
+  {
+    auto w = vtkSmartPointer<vtkDataSetWriter>::New();
+    w->SetFileName(tmp.c_str());
+    w->SetFileTypeToBinary();
+    writer = w;
+  }
+  else if (ext == ".obj")
+  {
+    need_poly(".obj");
+    auto w = vtkSmartPointer<vtkOBJWriter>::New();
+    w->SetFileName(tmp.c_str());
+    writer = w;
+  }
+  else if (ext == ".stl")
+  {
+    need_poly(".stl");
+    auto w = vtkSmartPointer<vtkSTLWriter>::New();
+    w->SetFileName(tmp.c_str());
+    writer = w;
+  }
+  else if (ext == ".ply")
+  {
+    need_poly(".ply");
+    auto w = vtkSmartPointer<vtkPLYWriter>::New();
+    w->SetFileName(tmp.c_str());
+    writer = w;
+  }
+  else if (ext == ".off")
+  {
+    need_poly(".off");
+    auto w = vtkSmartPointer<vtkBaryOFFWriter>::New();
+    w->SetFileName(tmp.c_str());
+    writer = w;
+  }
+  else
+    throw Error(ErrorCode::Io,
+      "cannot write '" + path + "': unknown file extension '" + ext +
+        "' (writable: .vtp, .vtu, .vtk, .obj, .stl, .ply, .off)");
+
+  vtkNew<MessageCollector> collector;
+  writer->AddObserver(vtkCommand::ErrorEvent, collector);
+  writer->SetInputDataObject(0, data);
+  int ok = 0;
+  unsigned long code = 0;
+  if (auto* w = vtkWriter::SafeDownCast(writer))
+  {
+    ok = w->Write();
+    code = w->GetErrorCode();
+  }
+  else if (auto* x = vtkXMLWriter::SafeDownCast(writer))
+  {
+    ok = x->Write();
+    code = x->GetErrorCode();
+  }
+  if (!ok || !collector->Errors.empty() || code != 0)
+  {
+    std::remove(tmp.c_str());
+    throw Error(ErrorCode::Io,
+      "cannot write '" + path + "'" +
+        (collector->Errors.empty() ? std::string(" (is the folder writable?)")
+                                   : ": " + collector->Errors));
+  }
+  if (std::rename(tmp.c_str(), path.c_str()) != 0)
+  {
+    std::remove(tmp.c_str());
+    throw Error(ErrorCode::Io, "cannot write '" + path + "': renaming the temporary file failed");
+  }
+}
