@@ -65,9 +65,6 @@ void validate_polygon(const Cage& cage, const CageValidationOptions& options)
         " coincide at " + fmt_point(V, i) + " (zero-length edge " + std::to_string(i) +
         "); remove the duplicate vertex");
   }
-  const double area = signed_measure(cage);
-  if (std::abs(area) <= tol * cage.diameter())
-    fail("the polygon encloses zero area");
   if (options.check_self_intersections)
   {
     const auto pairs = detail::polygon_self_intersections(V, 1);
@@ -80,6 +77,9 @@ void validate_polygon(const Cage& cage, const CageValidationOptions& options)
         std::to_string((b + 1) % n) + ")");
     }
   }
+  const double area = signed_measure(cage);
+  if (std::abs(area) <= tol * cage.diameter())
+    fail("the polygon encloses zero area");
 }
 
 void validate_triangles(const Cage& cage, const CageValidationOptions& options)

@@ -114,8 +114,14 @@ void add_method_options(CLI::App* cmd, WeightsParameters& p)
     ->default_val(p.weights_name);
 }
 
+/// Fails early (before any computation) on an output path that cannot be written.
 void ensure_parent_exists(const std::string& path)
 {
+  if (fs::path(path).extension() != ".json" && fs::path(path).extension() != ".png" &&
+    !vtkBaryDataIO::CanWrite(path))
+    throw bary::Error(bary::ErrorCode::Io,
+      "cannot write '" + path + "': unknown file extension '" + vtkBaryDataIO::Extension(path) +
+        "' (writable: .vtp, .vtu, .vtk, .obj, .stl, .ply, .off)");
   const fs::path parent = fs::path(path).parent_path();
   if (!parent.empty() && !fs::is_directory(parent))
     throw bary::Error(bary::ErrorCode::Io,

@@ -103,6 +103,14 @@ int vtkBaryCoordinates::RequestData(
     const vtkBaryCage cage = vtkBaryConversion::ToCage(cagePoly, this->CageDimension);
     const Eigen::MatrixXd points =
       vtkBaryConversion::PointsToMatrix(input, cage.Cage.dimension());
+    if (cage.Cage.dimension() == 2)
+    {
+      double bounds[6];
+      input->GetBounds(bounds);
+      if (bounds[5] > bounds[4])
+        vtkWarningMacro(<< "The cage is 2D (a polygon): the points' z coordinates (from "
+                        << bounds[4] << " to " << bounds[5] << ") are ignored.");
+    }
     vtkBaryMethodParameters parameters;
     parameters.Method = this->Method;
     parameters.BoundaryTolerance = this->BoundaryTolerance;

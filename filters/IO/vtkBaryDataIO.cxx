@@ -6,10 +6,12 @@
 #include "core/error.h"
 
 #include "vtkAlgorithm.h"
+#include "vtkAppendFilter.h"
 #include "vtkCommand.h"
 #include "vtkDataSet.h"
 #include "vtkDataSetReader.h"
 #include "vtkDataSetWriter.h"
+#include "vtkExecutive.h"
 #include "vtkOBJReader.h"
 #include "vtkOBJWriter.h"
 #include "vtkObjectFactory.h"
@@ -165,6 +167,13 @@ bool vtkBaryDataIO::CanRead(const std::string& path)
   return make_reader(Extension(path), path) != nullptr;
 }
 
+bool vtkBaryDataIO::CanWrite(const std::string& path)
+{
+  const std::string ext = Extension(path);
+  return ext == ".vtp" || ext == ".vtu" || ext == ".vtk" || ext == ".obj" || ext == ".stl" ||
+    ext == ".ply" || ext == ".off";
+}
+
 vtkSmartPointer<vtkDataSet> vtkBaryDataIO::Read(const std::string& path)
 {
   const std::string ext = Extension(path);
@@ -189,6 +198,7 @@ vtkSmartPointer<vtkDataSet> vtkBaryDataIO::Read(const std::string& path)
     check_obj_vertices(path);
   vtkNew<MessageCollector> collector;
   reader->AddObserver(vtkCommand::ErrorEvent, collector);
+  reader->GetExecutive()->AddObserver(vtkCommand::ErrorEvent, collector); // "returned failure"
   reader->Update();
   vtkDataSet* data = vtkDataSet::SafeDownCast(reader->GetOutputDataObject(0));
   if (!collector->Errors.empty())
@@ -230,6 +240,7 @@ void vtkBaryDataIO::Write(vtkDataSet* data, const std::string& path)
   };
   // Temporary file beside the target (same file system, so rename is atomic); same extension,
   // since some writers look at it.
+  vtkSmartPointer<vtkDataSet> converted;
   std::random_device rd;
   const std::string tmp = path + ".tmp" + std::to_string(rd() % 1000000) + ext;
   if (ext == ".vtp")
@@ -244,9 +255,13 @@ void vtkBaryDataIO::Write(vtkDataSet* data, const std::string& path)
   else if (ext == ".vtu")
   {
     if (!vtkUnstructuredGrid::SafeDownCast(data))
-      throw Error(ErrorCode::Io,
-        "cannot write a " + std::string(data->GetClassName()) + " to '" + path +
-          "': .vtu holds unstructured grids; use .vtp for surfaces or .vtk for any data set");
+    { // any data set converts losslessly (points, cells, arrays) to an unstructured grid
+      vtkNew<vtkAppendFilter> convert;
+      convert->AddInputData(data);
+      convert->Update();
+      converted = convert->GetOutput();
+      data = converted;
+    }
     auto w = vtkSmartPointer<vtkXMLUnstructuredGridWriter>::New();
     w->SetFileName(tmp.c_str());
     w->SetDataModeToAppended();
@@ -295,6 +310,7 @@ void vtkBaryDataIO::Write(vtkDataSet* data, const std::string& path)
 
   vtkNew<MessageCollector> collector;
   writer->AddObserver(vtkCommand::ErrorEvent, collector);
+  writer->GetExecutive()->AddObserver(vtkCommand::ErrorEvent, collector);
   writer->SetInputDataObject(0, data);
   int ok = 0;
   unsigned long code = 0;

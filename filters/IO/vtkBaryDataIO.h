@@ -8,6 +8,7 @@
  * Write() writes to a temporary file beside the target and renames it only on success, so a
  * failed write never leaves a partial file behind.
  *
+ * Writing a non-unstructured data set to .vtu converts it (vtkAppendFilter).
  * .obj, .stl, .ply and .off keep only geometry; .vtp/.vtu/.vtk keep named point-data arrays
  * (such as the "Weights" array).
  */
@@ -39,6 +40,8 @@ public:
   static std::string Extension(const std::string& path);
   /// True if Read() understands the extension of @p path.
   static bool CanRead(const std::string& path);
+  /// True if Write() knows the extension of @p path.
+  static bool CanWrite(const std::string& path);
 
 protected:
   vtkBaryDataIO() = default;

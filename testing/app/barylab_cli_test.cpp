@@ -1,0 +1,309 @@
+// Tests of the barylab command line: good runs produce the files with the documented arrays,
+// bad input gives a one-line message naming the problem, a non-zero exit and no output file.
+
+#include "vtkBaryDataIO.h"
+
+#include "vtkDataArray.h"
+#include "vtkDataSet.h"
+#include "vtkPointData.h"
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <sys/wait.h>
+
+namespace fs = std::filesystem;
+
+namespace
+{
+struct CommandResult
+{
+  int code = -1;
+  std::string output; // stdout + stderr
+};
+
+CommandResult run(const std::string& args)
+{
+  const std::string command = std::string(BARYLAB_EXE) + " " + args + " 2>&1";
+  CommandResult r;
+  FILE* pipe = popen(command.c_str(), "r");
+  if (!pipe)
+    return r;
+  std::array<char, 4096> buffer;
+  while (fgets(buffer.data(), static_cast<int>(buffer.size()), pipe))
+    r.output += buffer.data();
+  const int status = pclose(pipe);
+  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return r;
+}
+
+std::string data(const std::string& name)
+{
+  return std::string(BARYLAB_DATA_DIR) + "/" + name;
+}
+
+class CLI : public ::testing::Test
+{
+protected:
+  void SetUp() override
+  {
+    dir_ = fs::path(BARYLAB_TEST_OUTPUT_DIR) /
+      ("cli_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  std::string out(const std::string& name) const { return (dir_ / name).string(); }
+  /// The folder holds nothing (no partial or temporary files).
+  void ExpectEmptyFolder() const { EXPECT_TRUE(fs::is_empty(dir_)) << "files left in " << dir_; }
+  fs::path dir_;
+};
+
+/// A bad-input run: exit code 1, one line "barylab: error: ..." containing @p needle.
+void ExpectError(const CommandResult& r, const std::string& needle)
+{
+  EXPECT_EQ(r.code, 1) << r.output;
+  EXPECT_NE(r.output.find("barylab: error: "), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find(needle), std::string::npos) << "expected '" << needle << "' in:\n" << r.output;
+  // one line, no VTK stack dump
+  EXPECT_EQ(r.output.find("vtkExecutive"), std::string::npos) << r.output;
+  EXPECT_EQ(r.output.find("ERR|"), std::string::npos) << r.output;
+}
+} // namespace
+
+TEST_F(CLI, HelpListsSubcommands)
+{
+  const CommandResult r = run("--help");
+  EXPECT_EQ(r.code, 0);
+  for (const char* sub : { "weights", "deform", "stats", "render", "demo" })
+    EXPECT_NE(r.output.find(sub), std::string::npos) << sub;
+  for (const char* sub : { "weights", "deform", "stats", "render", "demo" })
+    EXPECT_EQ(run(std::string(sub) + " --help").code, 0) << sub;
+}
+
+TEST_F(CLI, NoSubcommandIsAUsageError)
+{
+  EXPECT_EQ(run("").code, 2);
+  EXPECT_EQ(run("weights --cage x.obj").code, 2); // missing required options
+}
+
+TEST_F(CLI, Weights3DWritesArrayAndSummary)
+{
+  const CommandResult r = run("weights --method mvc --cage " + data("cage3d.obj") + " --points " +
+    data("model3d.off") + " --output " + out("w.vtp") + " --json " + out("w.json") + " -q");
+  ASSERT_EQ(r.code, 0) << r.output;
+  auto result = vtkBaryDataIO::Read(out("w.vtp"));
+  vtkDataArray* w = result->GetPointData()->GetArray("Weights");
+  ASSERT_NE(w, nullptr);
+  auto cage = vtkBaryDataIO::Read(data("cage3d.obj"));
+  auto model = vtkBaryDataIO::Read(data("model3d.off"));
+  EXPECT_EQ(w->GetNumberOfComponents(), cage->GetNumberOfPoints());
+  EXPECT_EQ(w->GetNumberOfTuples(), model->GetNumberOfPoints());
+  // partition of unity and reproduction, checked here independently of `barylab stats`
+  double worst_sum = 0.0, worst_rep = 0.0;
+  for (vtkIdType p = 0; p < w->GetNumberOfTuples(); ++p)
+  {
+    double sum = 0.0, x[3] = { 0, 0, 0 };
+    for (int i = 0; i < w->GetNumberOfComponents(); ++i)
+    {
+      const double wi = w->GetComponent(p, i);
+      sum += wi;
+      double c[3];
+      cage->GetPoint(i, c);
+      for (int k = 0; k < 3; ++k)
+        x[k] += wi * c[k];
+    }
+    double y[3];
+    model->GetPoint(p, y);
+    worst_sum = std::max(worst_sum, std::abs(sum - 1.0));
+    for (int k = 0; k < 3; ++k)
+      worst_rep = std::max(worst_rep, std::abs(x[k] - y[k]));
+  }
+  EXPECT_LT(worst_sum, 1e-12);
+  EXPECT_LT(worst_rep, 1e-12);
+
+  std::ifstream in(out("w.json"));
+  const nlohmann::json s = nlohmann::json::parse(in);
+  EXPECT_EQ(s["method"], "mvc");
+  EXPECT_EQ(s["cage"]["dimension"], 3);
+  EXPECT_EQ(s["cage"]["control_points"], cage->GetNumberOfPoints());
+  EXPECT_EQ(s["points"]["count"], model->GetNumberOfPoints());
+  EXPECT_EQ(s["points"]["outside"], 0);
+  EXPECT_LT(s["statistics"]["partition_of_unity"]["max_error"].get<double>(), 1e-12);
+}
+
+TEST_F(CLI, Weights2DFromVertexOnlyObj)
+{
+  const CommandResult r = run("weights --cage " + data("cage2d.obj") + " --points " + data("model2d.obj") +
+    " --output " + out("w.vtu") + " -q");
+  ASSERT_EQ(r.code, 0) << r.output;
+  auto result = vtkBaryDataIO::Read(out("w.vtu"));
+  vtkDataArray* w = result->GetPointData()->GetArray("Weights");
+  ASSERT_NE(w, nullptr);
+  EXPECT_EQ(w->GetNumberOfComponents(), 20);
+}
+
+TEST_F(CLI, OutsidePointsAreComputedAndCounted)
+{
+  // Evaluate at the posed cage's vertices: unmoved ones lie on the rest cage, the raised arm's
+  // lie outside it.
+  const CommandResult r = run("weights --cage " + data("cage2d.obj") + " --points " +
+    data("cage2d_posed.obj") + " --output " + out("w.vtp") + " --json " + out("s.json"));
+  ASSERT_EQ(r.code, 0) << r.output;
+  std::ifstream in(out("s.json"));
+  const nlohmann::json s = nlohmann::json::parse(in);
+  const long long outside = s["points"]["outside"], inside = s["points"]["inside"],
+                  on = s["points"]["on_cage"];
+  EXPECT_EQ(inside + outside + on, 20);
+  EXPECT_GT(outside, 0) << "the posed cage's raised arm lies outside the rest cage";
+  EXPECT_NE(r.output.find("outside the cage"), std::string::npos) << r.output;
+}
+
+TEST_F(CLI, DeformMatchesAffineMapAndReusesWeights)
+{
+  ASSERT_EQ(run("weights --cage " + data("cage3d.obj") + " --points " + data("model3d.off") +
+              " --output " + out("w.vtp") + " -q")
+              .code,
+    0);
+  // The posed cage from the bundled data; deform once computing weights, once reusing them.
+  CommandResult a = run("deform --cage " + data("cage3d.obj") + " --deformed-cage " +
+    data("cage3d_posed.obj") + " --points " + data("model3d.off") + " --output " + out("a.vtp"));
+  ASSERT_EQ(a.code, 0) << a.output;
+  EXPECT_NE(a.output.find("weights computed"), std::string::npos) << a.output;
+  CommandResult b = run("deform --cage " + data("cage3d.obj") + " --deformed-cage " +
+    data("cage3d_posed.obj") + " --weights " + out("w.vtp") + " --output " + out("b.vtp"));
+  ASSERT_EQ(b.code, 0) << b.output;
+  EXPECT_NE(b.output.find("weights from the input"), std::string::npos) << b.output;
+  auto da = vtkBaryDataIO::Read(out("a.vtp"));
+  auto db = vtkBaryDataIO::Read(out("b.vtp"));
+  auto rest = vtkBaryDataIO::Read(data("model3d.off"));
+  ASSERT_EQ(da->GetNumberOfPoints(), db->GetNumberOfPoints());
+  double diff = 0.0, moved = 0.0;
+  for (vtkIdType i = 0; i < da->GetNumberOfPoints(); ++i)
+  {
+    double x[3], y[3], z[3];
+    da->GetPoint(i, x);
+    db->GetPoint(i, y);
+    rest->GetPoint(i, z);
+    for (int k = 0; k < 3; ++k)
+    {
+      diff = std::max(diff, std::abs(x[k] - y[k]));
+      moved = std::max(moved, std::abs(x[k] - z[k]));
+    }
+  }
+  EXPECT_LT(diff, 1e-12);
+  EXPECT_GT(moved, 1e-2) << "the posed cage must actually move the model";
+}
+
+TEST_F(CLI, DeformRejectsWeightsForOtherPoints)
+{
+  ASSERT_EQ(run("weights --cage " + data("cage2d.obj") + " --points " + data("model2d.obj") +
+              " --output " + out("w.vtp") + " -q")
+              .code,
+    0);
+  fs::remove(out("w.json"));
+  const CommandResult r = run("deform --cage " + data("cage3d.obj") + " --deformed-cage " +
+    data("cage3d_posed.obj") + " --weights " + out("w.vtp") + " --output " + out("d.vtp"));
+  ExpectError(r, "components but the cage");
+  EXPECT_FALSE(fs::exists(out("d.vtp")));
+}
+
+TEST_F(CLI, StatsJsonAndText)
+{
+  ASSERT_EQ(run("weights --cage " + data("cage2d.obj") + " --points " + data("model2d.obj") +
+              " --output " + out("w.vtp") + " -q")
+              .code,
+    0);
+  const CommandResult j = run("stats --input " + out("w.vtp") + " --cage " + data("cage2d.obj") + " --json");
+  ASSERT_EQ(j.code, 0) << j.output;
+  const nlohmann::json s = nlohmann::json::parse(j.output);
+  EXPECT_EQ(s["controls"], 20);
+  EXPECT_LT(s["partition_of_unity"]["max_error"].get<double>(), 1e-12);
+  EXPECT_LT(s["reproduction"]["max_error"].get<double>(), 1e-12);
+  EXPECT_LT(s["min_weight"].get<double>(), 0.0) << "MVC are negative somewhere in a non-convex cage";
+  EXPECT_DOUBLE_EQ(s["significant"]["threshold"].get<double>(), 1e-3 / 20);
+  const CommandResult t = run("stats --input " + out("w.vtp"));
+  ASSERT_EQ(t.code, 0);
+  EXPECT_NE(t.output.find("partition of unity"), std::string::npos);
+  ExpectError(run("stats --input " + out("w.vtp") + " --array Nope"), "no point-data array named 'Nope'");
+  ExpectError(run("stats --input " + out("w.vtp") + " --cage " + data("cage3d.obj")),
+    "components but the cage has 72");
+}
+
+// ---- bad input: message, exit code 1, no output file ------------------------------------
+
+struct BadCase
+{
+  const char* name;
+  std::string cage, points;
+  const char* needle;
+};
+
+class CLIBadInput : public CLI, public ::testing::WithParamInterface<BadCase>
+{
+};
+
+TEST_P(CLIBadInput, ClearErrorNoOutput)
+{
+  const BadCase& c = GetParam();
+  const CommandResult r = run("weights --cage " + c.cage + " --points " + c.points + " --output " +
+    out("w.vtp") + " --json " + out("w.json"));
+  ExpectError(r, c.needle);
+  ExpectEmptyFolder();
+}
+
+INSTANTIATE_TEST_SUITE_P(Cages, CLIBadInput,
+  ::testing::Values(
+    BadCase{ "open", data("bad/open_cage.obj"), data("model3d.off"), "not closed: edge (" },
+    BadCase{ "nan", data("bad/nan_cage.obj"), data("model3d.off"), "not finite" },
+    BadCase{ "bowtie", data("bad/bowtie2d.obj"), data("model2d.obj"), "not simple" },
+    BadCase{ "flipped", data("bad/inconsistent_cage.obj"), data("model3d.off"),
+      "not consistently oriented" },
+    BadCase{ "quads", data("bad/quad_cage.obj"), data("model3d.off"), "triangulated" },
+    BadCase{ "empty", data("bad/empty.obj"), data("model3d.off"), "empty" },
+    BadCase{ "garbage", data("bad/garbage.off"), data("model3d.off"), "garbage.off" },
+    BadCase{ "missing", data("no_such_cage.obj"), data("model3d.off"), "no such file" },
+    BadCase{ "unknown_ext", data("README.md"), data("model3d.off"), "unknown file extension" },
+    BadCase{ "nan_points", data("cage3d.obj"), data("bad/nan_cage.obj"), "not finite" },
+    BadCase{ "empty_points", data("cage3d.obj"), data("bad/empty.obj"), "empty" }),
+  [](const ::testing::TestParamInfo<BadCase>& param_info) { return std::string(param_info.param.name); });
+
+TEST_F(CLI, BadOutputPathsFailBeforeComputing)
+{
+  ExpectError(run("weights --cage " + data("cage3d.obj") + " --points " + data("model3d.off") +
+                " --output " + out("w.xyz")),
+    "unknown file extension '.xyz'");
+  ExpectError(run("weights --cage " + data("cage3d.obj") + " --points " + data("model3d.off") +
+                " --output " + out("nofolder/w.vtp")),
+    "does not exist");
+  ExpectEmptyFolder();
+}
+
+TEST_F(CLI, UnknownMethodAndMismatchedDeformedCage)
+{
+  ExpectError(run("weights --method nope --cage " + data("cage3d.obj") + " --points " +
+                data("model3d.off") + " --output " + out("w.vtp")),
+    "unknown method 'nope'");
+  ExpectError(run("deform --cage " + data("cage2d.obj") + " --deformed-cage " +
+                data("cage3d_posed.obj") + " --points " + data("model2d.obj") + " --output " +
+                out("d.vtp")),
+    "the deformed cage has 72 points but the rest cage has 20");
+  ExpectEmptyFolder();
+}
+
+TEST_F(CLI, DemoWithoutRendering)
+{
+  const CommandResult r = run("demo --no-render --output-dir " + out("demo"));
+  ASSERT_EQ(r.code, 0) << r.output;
+  for (const char* f : { "summary.json", "gingerbread2d_weights.vtp", "gingerbread2d_deformed.vtp",
+         "kidney3d_weights.vtp", "kidney3d_deformed.vtp" })
+    EXPECT_TRUE(fs::exists(dir_ / "demo" / f)) << f;
+  std::ifstream in(out("demo/summary.json"));
+  const nlohmann::json s = nlohmann::json::parse(in);
+  EXPECT_LT(s["cases"]["3d"]["statistics"]["reproduction"]["max_error"].get<double>(), 1e-12);
+  EXPECT_LT(s["cases"]["2d"]["statistics"]["reproduction"]["max_error"].get<double>(), 1e-12);
+}

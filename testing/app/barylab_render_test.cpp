@@ -1,0 +1,135 @@
+// Regression images of rendered weight fields and deformations (the CLI's and the demo's
+// rendering code), compared with baselines in testing/baselines by vtkTesting (VTK's image
+// comparison, threshold 10 as in VTK's own tests). Needs an X display: run under Xvfb.
+//
+// A missing baseline fails and leaves the rendered image in BARYLAB_TEST_OUTPUT_DIR, to be
+// inspected and copied in (with a commit message that says why).
+
+#include "barylabPipeline.h"
+#include "barylabRender.h"
+
+#include "vtkBaryDataIO.h"
+
+#include "vtkDataSet.h"
+#include "vtkPointSet.h"
+#include "vtkPolyData.h"
+#include "vtkRenderWindow.h"
+#include "vtkTesting.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <string>
+
+namespace fs = std::filesystem;
+
+namespace
+{
+std::string data(const std::string& name)
+{
+  return std::string(BARYLAB_DATA_DIR) + "/" + name;
+}
+
+/// Compares @p window with testing/baselines/<name>.png.
+void ExpectMatchesBaseline(vtkRenderWindow* window, const std::string& name)
+{
+  ASSERT_TRUE(barylab::HasDisplay()) << "image tests need an X display: run them under Xvfb";
+  const std::string baseline = std::string(BARYLAB_BASELINE_DIR) + "/" + name + ".png";
+  const std::string outdir = std::string(BARYLAB_TEST_OUTPUT_DIR) + "/images";
+  fs::create_directories(outdir);
+  window->Render();
+  vtkNew<vtkTesting> testing;
+  testing->AddArgument("-V");
+  testing->AddArgument(baseline.c_str());
+  testing->AddArgument("-T");
+  testing->AddArgument(outdir.c_str());
+  testing->SetRenderWindow(window);
+  const int result = testing->RegressionTest(10.0);
+  // keep the rendered image for people and docs
+  barylab::WritePNG(window, outdir + "/" + name + ".png");
+  EXPECT_EQ(result, vtkTesting::PASSED)
+    << "rendered image differs from " << baseline << " (see " << outdir << ")";
+}
+
+struct Example
+{
+  vtkSmartPointer<vtkPolyData> cage;
+  vtkSmartPointer<vtkDataSet> posed;
+  vtkSmartPointer<vtkDataSet> weighted;
+};
+
+Example load(const std::string& cage, const std::string& posed, const std::string& model)
+{
+  Example e;
+  e.cage = vtkBaryDataIO::ReadPolyData(data(cage));
+  e.posed = vtkBaryDataIO::Read(data(posed));
+  e.weighted = barylab::ComputeWeights(vtkBaryDataIO::Read(data(model)), e.cage, {});
+  return e;
+}
+} // namespace
+
+TEST(RenderImages, WeightField2D)
+{
+  const Example e = load("cage2d.obj", "cage2d_posed.obj", "model2d.obj");
+  barylab::RenderOptions options;
+  options.component = 14; // the left hand: a field with negative parts and a w = 0 isoline
+  options.title = "mean value coordinate of control point 14";
+  ExpectMatchesBaseline(barylab::WeightFieldWindow(e.weighted, e.cage, options), "weight_field_2d");
+}
+
+TEST(RenderImages, WeightField3D)
+{
+  const Example e = load("cage3d.obj", "cage3d_posed.obj", "model3d.off");
+  barylab::RenderOptions options;
+  options.component = 36;
+  options.title = "mean value coordinate of control point 36";
+  ExpectMatchesBaseline(barylab::WeightFieldWindow(e.weighted, e.cage, options), "weight_field_3d");
+}
+
+TEST(RenderImages, Deformation2D)
+{
+  const Example e = load("cage2d.obj", "cage2d_posed.obj", "model2d.obj");
+  auto deformed = barylab::Deform(vtkPointSet::SafeDownCast(e.weighted), e.cage,
+    vtkPointSet::SafeDownCast(e.posed), {});
+  barylab::RenderOptions options;
+  options.component = 14;
+  options.width = 1000;
+  options.height = 500;
+  ExpectMatchesBaseline(
+    barylab::DeformationWindow(e.weighted, e.cage, deformed, vtkPointSet::SafeDownCast(e.posed), options),
+    "deformation_2d");
+}
+
+TEST(RenderImages, Deformation3D)
+{
+  const Example e = load("cage3d.obj", "cage3d_posed.obj", "model3d.off");
+  auto deformed = barylab::Deform(vtkPointSet::SafeDownCast(e.weighted), e.cage,
+    vtkPointSet::SafeDownCast(e.posed), {});
+  barylab::RenderOptions options;
+  options.component = 36;
+  options.width = 1000;
+  options.height = 500;
+  ExpectMatchesBaseline(
+    barylab::DeformationWindow(e.weighted, e.cage, deformed, vtkPointSet::SafeDownCast(e.posed), options),
+    "deformation_3d");
+}
+
+TEST(RenderImages, NoDisplayIsAClearError)
+{
+  // Without DISPLAY, rendering must fail with a message, not crash (VTK aborts without X).
+  const char* saved = std::getenv("DISPLAY");
+  const std::string keep = saved ? saved : "";
+  unsetenv("DISPLAY");
+  const Example e = load("cage2d.obj", "cage2d_posed.obj", "model2d.obj");
+  try
+  {
+    barylab::WeightFieldWindow(e.weighted, e.cage, {});
+    ADD_FAILURE() << "expected an error without DISPLAY";
+  }
+  catch (const bary::Error& err)
+  {
+    EXPECT_NE(std::string(err.what()).find("Xvfb"), std::string::npos) << err.what();
+  }
+  if (!keep.empty())
+    setenv("DISPLAY", keep.c_str(), 1);
+}
