@@ -65,6 +65,14 @@ void validate_polygon(const Cage& cage, const CageValidationOptions& options)
         " coincide at " + fmt_point(V, i) + " (zero-length edge " + std::to_string(i) +
         "); remove the duplicate vertex");
   }
+  // All vertices on one line: nothing is enclosed (reported as such, not as the edge overlap
+  // it also is).
+  double fan = 0.0;
+  for (Index i = 1; i + 1 < n; ++i)
+    fan += std::abs((V(i, 0) - V(0, 0)) * (V(i + 1, 1) - V(0, 1)) -
+      (V(i, 1) - V(0, 1)) * (V(i + 1, 0) - V(0, 0)));
+  if (0.5 * fan <= tol * cage.diameter())
+    fail("the polygon encloses zero area (all its vertices lie on one line)");
   if (options.check_self_intersections)
   {
     const auto pairs = detail::polygon_self_intersections(V, 1);

@@ -169,9 +169,9 @@ PointLocation MeanValueCoordinates::evaluate_2d(const double* x, double* w) cons
       w[j] = r[i] / (r[i] + r[j]);
       return PointLocation::Boundary;
     }
-    // tan(a/2) = sin(a) / (1 + cos(a)) = det / (r_i r_j + dot): no cancellation unless a ~ pi,
-    // which is the on-edge case handled above.
-    t[i] = det / (r[i] * r[j] + dot);
+    // tan(a/2) = sin(a) / (1 + cos(a)) = (1 - cos(a)) / sin(a): the first form cancels when
+    // a ~ pi (x just off the edge, beyond the tolerance), the second when a ~ 0; pick by sign.
+    t[i] = dot >= 0.0 ? det / (r[i] * r[j] + dot) : (r[i] * r[j] - dot) / det;
     winding += std::atan(t[i]);
   }
   for (Index i = 0; i < n; ++i)
@@ -243,58 +243,47 @@ PointLocation MeanValueCoordinates::evaluate_3d(const double* x, double* w) cons
       }
     }
 
-    // l_i = |u_{i+1} - u_{i-1}|, theta_i = 2 asin(l_i / 2): the arc opposite vertex i
-    double l[3], theta[3], sin_t[3], cos_t[3];
+    // Spherical triangle u0 u1 u2 (Ju et al. 2005, Sect. 3.2), evaluated without the
+    // cancellations of the paper's pseudo-code near the cage:
+    //  - e_k = u_k x u_{k+1}; the arc opposite vertex k has sin(theta_k) = |e_{k+1}| and
+    //    cos(theta_k) = u_{k+1} . u_{k+2}, so theta_k = atan2(|e_{k+1}|, u_{k+1} . u_{k+2}), which
+    //    is accurate for every angle (the paper's 2 asin(l/2) is too, but needs extra trig);
+    //  - the spherical angle at u_k, c_k = cos(A_k) = -(e_k . e_{k-1}) / (|e_k| |e_{k-1}|), from
+    //    the normals of the two arcs through u_k (equal to the paper's half-angle expression);
+    //  - sin(A_k) = |det| / (sin(theta_{k+1}) sin(theta_{k-1})), so the paper's denominator
+    //    d_i sin(theta_{i+1}) s_{i-1} with s = sign(det) sqrt(1 - c^2) equals d_i det / sin(theta_i).
+    //    The square root loses all accuracy as c -> -1, i.e. as x approaches the face (error
+    //    ~1e-16 / dist^2); det keeps its relative accuracy (error ~1e-16 / dist).
+    // Hence w_i += sin(theta_i) (theta_i - c_{i+1} theta_{i-1} - c_{i-1} theta_{i+1}) / (d_i det).
+    double e[3][3], len[3], dot[3];
     for (int k = 0; k < 3; ++k)
     {
-      const double* a = u + 3 * p[(k + 1) % 3];
-      const double* b = u + 3 * p[(k + 2) % 3];
-      const double dx = a[0] - b[0], dy = a[1] - b[1], dz = a[2] - b[2];
-      l[k] = std::sqrt(dx * dx + dy * dy + dz * dz);
-      const double half = std::min(1.0, 0.5 * l[k]);
-      theta[k] = 2.0 * std::asin(half);
-      sin_t[k] = 2.0 * half * std::sqrt(std::max(0.0, 1.0 - half * half)); // sin(2 asin(l/2))
-      cos_t[k] = 1.0 - 2.0 * half * half;                                   // cos(2 asin(l/2))
+      const double* a = u + 3 * p[k];
+      const double* b = u + 3 * p[(k + 1) % 3];
+      e[k][0] = a[1] * b[2] - a[2] * b[1];
+      e[k][1] = a[2] * b[0] - a[0] * b[2];
+      e[k][2] = a[0] * b[1] - a[1] * b[0];
+      len[k] = std::sqrt(e[k][0] * e[k][0] + e[k][1] * e[k][1] + e[k][2] * e[k][2]);
+      dot[k] = a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
     }
-    // solid angle of the face seen from x (Van Oosterom & Strackee), for the winding number
-    solid_angle += 2.0 * std::atan2(det, 1.0 + cos_t[0] + cos_t[1] + cos_t[2]);
-
-    const double h = 0.5 * (theta[0] + theta[1] + theta[2]);
-    if (kPi - h <= 1e-12)
-    { // x on the face seen from no distance: only reachable with tolerance 0
-      double s = 0.0, lam[3];
-      for (int k = 0; k < 3; ++k)
-        s += (lam[k] = sin_t[k] * d[p[(k + 1) % 3]] * d[p[(k + 2) % 3]]);
-      std::fill(w, w + n, 0.0);
-      for (int k = 0; k < 3; ++k)
-        w[p[k]] = lam[k] / s;
-      return PointLocation::Boundary;
-    }
-    const double sin_h = std::sin(h), cos_h = std::cos(h);
-    const double sign = det < 0.0 ? -1.0 : 1.0;
-    double c[3], s[3];
-    bool skip = false;
-    for (int k = 0; k < 3; ++k)
-    {
-      const double denom = sin_t[(k + 1) % 3] * sin_t[(k + 2) % 3];
-      if (denom <= 1e-300)
-      {
-        skip = true;
-        break;
-      }
-      const double sin_h_minus = sin_h * cos_t[k] - cos_h * sin_t[k]; // sin(h - theta_k)
-      c[k] = 2.0 * sin_h * sin_h_minus / denom - 1.0;
-      s[k] = sign * std::sqrt(std::max(0.0, 1.0 - c[k] * c[k]));
-      if (std::abs(s[k]) <= 1e-14)
-        skip = true; // x in the plane of the face, outside it: no contribution
-    }
-    if (skip)
-      continue;
+    if (len[0] <= 1e-300 || len[1] <= 1e-300 || len[2] <= 1e-300 || det == 0.0)
+      continue; // x on the line of an edge, outside it: the face is seen edge-on
+    double theta[3], sin_t[3], cosA[3];
     for (int k = 0; k < 3; ++k)
     {
       const int k1 = (k + 1) % 3, k2 = (k + 2) % 3;
-      w[p[k]] += (theta[k] - c[k1] * theta[k2] - c[k2] * theta[k1]) /
-        (d[p[k]] * sin_t[k1] * s[k2]);
+      sin_t[k] = len[k1];
+      theta[k] = std::atan2(len[k1], dot[k1]);
+      cosA[k] = -(e[k][0] * e[k2][0] + e[k][1] * e[k2][1] + e[k][2] * e[k2][2]) / (len[k] * len[k2]);
+    }
+    // solid angle of the face seen from x (Van Oosterom & Strackee), for the winding number
+    solid_angle += 2.0 * std::atan2(det, 1.0 + dot[0] + dot[1] + dot[2]);
+    const double inv_det = 1.0 / det;
+    for (int k = 0; k < 3; ++k)
+    {
+      const int k1 = (k + 1) % 3, k2 = (k + 2) % 3;
+      w[p[k]] += sin_t[k] * (theta[k] - cosA[k1] * theta[k2] - cosA[k2] * theta[k1]) * inv_det /
+        d[p[k]];
     }
   }
   normalize(w, n);

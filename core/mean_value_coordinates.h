@@ -2,12 +2,15 @@
 /// @file mean_value_coordinates.h
 /// Mean value coordinates.
 /// - 2D: Hormann & Floater, "Mean value coordinates for arbitrary planar polygons", ACM TOG
-///   25(4), 2006 — Eq. (7) with tan(a/2) evaluated as sin(a)/(1+cos(a)), which is stable
-///   everywhere except on the edge itself, where the coordinates are the linear interpolant of
-///   the edge's end points (Sect. 4 of the paper).
+///   25(4), 2006 — w_i = (tan(a_{i-1}/2) + tan(a_i/2)) / r_i, normalised, with tan(a/2)
+///   evaluated as sin(a)/(1+cos(a)) for a < pi/2 and (1-cos(a))/sin(a) otherwise, so neither
+///   form cancels; on an edge the coordinates are the linear interpolant of its end points.
 /// - 3D: Ju, Schaefer & Warren, "Mean value coordinates for closed triangular meshes", ACM TOG
-///   24(3), 2005 — the robust pseudo-code of its Fig. 4, with explicit handling of points at a
-///   vertex, on an edge and on a face (linear/barycentric interpolation there).
+///   24(3), 2005 — the per-triangle formula of its Sect. 3.2 / Fig. 4, rewritten so that nothing
+///   cancels near the cage: the sine of the spherical angle comes from det[u0,u1,u2] instead of
+///   sqrt(1 - c^2), which keeps full accuracy down to ~1e-15 of the cage size from a face or
+///   edge (see mean_value_coordinates.cpp); points at a vertex, on an edge or on a face (within
+///   the boundary tolerance) get the exact linear/barycentric interpolant.
 ///
 /// Properties (inside the cage): partition of unity, linear reproduction, Lagrange property at
 /// the cage vertices, linear on cage edges (2D) and faces (3D), smooth (C-infinity) away from the
@@ -26,7 +29,7 @@ namespace bary
 /// Where a query point lies relative to the cage.
 enum class PointLocation : unsigned char
 {
-  Inside = 0,   ///< strictly inside (winding number 1)
+  Inside = 0,   ///< strictly inside (|winding number| = 1; either cage orientation)
   Outside = 1,  ///< strictly outside (winding number 0)
   Boundary = 2, ///< on a cage vertex, edge or face (within the boundary tolerance)
 };

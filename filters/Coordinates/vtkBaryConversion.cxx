@@ -40,6 +40,15 @@ void check_finite(vtkPoints* points)
   }
 }
 
+/// True if the points lie in a plane z = const up to round-off (relative to their xy extent).
+/// One tolerance for every 2D form (polygon cell, polyline, bare points).
+bool flat_in_z(vtkPoints* points, double bounds[6])
+{
+  points->GetBounds(bounds);
+  const double extent = std::max(bounds[1] - bounds[0], bounds[3] - bounds[2]);
+  return bounds[5] - bounds[4] <= 1e-9 * std::max(1.0, extent);
+}
+
 /// Builds a 2D cage from the polygon order @p order (point ids).
 vtkBaryCage make_polygon(vtkPoints* points, std::vector<vtkIdType> order, const char* source)
 {
@@ -58,9 +67,7 @@ vtkBaryCage make_polygon(vtkPoints* points, std::vector<vtkIdType> order, const 
         " twice; every cage point must appear exactly once along the polygon");
   }
   double bounds[6];
-  points->GetBounds(bounds);
-  const double extent = std::max(bounds[1] - bounds[0], bounds[3] - bounds[2]);
-  if (bounds[5] - bounds[4] > 1e-9 * std::max(1.0, extent))
+  if (!flat_in_z(points, bounds))
     fail("a 2D cage (polygon) must lie in a plane z = const, but its z ranges over [" +
       std::to_string(bounds[4]) + ", " + std::to_string(bounds[5]) +
       "]; a 3D cage needs triangle faces");
@@ -108,8 +115,7 @@ vtkBaryCage vtkBaryConversion::ToCage(vtkPolyData* data, int dimension)
     if (npolys == 1)
     {
       double bounds[6];
-      points->GetBounds(bounds);
-      three_d = bounds[5] - bounds[4] > 0.0;
+      three_d = !flat_in_z(points, bounds);
     }
   }
 

@@ -7,6 +7,8 @@
 #include "vtkPoints.h"
 #include "vtkPolyData.h"
 
+#include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <fstream>
 #include <sstream>
@@ -104,18 +106,43 @@ int vtkBaryOFFReader::RequestData(
 
   vtkNew<vtkPoints> points;
   points->SetDataTypeToDouble();
-  points->SetNumberOfPoints(nv);
+  // Grow as vertices are read: the counts line is not trusted for allocation (a corrupt count
+  // must give the truncation error below, not std::bad_alloc).
+  points->Allocate(static_cast<vtkIdType>(std::min<long long>(nv, 1LL << 20)));
   for (long long i = 0; i < nv; ++i)
   {
     if (!reader.next(line))
       return error("the file ends after " + std::to_string(i) + " of " + std::to_string(nv) +
         " vertices");
+    // Tokens are parsed with std::from_chars (locale-independent, accepts "nan"/"inf"), since
+    // operator>> fails on them and would report a NaN as a missing coordinate.
     double x[3];
-    if (!(line >> x[0] >> x[1] >> x[2]))
-      return error("vertex " + std::to_string(i) + " does not have three coordinates");
+    for (int k = 0; k < 3; ++k)
+    {
+      std::string token;
+      if (!(line >> token))
+        return error("vertex " + std::to_string(i) + " does not have three coordinates");
+      const char* begin = token.c_str();
+      const char* last = begin + token.size();
+      if (*begin == '+')
+        ++begin; // from_chars does not accept a leading '+'
+      auto parsed = std::from_chars(begin, last, x[k]);
+      if (parsed.ec == std::errc::result_out_of_range)
+      {
+        // Overflow (reported as non-finite below) or underflow (a tiny number, read as 0 or a
+        // denormal): the wider type tells which.
+        long double wide = 0.0L;
+        parsed = std::from_chars(begin, last, wide);
+        x[k] = static_cast<double>(wide);
+      }
+      if (parsed.ec == std::errc::result_out_of_range)
+        return error("vertex " + std::to_string(i) + ": '" + token + "' is out of range");
+      if (parsed.ec != std::errc() || parsed.ptr != last)
+        return error("vertex " + std::to_string(i) + ": '" + token + "' is not a number");
+    }
     if (!std::isfinite(x[0]) || !std::isfinite(x[1]) || !std::isfinite(x[2]))
-      return error("vertex " + std::to_string(i) + " has a non-finite coordinate");
-    points->SetPoint(i, x);
+      return error("vertex " + std::to_string(i) + " has a non-finite coordinate (NaN or inf)");
+    points->InsertNextPoint(x);
   }
   (void)colors;
   (void)normals;
@@ -129,7 +156,7 @@ int vtkBaryOFFReader::RequestData(
     long long k;
     if (!(line >> k) || k < 1)
       return error("face " + std::to_string(f) + " does not start with its vertex count");
-    ids.resize(static_cast<std::size_t>(k));
+    ids.clear();
     for (long long j = 0; j < k; ++j)
     {
       long long id;
@@ -139,7 +166,7 @@ int vtkBaryOFFReader::RequestData(
       if (id < 0 || id >= nv)
         return error("face " + std::to_string(f) + " refers to vertex " + std::to_string(id) +
           " but there are " + std::to_string(nv) + " vertices (indices are 0-based)");
-      ids[static_cast<std::size_t>(j)] = static_cast<vtkIdType>(id);
+      ids.push_back(static_cast<vtkIdType>(id));
     }
     if (k >= 3)
       polys->InsertNextCell(static_cast<vtkIdType>(k), ids.data());

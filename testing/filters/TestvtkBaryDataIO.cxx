@@ -1,0 +1,674 @@
+// Tests of vtkBaryDataIO (read/write by extension, errors as bary::Error, atomic writes) and of
+// vtkBaryOFFReader / vtkBaryOFFWriter on hand-written files.
+#include "filters_test_utils.h"
+
+#include "vtkBaryDataIO.h"
+#include "vtkBaryOFFReader.h"
+#include "vtkBaryOFFWriter.h"
+
+#include "core/error.h"
+
+#include "vtkCellArray.h"
+#include "vtkDoubleArray.h"
+#include "vtkImageData.h"
+#include "vtkUnstructuredGrid.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <set>
+
+namespace
+{
+using namespace barylab_test;
+namespace fs = std::filesystem;
+
+/// A fresh, empty folder @p name under BARYLAB_TEST_OUTPUT_DIR, inside a folder of the running
+/// test's own (ctest may run the tests of this file in parallel).
+fs::path Scratch(const std::string& name)
+{
+  const auto* test = ::testing::UnitTest::GetInstance()->current_test_info();
+  std::string owner = std::string(test->test_suite_name()) + "." + test->name();
+  std::replace(owner.begin(), owner.end(), '/', '_');
+  const fs::path dir = fs::path(BARYLAB_TEST_OUTPUT_DIR) / "filters_io" / owner / name;
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  return dir;
+}
+
+std::string WriteText(const fs::path& path, const std::string& text)
+{
+  std::ofstream out(path, std::ios::binary);
+  out << text;
+  return path.string();
+}
+
+std::set<std::string> ListFolder(const fs::path& dir)
+{
+  std::set<std::string> names;
+  for (const auto& entry : fs::directory_iterator(dir))
+    names.insert(entry.path().filename().string());
+  return names;
+}
+
+/// A small closed triangle mesh (an irregular octahedron, 6 points, 8 triangles) with
+/// coordinates that need all 17 digits, and a 3-component "Weights" point-data array.
+vtkSmartPointer<vtkPolyData> SmallMesh()
+{
+  auto mesh = MakePointCloud({ { 1.1234567890123457, 0.0123456789012345, -0.0314159265358979 },
+    { -0.9876543210987654, 0.0271828182845905, 0.0141421356237310 },
+    { 0.0161803398874989, 1.2345678901234567, 0.0173205080756888 },
+    { 0.0223606797749979, -1.1111111111111112, -0.0101010101010101 },
+    { -0.0333333333333333, 0.0444444444444444, 0.9090909090909091 },
+    { 0.0555555555555556, -0.0666666666666667, -1.0101010101010102 } });
+  const vtkIdType faces[8][3] = { { 0, 2, 4 }, { 2, 1, 4 }, { 1, 3, 4 }, { 3, 0, 4 }, { 2, 0, 5 },
+    { 1, 2, 5 }, { 3, 1, 5 }, { 0, 3, 5 } };
+  vtkNew<vtkCellArray> polys;
+  for (const auto& f : faces)
+    polys->InsertNextCell(3, f);
+  mesh->SetPolys(polys);
+  vtkNew<vtkDoubleArray> weights;
+  weights->SetName("Weights");
+  weights->SetNumberOfComponents(3);
+  weights->SetNumberOfTuples(6);
+  for (int p = 0; p < 6; ++p)
+    for (int k = 0; k < 3; ++k)
+      weights->SetComponent(p, k, 1.0 / (3.0 + p + 7 * k) - 0.01 * k);
+  mesh->GetPointData()->AddArray(weights);
+  return mesh;
+}
+
+vtkSmartPointer<vtkUnstructuredGrid> ToGrid(vtkPolyData* mesh)
+{
+  auto grid = vtkSmartPointer<vtkUnstructuredGrid>::New();
+  grid->SetPoints(mesh->GetPoints());
+  for (vtkIdType c = 0; c < mesh->GetNumberOfCells(); ++c)
+  {
+    vtkIdType size;
+    const vtkIdType* ids;
+    mesh->GetPolys()->GetCellAtId(c, size, ids);
+    grid->InsertNextCell(VTK_TRIANGLE, size, ids);
+  }
+  grid->GetPointData()->ShallowCopy(mesh->GetPointData());
+  return grid;
+}
+
+/// Max difference between the corners of triangle c of @p a and of @p b, over all triangles
+/// (robust to readers that renumber or merge points, such as STL's).
+double MaxCornerDifference(vtkDataSet* a, vtkDataSet* b)
+{
+  EXPECT_EQ(a->GetNumberOfCells(), b->GetNumberOfCells());
+  double worst = 0.0;
+  vtkNew<vtkIdList> ia, ib;
+  for (vtkIdType c = 0; c < std::min(a->GetNumberOfCells(), b->GetNumberOfCells()); ++c)
+  {
+    a->GetCellPoints(c, ia);
+    b->GetCellPoints(c, ib);
+    EXPECT_EQ(ia->GetNumberOfIds(), ib->GetNumberOfIds()) << "cell " << c;
+    for (vtkIdType k = 0; k < std::min(ia->GetNumberOfIds(), ib->GetNumberOfIds()); ++k)
+    {
+      double x[3], y[3];
+      a->GetPoint(ia->GetId(k), x);
+      b->GetPoint(ib->GetId(k), y);
+      for (int d = 0; d < 3; ++d)
+        worst = std::max(worst, std::abs(x[d] - y[d]));
+    }
+  }
+  return worst;
+}
+
+/// Expects vtkBaryDataIO::Read(path) to throw bary::Error with one of @p codes, naming the file
+/// and mentioning @p needle.
+void ExpectReadThrows(
+  const std::string& path, std::vector<bary::ErrorCode> codes, const std::string& needle)
+{
+  try
+  {
+    vtkBaryDataIO::Read(path);
+    ADD_FAILURE() << "Read('" << path << "') succeeded";
+  }
+  catch (const bary::Error& e)
+  {
+    EXPECT_NE(std::find(codes.begin(), codes.end(), e.code()), codes.end())
+      << "code " << bary::to_string(e.code()) << ": " << e.what();
+    EXPECT_NE(std::string(e.what()).find(path), std::string::npos)
+      << "the message must name the file: " << e.what();
+    EXPECT_NE(std::string(e.what()).find(needle), std::string::npos)
+      << "the message should mention '" << needle << "': " << e.what();
+  }
+}
+
+/// Expects vtkBaryDataIO::Write to throw bary::Error(Io) with a message containing @p needle.
+void ExpectWriteThrows(vtkDataSet* data, const std::string& path, const std::string& needle)
+{
+  try
+  {
+    vtkBaryDataIO::Write(data, path);
+    ADD_FAILURE() << "Write('" << path << "') succeeded";
+  }
+  catch (const bary::Error& e)
+  {
+    EXPECT_EQ(e.code(), bary::ErrorCode::Io) << e.what();
+    EXPECT_NE(std::string(e.what()).find(needle), std::string::npos)
+      << "the message should mention '" << needle << "': " << e.what();
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Round trips
+// ---------------------------------------------------------------------------------------------
+
+struct RoundTrip
+{
+  const char* Extension;
+  double Tolerance; ///< on coordinates
+  bool KeepsWeights;
+};
+
+void PrintTo(const RoundTrip& format, std::ostream* os)
+{
+  *os << format.Extension;
+}
+
+class vtkBaryDataIORoundTrip : public ::testing::TestWithParam<RoundTrip>
+{
+};
+
+TEST_P(vtkBaryDataIORoundTrip, WriteThenRead)
+{
+  const RoundTrip rt = GetParam();
+  const fs::path dir = Scratch(std::string("roundtrip") + rt.Extension);
+  const std::string path = (dir / (std::string("mesh") + rt.Extension)).string();
+  auto mesh = SmallMesh();
+  vtkSmartPointer<vtkDataSet> data = mesh;
+  if (std::string(rt.Extension) == ".vtu")
+    data = ToGrid(mesh);
+  ASSERT_NO_THROW(vtkBaryDataIO::Write(data, path));
+  EXPECT_EQ(ListFolder(dir), std::set<std::string>{ "mesh" + std::string(rt.Extension) })
+    << "no temporary file may be left behind";
+
+  vtkSmartPointer<vtkDataSet> back;
+  ASSERT_NO_THROW(back = vtkBaryDataIO::Read(path));
+  ASSERT_NE(back, nullptr);
+  EXPECT_EQ(back->GetNumberOfCells(), 8);
+  EXPECT_EQ(back->GetNumberOfPoints(), 6);
+  EXPECT_LE(MaxCornerDifference(data, back), rt.Tolerance);
+  if (std::string(rt.Extension) == ".vtu")
+    EXPECT_NE(vtkUnstructuredGrid::SafeDownCast(back), nullptr) << back->GetClassName();
+  else
+    EXPECT_NE(vtkPolyData::SafeDownCast(back), nullptr) << back->GetClassName();
+  if (rt.KeepsWeights)
+  {
+    vtkDataArray* in = GetWeights(mesh);
+    vtkDataArray* out = GetWeights(back);
+    ASSERT_NE(out, nullptr) << "the Weights array must survive " << rt.Extension;
+    ASSERT_EQ(out->GetNumberOfComponents(), 3);
+    ASSERT_EQ(out->GetNumberOfTuples(), 6);
+    for (vtkIdType p = 0; p < 6; ++p)
+      for (int k = 0; k < 3; ++k)
+        EXPECT_EQ(out->GetComponent(p, k), in->GetComponent(p, k)) << "exactly";
+    // Points too: these formats store doubles.
+    for (vtkIdType p = 0; p < 6; ++p)
+      for (int k = 0; k < 3; ++k)
+        EXPECT_EQ(back->GetPoint(p)[k], data->GetPoint(p)[k]);
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(AllFormats, vtkBaryDataIORoundTrip,
+  ::testing::Values(RoundTrip{ ".vtp", 0.0, true }, RoundTrip{ ".vtu", 0.0, true },
+    RoundTrip{ ".vtk", 0.0, true }, RoundTrip{ ".obj", 1e-6, false },
+    RoundTrip{ ".stl", 1e-6, false }, RoundTrip{ ".ply", 1e-6, false },
+    RoundTrip{ ".off", 0.0, false }),
+  [](const ::testing::TestParamInfo<RoundTrip>& format)
+  { return std::string(format.param.Extension + 1); });
+
+TEST(vtkBaryDataIO, ImageDataToLegacyVtk)
+{
+  const fs::path dir = Scratch("image");
+  vtkNew<vtkImageData> image;
+  image->SetDimensions(3, 2, 2);
+  image->SetSpacing(0.5, 0.25, 2.0);
+  image->SetOrigin(-1, 0, 1);
+  const std::string path = (dir / "image.vtk").string();
+  ASSERT_NO_THROW(vtkBaryDataIO::Write(image, path));
+  auto back = vtkBaryDataIO::Read(path);
+  ASSERT_NE(vtkImageData::SafeDownCast(back), nullptr) << back->GetClassName();
+  EXPECT_EQ(back->GetNumberOfPoints(), 12);
+  EXPECT_EQ(back->GetPoint(11)[0], 0.0);
+  EXPECT_EQ(back->GetPoint(11)[1], 0.25);
+  EXPECT_EQ(back->GetPoint(11)[2], 3.0);
+}
+
+TEST(vtkBaryDataIO, SurfaceToVtuIsConverted)
+{
+  // Any data set converts losslessly to an unstructured grid.
+  const fs::path dir = Scratch("surface_vtu");
+  const std::string path = (dir / "mesh.vtu").string();
+  auto mesh = SmallMesh();
+  ASSERT_NO_THROW(vtkBaryDataIO::Write(mesh, path));
+  auto back = vtkBaryDataIO::Read(path);
+  ASSERT_NE(vtkUnstructuredGrid::SafeDownCast(back), nullptr) << back->GetClassName();
+  EXPECT_EQ(back->GetNumberOfCells(), 8);
+  EXPECT_EQ(back->GetCellType(0), VTK_TRIANGLE);
+  EXPECT_EQ(MaxCornerDifference(mesh, back), 0.0);
+  vtkDataArray* W = GetWeights(back);
+  ASSERT_NE(W, nullptr);
+  EXPECT_EQ(W->GetNumberOfComponents(), 3);
+  EXPECT_EQ(W->GetComponent(5, 2), GetWeights(mesh)->GetComponent(5, 2));
+  EXPECT_EQ(ListFolder(dir), std::set<std::string>{ "mesh.vtu" });
+}
+
+TEST(vtkBaryDataIO, OverwriteReplacesTheFile)
+{
+  const fs::path dir = Scratch("overwrite");
+  const std::string path = (dir / "m.off").string();
+  vtkBaryDataIO::Write(SmallMesh(), path);
+  vtkBaryDataIO::Write(MakeCube(), path);
+  auto back = vtkBaryDataIO::Read(path);
+  EXPECT_EQ(back->GetNumberOfPoints(), 8);
+  EXPECT_EQ(ListFolder(dir), std::set<std::string>{ "m.off" });
+}
+
+TEST(vtkBaryDataIO, BundledDataReads)
+{
+  auto model = vtkBaryDataIO::ReadPolyData(DataPath("model3d.off"));
+  EXPECT_EQ(model->GetNumberOfPoints(), 2562);
+  EXPECT_EQ(model->GetNumberOfPolys(), 5120);
+  auto cage = vtkBaryDataIO::ReadPolyData(DataPath("cage3d.obj"));
+  EXPECT_EQ(cage->GetNumberOfPoints(), 72);
+  EXPECT_EQ(cage->GetNumberOfPolys(), 140);
+  auto cage2d = vtkBaryDataIO::ReadPolyData(DataPath("cage2d.obj"));
+  EXPECT_EQ(cage2d->GetNumberOfPoints(), 20);
+  EXPECT_EQ(cage2d->GetNumberOfPolys(), 0);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Read errors
+// ---------------------------------------------------------------------------------------------
+
+TEST(vtkBaryDataIO, ReadMissingFile)
+{
+  const std::string path = (Scratch("missing") / "nothing_here.vtp").string();
+  ExpectReadThrows(path, { bary::ErrorCode::Io }, "no such file");
+}
+
+TEST(vtkBaryDataIO, ReadUnknownExtension)
+{
+  const fs::path dir = Scratch("unknown");
+  const std::string path = WriteText(dir / "mesh.xyz", "1 2 3\n");
+  ExpectReadThrows(path, { bary::ErrorCode::Io }, "unknown file extension");
+  ExpectReadThrows(WriteText(dir / "noext", "1 2 3\n"), { bary::ErrorCode::Io }, "extension");
+  EXPECT_FALSE(vtkBaryDataIO::CanRead(path));
+}
+
+TEST(vtkBaryDataIO, ReadEmptyFile)
+{
+  ExpectReadThrows(
+    DataPath("bad/empty.obj"), { bary::ErrorCode::Io, bary::ErrorCode::EmptyInput }, "empty");
+  const fs::path dir = Scratch("empty");
+  for (const char* ext : { ".vtp", ".off", ".stl", ".ply", ".vtk", ".vtu" })
+    ExpectReadThrows(WriteText(dir / (std::string("e") + ext), ""),
+      { bary::ErrorCode::Io, bary::ErrorCode::EmptyInput }, "empty");
+}
+
+TEST(vtkBaryDataIO, ReadGarbage)
+{
+  ExpectReadThrows(DataPath("bad/garbage.off"), { bary::ErrorCode::Io }, "garbage.off");
+  const fs::path dir = Scratch("garbage");
+  const std::string text = "this is, not a mesh\n\x7f\t1e999999 0x1p3\n";
+  for (const char* ext : { ".vtp", ".vtu", ".vtk", ".ply", ".off" })
+    ExpectReadThrows(WriteText(dir / (std::string("g") + ext), text),
+      { bary::ErrorCode::Io, bary::ErrorCode::EmptyInput }, std::string("g") + ext);
+}
+
+TEST(vtkBaryDataIO, ReadNaNObj)
+{
+  // vtkOBJReader would read "nan" as a number; vtkBaryDataIO checks the v lines itself.
+  ExpectReadThrows(DataPath("bad/nan_cage.obj"), { bary::ErrorCode::NonFinite }, "line 7");
+}
+
+TEST(vtkBaryDataIO, ReadFileWithoutPoints)
+{
+  const std::string path = WriteText(Scratch("nopoints") / "none.off", "OFF\n0 0 0\n");
+  ExpectReadThrows(path, { bary::ErrorCode::EmptyInput }, "no points");
+}
+
+TEST(vtkBaryDataIO, ReadFolderNamedLikeAFile)
+{
+  const fs::path dir = Scratch("folder");
+  fs::create_directories(dir / "mesh.vtp");
+  ExpectReadThrows((dir / "mesh.vtp").string(), { bary::ErrorCode::Io }, "regular file");
+}
+
+TEST(vtkBaryDataIO, ReadPolyDataRejectsOtherTypes)
+{
+  const fs::path dir = Scratch("readpoly");
+  const std::string path = (dir / "grid.vtu").string();
+  vtkBaryDataIO::Write(ToGrid(SmallMesh()), path);
+  try
+  {
+    vtkBaryDataIO::ReadPolyData(path);
+    ADD_FAILURE() << "ReadPolyData accepted an unstructured grid";
+  }
+  catch (const bary::Error& e)
+  {
+    EXPECT_NE(std::string(e.what()).find("vtkUnstructuredGrid"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find(path), std::string::npos) << e.what();
+  }
+}
+
+TEST(vtkBaryDataIO, Extension)
+{
+  EXPECT_EQ(vtkBaryDataIO::Extension("a/b/mesh.VTP"), ".vtp");
+  EXPECT_EQ(vtkBaryDataIO::Extension("a.b/mesh"), "");
+  EXPECT_EQ(vtkBaryDataIO::Extension("mesh.tar.off"), ".off");
+  EXPECT_EQ(vtkBaryDataIO::Extension("mesh"), "");
+  EXPECT_TRUE(vtkBaryDataIO::CanRead("x.Off"));
+  EXPECT_TRUE(vtkBaryDataIO::CanRead("x.stl"));
+  EXPECT_FALSE(vtkBaryDataIO::CanRead("x.msh"));
+  for (const char* ext : { ".vtp", ".vtu", ".vtk", ".obj", ".stl", ".ply", ".off" })
+    EXPECT_TRUE(vtkBaryDataIO::CanWrite(std::string("dir/x") + ext)) << ext;
+  EXPECT_FALSE(vtkBaryDataIO::CanWrite("x.png"));
+  EXPECT_FALSE(vtkBaryDataIO::CanWrite("x"));
+}
+
+// ---------------------------------------------------------------------------------------------
+// Write errors
+// ---------------------------------------------------------------------------------------------
+
+TEST(vtkBaryDataIO, WriteToMissingFolderThrowsAndLeavesNothing)
+{
+  const fs::path dir = Scratch("nofolder");
+  const fs::path target = dir / "does" / "not" / "exist" / "mesh.vtp";
+  ExpectWriteThrows(SmallMesh(), target.string(), target.string());
+  EXPECT_FALSE(fs::exists(target));
+  EXPECT_FALSE(fs::exists(dir / "does"));
+  EXPECT_TRUE(ListFolder(dir).empty());
+}
+
+TEST(vtkBaryDataIO, FailedWriteLeavesNoTemporaryFiles)
+{
+  // The target is an existing folder: the temporary file can be written beside it, but the
+  // final rename fails. Nothing but the folder may remain.
+  const fs::path dir = Scratch("failedwrite");
+  auto mesh = SmallMesh();
+  for (const char* ext : { ".vtp", ".vtk", ".obj", ".stl", ".ply", ".off" })
+  {
+    const fs::path target = dir / (std::string("target") + ext);
+    fs::create_directories(target);
+    ExpectWriteThrows(mesh, target.string(), target.string());
+    EXPECT_TRUE(fs::is_directory(target));
+    EXPECT_TRUE(fs::is_empty(target));
+    fs::remove(target);
+    EXPECT_TRUE(ListFolder(dir).empty()) << ext << ": a temporary file was left behind";
+  }
+}
+
+TEST(vtkBaryDataIO, FailedWriteKeepsThePreviousFile)
+{
+  const fs::path dir = Scratch("keep");
+  const std::string path = (dir / "mesh.obj").string();
+  vtkBaryDataIO::Write(SmallMesh(), path);
+  const auto size = fs::file_size(path);
+  ExpectWriteThrows(ToGrid(SmallMesh()), path, ".obj");
+  EXPECT_EQ(fs::file_size(path), size);
+  EXPECT_EQ(vtkBaryDataIO::Read(path)->GetNumberOfCells(), 8);
+  EXPECT_EQ(ListFolder(dir), std::set<std::string>{ "mesh.obj" });
+}
+
+TEST(vtkBaryDataIO, WrongTypeForExtension)
+{
+  const fs::path dir = Scratch("wrongtype");
+  ExpectWriteThrows(ToGrid(SmallMesh()), (dir / "grid.vtp").string(), ".vtu");
+  vtkNew<vtkImageData> image;
+  image->SetDimensions(2, 2, 2);
+  ExpectWriteThrows(image, (dir / "image.off").string(), "vtkImageData");
+  ExpectWriteThrows(SmallMesh(), (dir / "mesh.xyz").string(), "unknown file extension");
+  ExpectWriteThrows(nullptr, (dir / "null.vtp").string(), "null.vtp");
+  EXPECT_TRUE(ListFolder(dir).empty());
+}
+
+// ---------------------------------------------------------------------------------------------
+// OFF reader on hand-written files
+// ---------------------------------------------------------------------------------------------
+
+struct OFFRead
+{
+  vtkNew<vtkBaryOFFReader> Reader;
+  vtkNew<ErrorObserver> Observer;
+  int Status = 0;
+
+  explicit OFFRead(const std::string& path)
+  {
+    this->Observer->Attach(this->Reader);
+    this->Reader->SetFileName(path.c_str());
+    this->Status = RunPipeline(this->Reader);
+  }
+  vtkPolyData* Output() { return this->Reader->GetOutput(); }
+};
+
+const char* const kSquare = "0 0 0\n1 0 0\n1 1 0\n0 1 0\n";
+
+TEST(vtkBaryOFFReader, CountsOnTheHeaderLine)
+{
+  const fs::path dir = Scratch("off_header");
+  OFFRead r(WriteText(dir / "a.off", std::string("OFF 4 2 0\n") + kSquare + "3 0 1 2\n3 0 2 3\n"));
+  ASSERT_EQ(r.Status, 1) << r.Observer->AllErrors();
+  EXPECT_EQ(r.Output()->GetNumberOfPoints(), 4);
+  EXPECT_EQ(r.Output()->GetNumberOfPolys(), 2);
+  EXPECT_EQ(r.Output()->GetPoint(2)[0], 1.0);
+  EXPECT_EQ(r.Output()->GetPoint(2)[1], 1.0);
+}
+
+TEST(vtkBaryOFFReader, Comments)
+{
+  const fs::path dir = Scratch("off_comments");
+  OFFRead r(WriteText(dir / "a.off",
+    "# a comment before the header\nOFF\n# counts next\n4 2 0 # vertices faces edges\n\n"
+    "0 0 0 # v0\n1 0 0\n# between vertices\n1 1 0\n0 1 0\n3 0 1 2 # f0\n\n3 0 2 3\n"));
+  ASSERT_EQ(r.Status, 1) << r.Observer->AllErrors();
+  EXPECT_EQ(r.Output()->GetNumberOfPoints(), 4);
+  EXPECT_EQ(r.Output()->GetNumberOfPolys(), 2);
+}
+
+TEST(vtkBaryOFFReader, NoHeader)
+{
+  const fs::path dir = Scratch("off_noheader");
+  OFFRead r(WriteText(dir / "a.off", std::string("4 1\n") + kSquare + "4 0 1 2 3\n"));
+  ASSERT_EQ(r.Status, 1) << r.Observer->AllErrors();
+  EXPECT_EQ(r.Output()->GetNumberOfPoints(), 4);
+  ASSERT_EQ(r.Output()->GetNumberOfPolys(), 1);
+  EXPECT_EQ(r.Output()->GetPolys()->GetCellSize(0), 4);
+}
+
+TEST(vtkBaryOFFReader, ColouredOFF)
+{
+  const fs::path dir = Scratch("off_coff");
+  OFFRead r(WriteText(dir / "a.off",
+    "COFF\n3 1 0\n0.5 0 0 255 0 0 255\n1 0.25 0 0 255 0 255\n0 1 2 0 0 255 255\n"
+    "3 0 1 2 128 128 128\n"));
+  ASSERT_EQ(r.Status, 1) << r.Observer->AllErrors();
+  ASSERT_EQ(r.Output()->GetNumberOfPoints(), 3);
+  EXPECT_EQ(r.Output()->GetPoint(0)[0], 0.5);
+  EXPECT_EQ(r.Output()->GetPoint(1)[1], 0.25);
+  EXPECT_EQ(r.Output()->GetPoint(2)[2], 2.0);
+  ASSERT_EQ(r.Output()->GetNumberOfPolys(), 1);
+  vtkIdType size;
+  const vtkIdType* ids;
+  r.Output()->GetPolys()->GetCellAtId(0, size, ids);
+  ASSERT_EQ(size, 3);
+  EXPECT_EQ(ids[0], 0);
+  EXPECT_EQ(ids[1], 1);
+  EXPECT_EQ(ids[2], 2);
+}
+
+TEST(vtkBaryOFFReader, QuadsAndTwoIndexFaces)
+{
+  const fs::path dir = Scratch("off_mixed");
+  OFFRead r(WriteText(dir / "a.off",
+    std::string("OFF\n5 3 0\n") + kSquare + "0.5 0.5 1\n4 0 1 2 3\n2 3 4\n3 0 1 4\n"));
+  ASSERT_EQ(r.Status, 1) << r.Observer->AllErrors();
+  EXPECT_EQ(r.Output()->GetNumberOfPoints(), 5);
+  ASSERT_EQ(r.Output()->GetNumberOfPolys(), 2);
+  EXPECT_EQ(r.Output()->GetPolys()->GetCellSize(0), 4);
+  EXPECT_EQ(r.Output()->GetPolys()->GetCellSize(1), 3);
+  ASSERT_EQ(r.Output()->GetNumberOfLines(), 1);
+  vtkIdType size;
+  const vtkIdType* ids;
+  r.Output()->GetLines()->GetCellAtId(0, size, ids);
+  ASSERT_EQ(size, 2);
+  EXPECT_EQ(ids[0], 3);
+  EXPECT_EQ(ids[1], 4);
+}
+
+/// Reads @p text and expects a failure whose message contains every string of @p needles and
+/// an empty output.
+void ExpectOFFError(
+  const std::string& name, const std::string& text, const std::vector<std::string>& needles)
+{
+  const fs::path dir = Scratch("off_errors");
+  OFFRead r(WriteText(dir / (name + ".off"), text));
+  EXPECT_EQ(r.Status, 0) << name;
+  EXPECT_FALSE(r.Observer->Errors.empty()) << name;
+  for (const auto& needle : needles)
+    EXPECT_TRUE(r.Observer->HasError(needle)) << name << ": expected '" << needle << "' in:\n"
+                                              << r.Observer->AllErrors();
+  EXPECT_EQ(r.Output()->GetNumberOfPoints(), 0) << name << ": the output must stay empty";
+  EXPECT_EQ(r.Output()->GetNumberOfCells(), 0) << name;
+}
+
+TEST(vtkBaryOFFReader, TruncatedFile)
+{
+  ExpectOFFError(
+    "truncated_vertices", "OFF\n4 2 0\n0 0 0\n1 0 0\n", { "line ", "2 of 4 vertices" });
+  ExpectOFFError("truncated_faces", std::string("OFF\n4 2 0\n") + kSquare + "3 0 1 2\n",
+    { "line ", "1 of 2 faces" });
+  // A short vertex line: the message gives its line number (line 5).
+  ExpectOFFError("short_vertex", "OFF\n4 2 0\n0 0 0\n1 0 0\n1 1\n0 1 0\n3 0 1 2\n3 0 2 3\n",
+    { "line 5", "vertex 2" });
+  ExpectOFFError("short_face", std::string("OFF\n4 2 0\n") + kSquare + "3 0 1 2\n3 0 2\n",
+    { "line 8", "face 1" });
+}
+
+TEST(vtkBaryOFFReader, OutOfRangeIndex)
+{
+  ExpectOFFError("out_of_range", std::string("OFF\n4 2 0\n") + kSquare + "3 0 1 2\n3 0 2 4\n",
+    { "line 8", "vertex 4" });
+  ExpectOFFError("negative_index", std::string("OFF\n4 1 0\n") + kSquare + "3 0 -1 2\n",
+    { "line 7", "vertex -1" });
+}
+
+TEST(vtkBaryOFFReader, NonFiniteVertex)
+{
+  ExpectOFFError(
+    "nan", "OFF\n3 1 0\n0 0 0\nnan 0 0\n0 1 0\n3 0 1 2\n", { "line 4", "vertex 1", "non-finite" });
+  ExpectOFFError(
+    "inf", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 -inf 0\n3 0 1 2\n", { "line 5", "vertex 2", "non-finite" });
+  ExpectOFFError("overflow", "OFF\n3 1 0\n0 0 1e999\n1 0 0\n0 1 0\n3 0 1 2\n",
+    { "line 3", "vertex 0", "non-finite" });
+  ExpectOFFError(
+    "comma", "OFF\n3 1 0\n0 0 0\n1,5 0 0\n0 1 0\n3 0 1 2\n", { "line 4", "'1,5' is not a number" });
+}
+
+TEST(vtkBaryOFFReader, NumberSyntax)
+{
+  const fs::path dir = Scratch("off_numbers");
+  OFFRead r(
+    WriteText(dir / "a.off", "OFF\n3 1 0\n+0.5 -0 1e-3\n1.25E+1 .5 -7.\n0 1 1e-400\n3 0 1 2\n"));
+  ASSERT_EQ(r.Status, 1) << r.Observer->AllErrors();
+  EXPECT_EQ(r.Output()->GetPoint(0)[0], 0.5);
+  EXPECT_EQ(r.Output()->GetPoint(0)[2], 1e-3);
+  EXPECT_EQ(r.Output()->GetPoint(1)[0], 12.5);
+  EXPECT_EQ(r.Output()->GetPoint(1)[1], 0.5);
+  EXPECT_EQ(r.Output()->GetPoint(1)[2], -7.0);
+  EXPECT_EQ(r.Output()->GetPoint(2)[2], 0.0)
+    << "an underflowing number is a tiny number, not an error";
+}
+
+TEST(vtkBaryOFFReader, BadHeaderAndCounts)
+{
+  ExpectOFFError("empty", "", { "empty" });
+  ExpectOFFError("comments_only", "# nothing\n\n# here\n", { "empty" });
+  ExpectOFFError("variant", "XOFF\n3 1 0\n", { "line 1", "XOFF" });
+  ExpectOFFError("no_counts", "OFF\n", { "counts" });
+  ExpectOFFError("negative", "OFF\n-3 1 0\n", { "line 2" });
+  ExpectOFFError("words", "OFFF\nthree vertices\n", { "line 1" });
+}
+
+TEST(vtkBaryOFFReader, HugeCountsInATruncatedFile)
+{
+  // A corrupt counts line must give the truncation error, not an attempt to allocate memory
+  // for 10^11 points.
+  ExpectOFFError(
+    "huge", "OFF\n100000000000 1 0\n0 0 0\n", { "line ", "1 of 100000000000 vertices" });
+  ExpectOFFError("huge_faces", "OFF\n3 100000000000 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n",
+    { "line ", "1 of 100000000000 faces" });
+  ExpectOFFError("huge_face", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n1000000000000 0 1 2\n",
+    { "line 6", "fewer than 1000000000000" });
+}
+
+TEST(vtkBaryOFFReader, MissingFile)
+{
+  vtkNew<vtkBaryOFFReader> reader;
+  vtkNew<ErrorObserver> observer;
+  observer->Attach(reader);
+  const std::string path = (Scratch("off_missing") / "none.off").string();
+  reader->SetFileName(path.c_str());
+  EXPECT_EQ(RunPipeline(reader), 0);
+  EXPECT_TRUE(observer->HasError(path)) << observer->AllErrors();
+  vtkNew<vtkBaryOFFReader> unnamed;
+  vtkNew<ErrorObserver> observer2;
+  observer2->Attach(unnamed);
+  EXPECT_EQ(RunPipeline(unnamed), 0);
+  EXPECT_TRUE(observer2->HasError("file name")) << observer2->AllErrors();
+}
+
+// ---------------------------------------------------------------------------------------------
+// OFF writer
+// ---------------------------------------------------------------------------------------------
+
+TEST(vtkBaryOFFWriter, WritesHeaderCountsAndZeroBasedFaces)
+{
+  const fs::path dir = Scratch("off_writer");
+  const std::string path = (dir / "cube.off").string();
+  vtkNew<vtkBaryOFFWriter> writer;
+  writer->SetFileName(path.c_str());
+  writer->SetInputData(MakeCube());
+  ASSERT_EQ(writer->Write(), 1);
+  std::ifstream in(path);
+  std::string header;
+  long long nv, nf, ne;
+  in >> header >> nv >> nf >> ne;
+  EXPECT_EQ(header, "OFF");
+  EXPECT_EQ(nv, 8);
+  EXPECT_EQ(nf, 12);
+  double x[3];
+  for (int i = 0; i < 8; ++i)
+    in >> x[0] >> x[1] >> x[2];
+  EXPECT_EQ(x[0], -1.0); // the last corner is (-1, 1, 1)
+  EXPECT_EQ(x[1], 1.0);
+  int k, a, b, c;
+  in >> k >> a >> b >> c;
+  EXPECT_EQ(k, 3);
+  EXPECT_EQ(a, 0); // the first face is {0, 3, 2}
+  EXPECT_EQ(b, 3);
+  EXPECT_EQ(c, 2);
+}
+
+TEST(vtkBaryOFFWriter, UnwritablePathIsAnError)
+{
+  vtkNew<vtkBaryOFFWriter> writer;
+  vtkNew<ErrorObserver> observer;
+  writer->AddObserver(vtkCommand::ErrorEvent, observer);
+  const std::string path = (Scratch("off_writer_bad") / "no" / "cube.off").string();
+  writer->SetFileName(path.c_str());
+  writer->SetInputData(MakeCube());
+  writer->Write();
+  EXPECT_NE(writer->GetErrorCode(), 0ul);
+  EXPECT_TRUE(observer->HasError(path)) << observer->AllErrors();
+}
+
+} // namespace
