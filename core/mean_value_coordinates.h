@@ -45,7 +45,7 @@ struct MeanValueOptions
   bool validate = true;
   /// Options passed to validate_cage.
   CageValidationOptions validation;
-  /// Number of threads for batch evaluation; 0 = OpenMP's default. The result does not depend
+  /// Number of threads for batch evaluation; 0 = all cores (OpenMP's default). The result does not depend
   /// on it: every point is computed independently and written to its own row.
   int threads = 0;
 };

@@ -114,14 +114,28 @@ void add_method_options(CLI::App* cmd, WeightsParameters& p)
     ->default_val(p.weights_name);
 }
 
-/// Fails early (before any computation) on an output path that cannot be written.
-void ensure_parent_exists(const std::string& path)
+enum class OutputKind
 {
-  if (fs::path(path).extension() != ".json" && fs::path(path).extension() != ".png" &&
-    !vtkBaryDataIO::CanWrite(path))
+  Data, ///< a data set: .vtp .vtu .vtk .obj .stl .ply .off
+  Json,
+  Png
+};
+
+/// Fails early (before any computation) on an output path that cannot be written: unknown or
+/// wrong extension for what is written there, or a folder that does not exist.
+void check_output(const std::string& path, OutputKind kind)
+{
+  const std::string ext = vtkBaryDataIO::Extension(path);
+  const bool ok = kind == OutputKind::Data ? vtkBaryDataIO::CanWrite(path)
+    : kind == OutputKind::Json             ? ext == ".json"
+                                           : ext == ".png";
+  if (!ok)
     throw bary::Error(bary::ErrorCode::Io,
-      "cannot write '" + path + "': unknown file extension '" + vtkBaryDataIO::Extension(path) +
-        "' (writable: .vtp, .vtu, .vtk, .obj, .stl, .ply, .off)");
+      "cannot write '" + path + "': unknown file extension '" + ext + "' (" +
+        (kind == OutputKind::Data ? "writable: .vtp, .vtu, .vtk, .obj, .stl, .ply, .off"
+          : kind == OutputKind::Json ? "a summary is written as .json"
+                                     : "images are written as .png") +
+        ")");
   const fs::path parent = fs::path(path).parent_path();
   if (!parent.empty() && !fs::is_directory(parent))
     throw bary::Error(bary::ErrorCode::Io,
@@ -153,9 +167,9 @@ struct WeightsArgs
 
 int run_weights(const WeightsArgs& a)
 {
-  ensure_parent_exists(a.output);
+  check_output(a.output, OutputKind::Data);
   if (!a.json_path.empty())
-    ensure_parent_exists(a.json_path);
+    check_output(a.json_path, OutputKind::Json);
   barylab::MethodFromName(a.parameters.method);
   auto cage = vtkBaryDataIO::ReadPolyData(a.cage);
   auto points = vtkBaryDataIO::Read(a.points);
@@ -193,7 +207,9 @@ struct DeformArgs
 
 int run_deform(const DeformArgs& a)
 {
-  ensure_parent_exists(a.output);
+  check_output(a.output, OutputKind::Data);
+  if (!a.json_path.empty())
+    check_output(a.json_path, OutputKind::Json);
   barylab::MethodFromName(a.parameters.method);
   if (a.points.empty() && a.weights.empty())
     throw bary::Error(bary::ErrorCode::InvalidArgument, "give --points MODEL or --weights FILE");
@@ -302,7 +318,7 @@ struct RenderArgs
 
 int run_render(const RenderArgs& a)
 {
-  ensure_parent_exists(a.output);
+  check_output(a.output, OutputKind::Png);
   auto data = vtkBaryDataIO::Read(a.input);
   vtkSmartPointer<vtkPolyData> cage = a.cage.empty() ? nullptr : vtkBaryDataIO::ReadPolyData(a.cage);
   barylab::RenderOptions options = a.options;
@@ -425,7 +441,7 @@ int main(int argc, char** argv)
   weights->add_option("--output,-o", wa.output, "output file (.vtp/.vtu/.vtk keep the weights)")
     ->required();
   weights->add_option("--json", wa.json_path, "write a JSON summary (counts, timings, statistics)");
-  weights->add_flag("--quiet,-q", wa.quiet, "no progress bar, no summary");
+  weights->add_flag("--quiet,-q", wa.quiet, "no progress bar, summary or warnings (errors still)");
   add_method_options(weights, wa.parameters);
 
   DeformArgs da;
@@ -438,7 +454,7 @@ int main(int argc, char** argv)
     "reuse weights from a file written by 'barylab weights' (then --points is optional)");
   deform->add_option("--output,-o", da.output, "output file")->required();
   deform->add_option("--json", da.json_path, "write a JSON summary");
-  deform->add_flag("--quiet,-q", da.quiet, "no progress bar, no summary");
+  deform->add_flag("--quiet,-q", da.quiet, "no progress bar, summary or warnings (errors still)");
   add_method_options(deform, da.parameters);
 
   StatsArgs sa;
@@ -467,7 +483,7 @@ int main(int argc, char** argv)
   auto* demo = app.add_subcommand("demo", "the main job: 2D and 3D pipelines on bundled data");
   demo->add_option("--output-dir", ma.output_dir, "where results go")->default_val(ma.output_dir);
   demo->add_option("--data-dir", ma.data_dir, "bundled data folder")->default_val(ma.data_dir);
-  demo->add_option("--threads", ma.threads, "threads (0 = all)")->default_val(0);
+  demo->add_option("--threads", ma.threads, "threads (0 = all cores)")->default_val(0);
   bool no_render = false;
   demo->add_flag("--no-render", no_render, "skip the PNG images (no X display needed)");
 

@@ -3,6 +3,7 @@
 #include "vtkBaryCageDeformation.h"
 #include "vtkBaryConversion.h"
 #include "vtkBaryCoordinates.h"
+#include "vtkBaryErrorObserver.h"
 
 #include "core/weight_statistics.h"
 
@@ -23,43 +24,19 @@ namespace barylab
 {
 namespace
 {
-/// Routes a filter's events to the callbacks and remembers the first error.
-class Observer : public vtkCommand
+/// Forwards progress to the callbacks and applies cancellation.
+class ProgressObserver : public vtkCommand
 {
 public:
-  static Observer* New() { return new Observer; }
-  void Execute(vtkObject* caller, unsigned long event, void* data) override
+  static ProgressObserver* New() { return new ProgressObserver; }
+  void Execute(vtkObject* caller, unsigned long, void* data) override
   {
-    if (event == vtkCommand::ErrorEvent)
-    {
-      if (Error.empty() && data)
-        Error = Clean(static_cast<const char*>(data));
-    }
-    else if (event == vtkCommand::WarningEvent)
-    {
-      if (Callbacks && Callbacks->warning && data)
-        Callbacks->warning(Clean(static_cast<const char*>(data)));
-    }
-    else if (event == vtkCommand::ProgressEvent)
-    {
-      if (Callbacks && Callbacks->progress && data)
-        Callbacks->progress(*static_cast<double*>(data));
-      if (Callbacks && Callbacks->cancel && Callbacks->cancel())
-        if (auto* a = vtkAlgorithm::SafeDownCast(caller))
-          a->SetAbortExecute(1);
-    }
+    if (Callbacks->progress && data)
+      Callbacks->progress(*static_cast<double*>(data));
+    if (Callbacks->cancel && Callbacks->cancel())
+      if (auto* a = vtkAlgorithm::SafeDownCast(caller))
+        a->SetAbortExecute(1);
   }
-  /// VTK messages start with "ERROR: In file, line N\nvtkClass (0x..): "; keep the text.
-  static std::string Clean(std::string message)
-  {
-    const auto colon = message.rfind("): ");
-    if (colon != std::string::npos)
-      message = message.substr(colon + 3);
-    while (!message.empty() && (message.back() == '\n' || message.back() == ' '))
-      message.pop_back();
-    return message;
-  }
-  std::string Error;
   const RunCallbacks* Callbacks = nullptr;
 };
 
@@ -71,26 +48,20 @@ double seconds_since(std::chrono::steady_clock::time_point t0)
 
 void RunAlgorithm(vtkAlgorithm* algorithm, const RunCallbacks& callbacks, bary::ErrorCode code)
 {
-  vtkNew<Observer> observer;
-  observer->Callbacks = &callbacks;
-  const unsigned long e = algorithm->AddObserver(vtkCommand::ErrorEvent, observer);
-  const unsigned long w = algorithm->AddObserver(vtkCommand::WarningEvent, observer);
-  const unsigned long p = algorithm->AddObserver(vtkCommand::ProgressEvent, observer);
-  // The executive repeats a failure as "Algorithm ... returned failure": record, don't print.
-  vtkExecutive* executive = algorithm->GetExecutive();
-  const unsigned long x = executive->AddObserver(vtkCommand::ErrorEvent, observer);
+  vtkNew<vtkBaryErrorObserver> errors;
+  errors->WarningCallback = callbacks.warning;
+  errors->Observe(algorithm);
+  vtkNew<ProgressObserver> progress;
+  progress->Callbacks = &callbacks;
+  const unsigned long tag = algorithm->AddObserver(vtkCommand::ProgressEvent, progress);
   algorithm->SetAbortExecute(0);
   algorithm->Update();
   const bool aborted = algorithm->GetAbortExecute() != 0;
-  algorithm->RemoveObserver(e);
-  algorithm->RemoveObserver(w);
-  algorithm->RemoveObserver(p);
-  executive->RemoveObserver(x);
-  if (!observer->Error.empty())
-  {
-    const bool cancelled = observer->Error.find("cancelled") != std::string::npos;
-    throw bary::Error(cancelled ? bary::ErrorCode::Cancelled : code, observer->Error);
-  }
+  algorithm->RemoveObserver(tag);
+  errors->Release();
+  if (errors->HasError())
+    throw bary::Error(vtkBaryConversion::ErrorCodeOf(algorithm->GetErrorCode(), code),
+      errors->GetFirstError());
   if (aborted)
     throw bary::Error(bary::ErrorCode::Cancelled, "the computation was cancelled");
 }
@@ -187,12 +158,8 @@ nlohmann::json WeightStatisticsJson(vtkDataSet* data, const std::string& array_n
       "no point-data array named '" + array_name + "' (arrays present: " +
         (names.empty() ? "none" : names) + ")");
   }
-  const vtkIdType np = array->GetNumberOfTuples();
   const int nc = array->GetNumberOfComponents();
-  bary::DenseWeights W(np, nc);
-  for (vtkIdType p = 0; p < np; ++p)
-    for (int k = 0; k < nc; ++k)
-      W(p, k) = array->GetComponent(p, k);
+  const bary::DenseWeights W = vtkBaryConversion::ArrayToMatrix(array);
 
   bary::WeightStatisticsOptions options;
   options.threshold = threshold;

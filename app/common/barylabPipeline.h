@@ -43,7 +43,7 @@ struct WeightsParameters
   int cage_dimension = 0;            ///< 0 automatic, 2, 3
   double boundary_tolerance = 1e-10; ///< relative to the cage diameter
   bool validate_cage = true;
-  int threads = 0;                   ///< 0 = all
+  int threads = 0;                   ///< 0 = all cores (OpenMP's default)
   std::string weights_name = "Weights";
 };
 

@@ -126,6 +126,7 @@ int vtkBaryCageDeformation::RequestData(
   vtkPolyData* restCage = vtkPolyData::GetData(inputVector[1]);
   vtkPointSet* deformedCage = vtkPointSet::GetData(inputVector[2]);
   vtkPointSet* output = vtkPointSet::GetData(outputVector);
+  this->SetErrorCode(0);
   if (!input || !output)
   {
     vtkErrorMacro(<< "No input point set.");
@@ -154,21 +155,7 @@ int vtkBaryCageDeformation::RequestData(
     const vtkBaryCage cage = vtkBaryConversion::ToCage(restCage, this->CageDimension);
     const int dim = cage.Cage.dimension();
     const vtkIdType nc = cage.Cage.num_controls();
-    if (deformedCage->GetNumberOfPoints() != nc)
-      throw bary::Error(bary::ErrorCode::SizeMismatch,
-        "the deformed cage has " + std::to_string(deformedCage->GetNumberOfPoints()) +
-          " points but the rest cage has " + std::to_string(nc) +
-          "; both must list the same control points in the same order");
-
-    // Deformed control points, in core control order.
-    Eigen::MatrixXd C(nc, dim);
-    for (vtkIdType k = 0; k < nc; ++k)
-    {
-      double x[3];
-      deformedCage->GetPoint(cage.ControlPointIds[static_cast<std::size_t>(k)], x);
-      for (int d = 0; d < dim; ++d)
-        C(k, d) = x[d];
-    }
+    const Eigen::MatrixXd C = vtkBaryConversion::ControlPoints(deformedCage, cage);
 
     const bary::DenseWeights* W = nullptr;
     bary::DenseWeights fromInput;
@@ -231,11 +218,14 @@ int vtkBaryCageDeformation::RequestData(
   }
   catch (const bary::Error& e)
   {
+    // keep the kind of problem for callers (vtkBaryConversion::ErrorCodeOf)
+    this->SetErrorCode(vtkBaryConversion::ToVTKErrorCode(e.code()));
     vtkErrorMacro(<< e.what());
     return 0;
   }
   catch (const std::exception& e)
   {
+    this->SetErrorCode(vtkBaryConversion::ToVTKErrorCode(bary::ErrorCode::Internal));
     vtkErrorMacro(<< "Unexpected failure: " << e.what());
     return 0;
   }

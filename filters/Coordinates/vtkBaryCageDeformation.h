@@ -16,7 +16,10 @@
  * deformed cage (the interactive case) never does.
  *
  * Output: a copy of the model with moved points; with PassWeights (default on) the weights array
- * is added too. For a 2D cage the z coordinate of every model point is kept.
+ * is added too (with it off, a weights array the model already carried is still passed, like
+ * every other input array). For a 2D cage the z coordinate of every model point is kept.
+ * Weights read from the model must be finite; computed weights may hold NaN rows for points far
+ * outside the cage (a warning says so, and those points come out as NaN).
  *
  * @sa vtkBaryCoordinates
  */
@@ -24,6 +27,7 @@
 #define vtkBaryCageDeformation_h
 
 #include "BaryLabFiltersModule.h" // for export macro
+#include "vtkBaryCoordinates.h" // for the Methods enum
 #include "vtkPointSetAlgorithm.h"
 
 #include <memory> // for std::unique_ptr
@@ -40,7 +44,8 @@ public:
 
   ///@{
   /// Coordinate method (vtkBaryCoordinates::Methods). Default MEAN_VALUE.
-  vtkSetMacro(Method, int);
+  vtkSetClampMacro(Method, int, vtkBaryCoordinates::MEAN_VALUE,
+    vtkBaryCoordinates::NUMBER_OF_METHODS - 1);
   vtkGetMacro(Method, int);
   ///@}
 

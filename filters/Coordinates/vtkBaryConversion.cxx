@@ -5,6 +5,7 @@
 #include "vtkCellArray.h"
 #include "vtkDataSet.h"
 #include "vtkDoubleArray.h"
+#include "vtkErrorCode.h"
 #include "vtkIdList.h"
 #include "vtkObjectFactory.h"
 #include "vtkPointSet.h"
@@ -225,6 +226,40 @@ vtkSmartPointer<vtkDoubleArray> vtkBaryConversion::ToArray(
   return array;
 }
 
+bary::DenseWeights vtkBaryConversion::ArrayToMatrix(vtkDataArray* array)
+{
+  if (!array)
+    return bary::DenseWeights();
+  const int nc = array->GetNumberOfComponents();
+  bary::DenseWeights W(array->GetNumberOfTuples(), nc);
+  for (vtkIdType p = 0; p < W.rows(); ++p)
+    for (int k = 0; k < nc; ++k)
+      W(p, k) = array->GetComponent(p, k);
+  return W;
+}
+
+Eigen::MatrixXd vtkBaryConversion::ControlPoints(vtkPointSet* points, const vtkBaryCage& cage)
+{
+  const vtkIdType nc = static_cast<vtkIdType>(cage.ControlPointIds.size());
+  const vtkIdType np = points ? points->GetNumberOfPoints() : 0;
+  if (np != nc)
+    throw Error(ErrorCode::SizeMismatch,
+      "the deformed cage has " + std::to_string(np) + " points but the rest cage has " +
+        std::to_string(nc) + "; both must list the same control points in the same order");
+  const int dim = cage.Cage.dimension();
+  Eigen::MatrixXd C(nc, dim);
+  for (vtkIdType k = 0; k < nc; ++k)
+  {
+    double x[3];
+    points->GetPoint(cage.ControlPointIds[static_cast<std::size_t>(k)], x);
+    for (int d = 0; d < dim; ++d)
+      C(k, d) = x[d];
+  }
+  if (!C.allFinite())
+    throw Error(ErrorCode::NonFinite, "the deformed cage has non-finite coordinates (NaN or inf)");
+  return C;
+}
+
 bary::DenseWeights vtkBaryConversion::FromArray(vtkDataArray* array, const vtkBaryCage& cage)
 {
   const vtkIdType nc = static_cast<vtkIdType>(cage.ControlPointIds.size());
@@ -256,4 +291,17 @@ void vtkBaryConversion::SetPoints(vtkPointSet* data, const Eigen::MatrixXd& X)
     points->SetPoint(i, x);
   }
   data->SetPoints(points);
+}
+
+unsigned long vtkBaryConversion::ToVTKErrorCode(bary::ErrorCode code)
+{
+  return vtkErrorCode::UserError + 1 + static_cast<unsigned long>(code);
+}
+
+bary::ErrorCode vtkBaryConversion::ErrorCodeOf(unsigned long vtkCode, bary::ErrorCode fallback)
+{
+  const unsigned long first = vtkErrorCode::UserError + 1;
+  const unsigned long last = first + static_cast<unsigned long>(bary::ErrorCode::Internal);
+  return (vtkCode >= first && vtkCode <= last) ? static_cast<bary::ErrorCode>(vtkCode - first)
+                                               : fallback;
 }

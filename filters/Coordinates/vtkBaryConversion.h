@@ -23,6 +23,7 @@
 
 #ifndef __VTK_WRAP__
 #include "core/cage.h"  // for bary::Cage
+#include "core/error.h" // for bary::ErrorCode
 #include "core/types.h" // for bary::DenseWeights
 #include <vector>       // for std::vector
 #endif
@@ -80,14 +81,32 @@ public:
    */
   static vtkSmartPointer<vtkDoubleArray> ToArray(
     const bary::DenseWeights& W, const vtkBaryCage& cage, const char* name);
-  /// Inverse of ToArray: #tuples by #components, columns in core control order.
+  /// Inverse of ToArray: #tuples by #components, columns in core control order. Stored weights
+  /// must be finite: throws bary::Error(NonFinite) otherwise, (SizeMismatch) for a wrong
+  /// number of components.
   static bary::DenseWeights FromArray(vtkDataArray* array, const vtkBaryCage& cage);
+
+  /// A multi-component array as a #tuples by #components matrix, columns in array order.
+  static bary::DenseWeights ArrayToMatrix(vtkDataArray* array);
+
+  /**
+   * The points of @p points (e.g. a moved cage) as control points in core order: row k is
+   * point cage.ControlPointIds[k], first cage.Cage.dimension() coordinates. Throws
+   * bary::Error(SizeMismatch) if the point count differs from the cage's, (NonFinite) for
+   * NaN/inf.
+   */
+  static Eigen::MatrixXd ControlPoints(vtkPointSet* points, const vtkBaryCage& cage);
 
   /**
    * Replace the point coordinates of @p data by the rows of @p X (#P by 2 or 3). With 2 columns
    * the z coordinate of each point is kept.
    */
   static void SetPoints(vtkPointSet* data, const Eigen::MatrixXd& X);
+
+  /// bary::ErrorCode carried in vtkAlgorithm's error code (vtkErrorCode::UserError + 1 + code).
+  static unsigned long ToVTKErrorCode(bary::ErrorCode code);
+  /// Inverse of ToVTKErrorCode; @p fallback when @p vtkCode does not hold a bary::ErrorCode.
+  static bary::ErrorCode ErrorCodeOf(unsigned long vtkCode, bary::ErrorCode fallback);
 #endif
 
 protected:

@@ -74,6 +74,7 @@ int vtkBaryCoordinates::RequestData(
   vtkDataSet* input = vtkDataSet::GetData(inputVector[0]);
   vtkPolyData* cagePoly = vtkPolyData::GetData(inputVector[1]);
   vtkDataSet* output = vtkDataSet::GetData(outputVector);
+  this->SetErrorCode(0);
   this->NumberOfInsidePoints = this->NumberOfOutsidePoints = 0;
   this->NumberOfBoundaryPoints = this->NumberOfUndefinedPoints = 0;
   if (!input || !output)
@@ -146,11 +147,14 @@ int vtkBaryCoordinates::RequestData(
   }
   catch (const bary::Error& e)
   {
+    // keep the kind of problem for callers (vtkBaryConversion::ErrorCodeOf)
+    this->SetErrorCode(vtkBaryConversion::ToVTKErrorCode(e.code()));
     vtkErrorMacro(<< e.what());
     return 0;
   }
   catch (const std::exception& e)
   {
+    this->SetErrorCode(vtkBaryConversion::ToVTKErrorCode(bary::ErrorCode::Internal));
     vtkErrorMacro(<< "Unexpected failure: " << e.what());
     return 0;
   }

@@ -95,7 +95,8 @@ public:
   ///@}
 
   ///@{
-  /// Threads for the evaluation; 0 (default) = all available. Results do not depend on it.
+  /// Threads for the evaluation; 0 (default) = all cores (OpenMP's default). Results do not
+  /// depend on it.
   vtkSetClampMacro(NumberOfThreads, int, 0, 1024);
   vtkGetMacro(NumberOfThreads, int);
   ///@}

@@ -3,6 +3,8 @@
 #include "vtkBaryOFFReader.h"
 #include "vtkBaryOFFWriter.h"
 
+#include "vtkBaryErrorObserver.h"
+
 #include "core/error.h"
 
 #include "vtkAlgorithm.h"
@@ -30,6 +32,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <charconv>
 #include <cmath>
 #include <cstdlib>
 #include <cstdio>
@@ -43,29 +46,6 @@ namespace
 {
 using bary::Error;
 using bary::ErrorCode;
-
-/// Collects the error (and warning) messages an algorithm emits, instead of printing them.
-class MessageCollector : public vtkCommand
-{
-public:
-  static MessageCollector* New() { return new MessageCollector; }
-  void Execute(vtkObject*, unsigned long event, void* data) override
-  {
-    if (event == vtkCommand::ErrorEvent && data)
-    {
-      std::string message = static_cast<const char*>(data);
-      // VTK prefixes "ERROR: In file, line N\nvtkClass (0x...): "; keep the last line.
-      const auto colon = message.rfind("): ");
-      if (colon != std::string::npos)
-        message = message.substr(colon + 3);
-      while (!message.empty() && std::isspace(static_cast<unsigned char>(message.back())))
-        message.pop_back();
-      if (Errors.empty())
-        Errors = message;
-    }
-  }
-  std::string Errors;
-};
 
 vtkSmartPointer<vtkAlgorithm> make_reader(const std::string& ext, const std::string& path)
 {
@@ -129,20 +109,26 @@ void check_obj_vertices(const std::string& path)
     ++number;
     if (line.size() < 2 || line[0] != 'v' || !std::isspace(static_cast<unsigned char>(line[1])))
       continue;
+    // from_chars: locale-independent (a GUI may set a decimal-comma locale)
     const char* s = line.c_str() + 1;
+    const char* const end = line.c_str() + line.size();
     for (int k = 0; k < 3; ++k)
     {
-      char* end = nullptr;
-      const double x = std::strtod(s, &end);
-      if (end == s)
+      while (s < end && std::isspace(static_cast<unsigned char>(*s)))
+        ++s;
+      if (s < end && *s == '+')
+        ++s;
+      double x = 0.0;
+      const auto [next, ec] = std::from_chars(s, end, x);
+      if (next == s)
         throw Error(ErrorCode::Io,
           "cannot read '" + path + "' line " + std::to_string(number) +
             ": a vertex line needs three numbers: '" + line + "'");
-      if (!std::isfinite(x))
+      if (ec == std::errc() && !std::isfinite(x))
         throw Error(ErrorCode::NonFinite,
           "'" + path + "' line " + std::to_string(number) +
             ": vertex coordinate is not finite (NaN or inf): '" + line + "'");
-      s = end;
+      s = next;
     }
   }
 }
@@ -196,13 +182,20 @@ vtkSmartPointer<vtkDataSet> vtkBaryDataIO::Read(const std::string& path)
   }
   if (ext == ".obj")
     check_obj_vertices(path);
-  vtkNew<MessageCollector> collector;
-  reader->AddObserver(vtkCommand::ErrorEvent, collector);
-  reader->GetExecutive()->AddObserver(vtkCommand::ErrorEvent, collector); // "returned failure"
+  vtkNew<vtkBaryErrorObserver> collector;
+  collector->Observe(reader);
   reader->Update();
+  collector->Release();
   vtkDataSet* data = vtkDataSet::SafeDownCast(reader->GetOutputDataObject(0));
-  if (!collector->Errors.empty())
-    throw Error(ErrorCode::Io, "cannot read '" + path + "': " + collector->Errors);
+  if (collector->HasError())
+  {
+    // readers that name the file themselves ("'x.off' line 3: ...") need no second prefix
+    const std::string& message = collector->GetFirstError();
+    const std::string quoted = "'" + path + "' ";
+    throw Error(ErrorCode::Io,
+      message.compare(0, quoted.size(), quoted) == 0 ? "cannot read " + message
+                                                     : "cannot read '" + path + "': " + message);
+  }
   if (!data)
     throw Error(ErrorCode::Io, "cannot read '" + path + "': the reader produced no data set");
   if (data->GetNumberOfPoints() == 0)
@@ -308,9 +301,8 @@ void vtkBaryDataIO::Write(vtkDataSet* data, const std::string& path)
       "cannot write '" + path + "': unknown file extension '" + ext +
         "' (writable: .vtp, .vtu, .vtk, .obj, .stl, .ply, .off)");
 
-  vtkNew<MessageCollector> collector;
-  writer->AddObserver(vtkCommand::ErrorEvent, collector);
-  writer->GetExecutive()->AddObserver(vtkCommand::ErrorEvent, collector);
+  vtkNew<vtkBaryErrorObserver> collector;
+  collector->Observe(writer);
   writer->SetInputDataObject(0, data);
   int ok = 0;
   unsigned long code = 0;
@@ -324,13 +316,14 @@ void vtkBaryDataIO::Write(vtkDataSet* data, const std::string& path)
     ok = x->Write();
     code = x->GetErrorCode();
   }
-  if (!ok || !collector->Errors.empty() || code != 0)
+  collector->Release();
+  if (!ok || collector->HasError() || code != 0)
   {
     std::remove(tmp.c_str());
     throw Error(ErrorCode::Io,
       "cannot write '" + path + "'" +
-        (collector->Errors.empty() ? std::string(" (is the folder writable?)")
-                                   : ": " + collector->Errors));
+        (collector->HasError() ? ": " + collector->GetFirstError()
+                               : std::string(" (is the folder writable?)")));
   }
   if (std::rename(tmp.c_str(), path.c_str()) != 0)
   {

@@ -30,7 +30,7 @@ public:
   static vtkBaryDataIO* New();
   vtkTypeMacro(vtkBaryDataIO, vtkObject);
 
-  /// Reads @p path. @throws bary::Error(Io | EmptyInput)
+  /// Reads @p path. @throws bary::Error(Io | EmptyInput | NonFinite)
   static vtkSmartPointer<vtkDataSet> Read(const std::string& path);
   /// Reads @p path and requires a vtkPolyData (cages).  @throws bary::Error
   static vtkSmartPointer<vtkPolyData> ReadPolyData(const std::string& path);

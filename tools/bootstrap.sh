@@ -1,0 +1,106 @@
+#!/usr/bin/env bash
+# BaryLab's one entry point on a fresh Debian 12 machine (as root, or with sudo):
+#
+#   tools/bootstrap.sh demo [--output-dir DIR]   install deps, build, run the demo pipeline
+#   tools/bootstrap.sh test                      install deps, build, run the whole test suite
+#   tools/bootstrap.sh build                     install deps and build only
+#
+# Installs missing Debian packages (idempotent: nothing is installed when all are present),
+# configures and builds in build/ (Release), and starts Xvfb itself when there is no display.
+# The test command also builds an AddressSanitizer+UBSan tree (build-asan/) and runs the core
+# and filter tests there. Environment: JOBS (parallel build jobs, default: cores),
+# BARYLAB_SKIP_ASAN=1 (skip the sanitizer pass, for quick local runs).
+set -euo pipefail
+
+ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+JOBS=${JOBS:-$(nproc)}
+PACKAGES=(
+  cmake ninja-build g++ pkg-config
+  libvtk9-dev libvtk9-qt-dev qtbase5-dev libqt5charts5-dev
+  libeigen3-dev libcgal-dev libgmp-dev libmpfr-dev libtet1.5-dev libsuitesparse-dev libomp-dev
+  libgtest-dev libbenchmark-dev libcli11-dev nlohmann-json3-dev
+  xvfb xauth
+)
+
+log() { printf '\033[1m[bootstrap]\033[0m %s\n' "$*" >&2; }
+
+install_deps() {
+  local missing=()
+  for p in "${PACKAGES[@]}"; do
+    if [ "$(dpkg-query -W -f='${db:Status-Status}' "$p" 2>/dev/null)" != "installed" ]; then
+      missing+=("$p")
+    fi
+  done
+  if [ ${#missing[@]} -eq 0 ]; then
+    log "all ${#PACKAGES[@]} Debian packages present"
+    return
+  fi
+  local sudo=""
+  if [ "$(id -u)" -ne 0 ]; then
+    command -v sudo >/dev/null || { log "need root (or sudo) to install: ${missing[*]}"; exit 1; }
+    sudo="sudo"
+  fi
+  log "installing ${#missing[@]} missing packages: ${missing[*]}"
+  $sudo apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}"
+}
+
+configure_and_build() { # dir, extra cmake args...
+  local dir=$1; shift
+  local generator=()
+  command -v ninja >/dev/null && generator=(-G Ninja)
+  if [ ! -f "$dir/CMakeCache.txt" ]; then
+    cmake -S "$ROOT" -B "$dir" "${generator[@]}" -DCMAKE_BUILD_TYPE=Release "$@"
+  else
+    cmake -S "$ROOT" -B "$dir" "$@" >/dev/null
+  fi
+  cmake --build "$dir" -j "$JOBS"
+}
+
+# Runs "$@" with an X display: the current one, or a private Xvfb started here.
+with_display() {
+  if [ -n "${DISPLAY:-}" ] && { ! command -v xdpyinfo >/dev/null || xdpyinfo >/dev/null 2>&1; }; then
+    "$@"
+  else
+    log "no X display: running under Xvfb"
+    xvfb-run -a -s "-screen 0 1280x1024x24" "$@"
+  fi
+}
+
+cmd=${1:-}
+shift || true
+case "$cmd" in
+  build)
+    install_deps
+    configure_and_build "$ROOT/build"
+    ;;
+  demo)
+    install_deps
+    configure_and_build "$ROOT/build"
+    out="$ROOT/out/demo"
+    args=("$@")
+    if [ ${#args[@]} -eq 0 ]; then args=(--output-dir "$out"); fi
+    with_display "$ROOT/build/bin/barylab" demo "${args[@]}"
+    ;;
+  test)
+    start=$(date +%s)
+    install_deps
+    configure_and_build "$ROOT/build"
+    log "running the test suite (Release)"
+    with_display ctest --test-dir "$ROOT/build" --output-on-failure -j "$JOBS" --timeout 600
+    if [ "${BARYLAB_SKIP_ASAN:-0}" != "1" ]; then
+      log "AddressSanitizer + UndefinedBehaviorSanitizer build of core and filter tests"
+      configure_and_build "$ROOT/build-asan" -DBARYLAB_SANITIZE=ON -DBARYLAB_BUILD_APP=OFF \
+        -DBARYLAB_BUILD_BENCHMARKS=OFF -DCMAKE_BUILD_TYPE=RelWithDebInfo
+      # libgomp keeps thread pools alive at exit; leaks inside it are not ours
+      ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1:abort_on_error=0} \
+      UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1} \
+        ctest --test-dir "$ROOT/build-asan" --output-on-failure -j "$JOBS" -L "core|filters" --timeout 900
+    fi
+    log "all tests passed in $(( $(date +%s) - start )) s"
+    ;;
+  *)
+    sed -n '2,/^set -euo/p' "$0" | grep '^#' | sed 's/^# \{0,1\}//'
+    exit 2
+    ;;
+esac
