@@ -21,6 +21,7 @@
 #include "progress.h"
 #include "types.h"
 
+#include <array>
 #include <vector>
 
 namespace bary
@@ -92,7 +93,11 @@ private:
   Cage cage_;
   MeanValueOptions options_;
   double tolerance_ = 0.0;          // absolute boundary tolerance
-  std::vector<double> twice_area_; // 3D: twice the area of each face
+  // 3D: per face 1 / (2 area) and its three edges (edge index << 1 | reversed), and the edges
+  // (vertex pairs, smaller index first); arc quantities are computed once per edge.
+  std::vector<double> inv_twice_area_;
+  std::vector<unsigned> face_edges_;
+  std::vector<std::array<int, 2>> edges_;
 };
 
 /// One-call form: the #P by #C mean value coordinates of the rows of @p P w.r.t. @p cage.
