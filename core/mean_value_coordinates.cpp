@@ -5,6 +5,7 @@
 #include <Eigen/Geometry>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <limits>
 #include <map>
@@ -204,7 +205,8 @@ PointLocation MeanValueCoordinates::evaluate_2d(const double* x, double* w) cons
 //
 // Accuracy — the paper's pseudo-code cancels near the cage; here nothing does:
 //  - for the arc between u_a and u_b (a cage edge seen from x): e = u_a x u_b, sin(theta) = |e|,
-//    cos(theta) = u_a . u_b, theta = atan2(|e|, u_a . u_b), accurate for every angle;
+//    and theta = 2 asin(|u_a - u_b| / 2) or pi - 2 asin(|u_a + u_b| / 2), whichever argument is
+//    smaller, accurate for every angle;
 //  - the spherical angle at u_k of a face, c_k = cos(A_k) = -(e_k . e_{k-1}) / (|e_k| |e_{k-1}|),
 //    from the normals of the two arcs through u_k (equal to the paper's half-angle expression);
 //  - sin(A_k) = |det| / (sin(theta_{k+1}) sin(theta_{k-1})), so the paper's denominator
@@ -214,7 +216,7 @@ PointLocation MeanValueCoordinates::evaluate_2d(const double* x, double* w) cons
 //  Hence, per face: w_i += sin(theta_i) (theta_i - c_{i+1} theta_{i-1} - c_{i-1} theta_{i+1})
 //  / (d_i det), with theta_k the arc opposite vertex k.
 // Speed — arc quantities depend on the edge only, and each edge has two faces: they are
-// computed once per edge (1.5 #F atan2 per point instead of 3 #F). Inside/outside comes from a
+// computed once per edge (1.5 #F asin per point instead of 3 #F asin plus trig per face). Inside/outside comes from a
 // signed count of the faces crossed by a ray from x in a fixed generic direction r; the ray meets
 // face (u0, u1, u2) iff r lies in the cone of the u's, i.e. r . e_k has the sign of det for all
 // three edges. The two faces of an edge see r . e with opposite signs, so a ray grazing an edge
@@ -262,7 +264,14 @@ PointLocation MeanValueCoordinates::evaluate_3d(const double* x, double* w) cons
     c[2] = a[0] * b[1] - a[1] * b[0];
     elen[e] = std::sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
     einv[e] = elen[e] > 0.0 ? 1.0 / elen[e] : 0.0;
-    etheta[e] = std::atan2(elen[e], a[0] * b[0] + a[1] * b[1] + a[2] * b[2]);
+    // theta from the half chords |u_a - u_b| / 2 = sin(theta/2) and |u_a + u_b| / 2 =
+    // cos(theta/2), whichever is smaller: asin of at most sqrt(1/2), accurate for every angle
+    // (atan2(|e|, u_a . u_b) is too, at twice the cost).
+    const double dx = a[0] - b[0], dy = a[1] - b[1], dz = a[2] - b[2];
+    const double sx = a[0] + b[0], sy = a[1] + b[1], sz = a[2] + b[2];
+    const double l = std::sqrt(dx * dx + dy * dy + dz * dz);
+    const double m = std::sqrt(sx * sx + sy * sy + sz * sz);
+    etheta[e] = l <= m ? 2.0 * std::asin(0.5 * l) : kPi - 2.0 * std::asin(0.5 * m);
     eray[e] = r[0] * c[0] + r[1] * c[1] + r[2] * c[2];
   }
 
@@ -349,22 +358,45 @@ MeanValueResult MeanValueCoordinates::evaluate(const Points& P, const ProgressCa
   result.W.resize(np, nc);
   result.location.assign(static_cast<std::size_t>(np), PointLocation::Inside);
 
-  // Blocks: the calling thread reports progress and checks for cancellation between blocks.
-  const Index block = std::max<Index>(256, std::min<Index>(16384, np / 64 + 1));
+  // One parallel region; points are handed out in small chunks (load balance: a per-block
+  // region with coarse chunks left one of two threads idle a third of the time). The calling
+  // thread (OpenMP's thread 0) reports progress and asks for cancellation; every point is
+  // computed independently into its own row, so the result does not depend on the threads.
   ProgressReporter reporter(progress, np);
   const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> X = P;
+  constexpr Index chunk = 8;
+  const Index chunks = (np + chunk - 1) / chunk;
+  std::atomic<Index> done{ 0 };
+  std::atomic<bool> stop{ false };
 #ifdef _OPENMP
   const int threads = options_.threads > 0 ? options_.threads : omp_get_max_threads();
 #endif
-  for (Index begin = 0; begin < np; begin += block)
+#pragma omp parallel num_threads(threads)
   {
-    const Index end = std::min(np, begin + block);
-#pragma omp parallel for schedule(dynamic, 64) num_threads(threads)
-    for (Index p = begin; p < end; ++p)
-      result.location[static_cast<std::size_t>(p)] = evaluate(X.row(p).data(), result.W.row(p).data());
-    if (!reporter.step(end - begin))
-      reporter.throw_if_cancelled("mean value coordinates");
+#ifdef _OPENMP
+    const bool reporting_thread = omp_get_thread_num() == 0;
+#else
+    const bool reporting_thread = true;
+#endif
+    Index reported = 0;
+#pragma omp for schedule(dynamic, 1)
+    for (Index c = 0; c < chunks; ++c)
+    {
+      if (stop.load(std::memory_order_relaxed))
+        continue;
+      const Index end = std::min(np, (c + 1) * chunk);
+      for (Index p = c * chunk; p < end; ++p)
+        result.location[static_cast<std::size_t>(p)] =
+          evaluate(X.row(p).data(), result.W.row(p).data());
+      const Index now = done.fetch_add(end - c * chunk, std::memory_order_relaxed) + end - c * chunk;
+      if (reporting_thread && !reporter.step(now - reported))
+        stop = true;
+      if (reporting_thread)
+        reported = now;
+    }
   }
+  if (stop)
+    reporter.throw_if_cancelled("mean value coordinates");
   reporter.finish();
   reporter.throw_if_cancelled("mean value coordinates");
 

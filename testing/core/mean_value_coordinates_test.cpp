@@ -918,12 +918,26 @@ TEST(MeanValueCoordinates, ProgressIsMonotoneAndEndsAtOne)
 
 TEST(MeanValueCoordinates, CancelledByTheProgressCallback)
 {
+  // One thread: the calling thread does all the work and reports every 1%, so the third call
+  // is certain to come; the callback must not be called again after it returned false.
   const Cage cage = test::unit_cube();
   const Points P = test::sample_inside(cage, 5000, 0.0, 6);
+  MeanValueOptions one;
+  one.threads = 1;
   int calls = 0;
   EXPECT_TRUE(throws_error(
-    [&] { MeanValueCoordinates(cage).evaluate(P, [&](double) { return ++calls < 3; }); },
+    [&] { MeanValueCoordinates(cage, one).evaluate(P, [&](double) { return ++calls < 3; }); },
     ErrorCode::Cancelled, { "mean value coordinates", "cancelled" }));
   EXPECT_EQ(calls, 3) << "the callback must not be called again after it returned false";
+
+  // Two threads: how often the calling thread reports depends on how much work it gets, but a
+  // refusal at the first call always cancels.
+  MeanValueOptions two;
+  two.threads = 2;
+  calls = 0;
+  EXPECT_TRUE(throws_error(
+    [&] { MeanValueCoordinates(cage, two).evaluate(P, [&](double) { return ++calls < 1; }); },
+    ErrorCode::Cancelled, { "mean value coordinates", "cancelled" }));
+  EXPECT_EQ(calls, 1);
 }
 } // namespace
