@@ -4,6 +4,7 @@
 //   barylab deform  --method mvc --cage REST --deformed-cage POSED --points MODEL --output OUT
 //                   [--weights FILE]
 //   barylab stats   --input WEIGHTS_FILE [--cage CAGE] [--json] [--threshold T]
+//   barylab mesh    --cage CAGE [--points MODEL] [--max-volume V | --cells N] --output DOMAIN
 //   barylab render  --input WEIGHTS_FILE [--cage CAGE] --output PNG [--control I]
 //   barylab demo    [--output-dir DIR]
 //
@@ -25,6 +26,7 @@
 #include "vtkPointSet.h"
 #include "vtkPolyData.h"
 #include "vtkRenderWindow.h"
+#include "vtkUnstructuredGrid.h"
 
 #include <CLI/CLI.hpp>
 
@@ -112,6 +114,20 @@ void add_method_options(CLI::App* cmd, WeightsParameters& p)
     ->check(CLI::IsMember({ 0, 2, 3 }));
   cmd->add_option("--weights-name", p.weights_name, "name of the weights point-data array")
     ->default_val(p.weights_name);
+  auto* mesh = cmd->add_option_group("domain mesh", "mesh-based methods (harmonic)");
+  mesh->add_option("--cells", p.target_cells,
+       "approximate number of cells of the domain mesh (0: 3000 in 2D, 20000 in 3D)")
+    ->default_val(0)
+    ->check(CLI::NonNegativeNumber);
+  mesh->add_option("--max-volume,--max-area", p.max_cell_size,
+       "maximum tetrahedron volume / triangle area (overrides --cells)")
+    ->default_val(0.0)
+    ->check(CLI::NonNegativeNumber);
+  mesh->add_flag("--insert-points", p.insert_points,
+    "make the points mesh vertices (exact finite-element values there)");
+  mesh->add_option("--outside", p.outside, "points outside the cage: error|nearest|nan")
+    ->default_val(p.outside)
+    ->check(CLI::IsMember({ "error", "nearest", "nan" }));
 }
 
 enum class OutputKind
@@ -310,6 +326,38 @@ int run_stats(const StatsArgs& a)
   return 0;
 }
 
+struct MeshArgs
+{
+  barylab::MeshParameters parameters;
+  std::string cage, points, output, json_path;
+  bool quiet = false;
+};
+
+int run_mesh(const MeshArgs& a)
+{
+  check_output(a.output, OutputKind::Data);
+  if (!a.json_path.empty())
+    check_output(a.json_path, OutputKind::Json);
+  auto cage = vtkBaryDataIO::ReadPolyData(a.cage);
+  vtkSmartPointer<vtkDataSet> pointsData = a.points.empty() ? nullptr : vtkBaryDataIO::Read(a.points);
+  vtkPointSet* points = vtkPointSet::SafeDownCast(pointsData);
+  if (pointsData && !points)
+    throw bary::Error(bary::ErrorCode::Io, "'" + a.points + "' does not hold a point set");
+  ProgressBar bar(!a.quiet, "mesh");
+  json summary;
+  auto grid = barylab::MeshCage(cage, points, a.parameters, callbacks(bar, a.quiet), &summary);
+  bar.done();
+  vtkBaryDataIO::Write(grid, a.output);
+  summary["cage"] = a.cage;
+  summary["output"] = a.output;
+  if (!a.json_path.empty())
+    barylab::WriteJson(summary, a.json_path);
+  if (!a.quiet)
+    std::cerr << "barylab: meshed the cage: " << summary["vertices"] << " vertices, "
+              << summary["cells"] << " cells in " << summary["seconds"].get<double>() << " s\n";
+  return 0;
+}
+
 struct RenderArgs
 {
   std::string input, cage, output, title;
@@ -468,6 +516,33 @@ int main(int argc, char** argv)
     ->check(CLI::IsMember({ 0, 2, 3 }));
   stats->add_flag("--json", sa.json_out, "print JSON");
 
+  MeshArgs mea;
+  auto* mesh = app.add_subcommand("mesh", "triangulate / tetrahedralize the interior of a cage");
+  mesh->add_option("--cage,-c", mea.cage, "cage: closed triangle surface (3D) or polygon (2D)")
+    ->required();
+  mesh->add_option("--points,-p", mea.points, "points to make mesh vertices (those inside)");
+  mesh->add_option("--output,-o", mea.output, "domain mesh (.vtu, or .vtk)")->required();
+  mesh->add_option("--cells", mea.parameters.target_cells, "approximate number of cells")
+    ->default_val(mea.parameters.target_cells)
+    ->check(CLI::PositiveNumber);
+  mesh->add_option("--max-volume,--max-area", mea.parameters.max_cell_size,
+       "maximum tetrahedron volume / triangle area (overrides --cells)")
+    ->default_val(0.0)
+    ->check(CLI::NonNegativeNumber);
+  mesh->add_option("--min-angle", mea.parameters.min_angle, "2D: minimum angle, degrees")
+    ->default_val(mea.parameters.min_angle)
+    ->check(CLI::Range(0.0, 20.7));
+  mesh->add_option("--radius-edge-ratio", mea.parameters.radius_edge_ratio,
+       "3D: TetGen quality bound (0 = no quality refinement)")
+    ->default_val(mea.parameters.radius_edge_ratio)
+    ->check(CLI::Range(0.0, 100.0));
+  mesh->add_flag("--preserve-boundary", mea.parameters.preserve_boundary,
+    "3D: no extra vertices on the cage faces");
+  mesh->add_option("--cage-dimension", mea.parameters.cage_dimension, "0 automatic, 2, 3")
+    ->check(CLI::IsMember({ 0, 2, 3 }));
+  mesh->add_option("--json", mea.json_path, "write a JSON summary");
+  mesh->add_flag("--quiet,-q", mea.quiet, "no progress bar or summary");
+
   RenderArgs ra;
   auto* render = app.add_subcommand("render", "render one weight field to a PNG (needs X/Xvfb)");
   render->add_option("--input,-i", ra.input, "file with a weights point-data array")->required();
@@ -505,6 +580,8 @@ int main(int argc, char** argv)
       return run_deform(da);
     if (*stats)
       return run_stats(sa);
+    if (*mesh)
+      return run_mesh(mea);
     if (*render)
     {
       ra.options.height = ra.options.width * 7 / 9;

@@ -1,6 +1,7 @@
 #include "barylabPipeline.h"
 
 #include "vtkBaryCageDeformation.h"
+#include "vtkBaryCageMesher.h"
 #include "vtkBaryConversion.h"
 #include "vtkBaryCoordinates.h"
 #include "vtkBaryErrorObserver.h"
@@ -15,6 +16,7 @@
 #include "vtkPointData.h"
 #include "vtkPointSet.h"
 #include "vtkPolyData.h"
+#include "vtkUnstructuredGrid.h"
 
 #include <chrono>
 #include <cstdio>
@@ -80,6 +82,63 @@ int MethodFromName(const std::string& name)
   return m;
 }
 
+namespace
+{
+int OutsidePolicyFromName(const std::string& name)
+{
+  if (name == "error")
+    return vtkBaryCoordinates::OUTSIDE_ERROR;
+  if (name == "nearest")
+    return vtkBaryCoordinates::OUTSIDE_NEAREST;
+  if (name == "nan")
+    return vtkBaryCoordinates::OUTSIDE_NAN;
+  throw bary::Error(bary::ErrorCode::InvalidArgument,
+    "unknown outside policy '" + name + "' (available: error, nearest, nan)");
+}
+
+/// The settings every weights filter shares, from the parameter object.
+template <class Filter>
+void Configure(Filter* filter, const WeightsParameters& p)
+{
+  filter->SetMethod(MethodFromName(p.method));
+  filter->SetCageDimension(p.cage_dimension);
+  filter->SetBoundaryTolerance(p.boundary_tolerance);
+  filter->SetValidateCage(p.validate_cage);
+  filter->SetNumberOfThreads(p.threads);
+  filter->SetWeightsArrayName(p.weights_name.c_str());
+  filter->SetTargetNumberOfCells(p.target_cells);
+  filter->SetMaximumCellSize(p.max_cell_size);
+  filter->SetInsertPointsIntoMesh(p.insert_points);
+  filter->SetOutsidePolicy(OutsidePolicyFromName(p.outside));
+}
+} // namespace
+
+vtkSmartPointer<vtkUnstructuredGrid> MeshCage(vtkPolyData* cage, vtkPointSet* points,
+  const MeshParameters& parameters, const RunCallbacks& callbacks, nlohmann::json* summary)
+{
+  vtkNew<vtkBaryCageMesher> mesher;
+  mesher->SetCageDimension(parameters.cage_dimension);
+  mesher->SetTargetNumberOfCells(parameters.target_cells);
+  mesher->SetMaximumCellSize(parameters.max_cell_size);
+  mesher->SetMinimumAngle(parameters.min_angle);
+  mesher->SetRadiusEdgeRatio(parameters.radius_edge_ratio);
+  mesher->SetPreserveBoundary(parameters.preserve_boundary);
+  mesher->SetCageData(cage);
+  if (points)
+    mesher->SetPointsData(points);
+  const auto t0 = std::chrono::steady_clock::now();
+  RunAlgorithm(mesher, callbacks, bary::ErrorCode::InvalidCage);
+  vtkSmartPointer<vtkUnstructuredGrid> grid = mesher->GetOutput();
+  if (summary)
+  {
+    (*summary)["vertices"] = grid->GetNumberOfPoints();
+    (*summary)["cells"] = grid->GetNumberOfCells();
+    (*summary)["skipped_points"] = mesher->GetNumberOfSkippedPoints();
+    (*summary)["seconds"] = seconds_since(t0);
+  }
+  return grid;
+}
+
 int CageDimension(vtkPolyData* cage, int requested)
 {
   return vtkBaryConversion::ToCage(cage, requested).Cage.dimension();
@@ -89,12 +148,7 @@ vtkSmartPointer<vtkDataSet> ComputeWeights(vtkDataSet* points, vtkPolyData* cage
   const WeightsParameters& parameters, const RunCallbacks& callbacks, nlohmann::json* summary)
 {
   vtkNew<vtkBaryCoordinates> filter;
-  filter->SetMethod(MethodFromName(parameters.method));
-  filter->SetCageDimension(parameters.cage_dimension);
-  filter->SetBoundaryTolerance(parameters.boundary_tolerance);
-  filter->SetValidateCage(parameters.validate_cage);
-  filter->SetNumberOfThreads(parameters.threads);
-  filter->SetWeightsArrayName(parameters.weights_name.c_str());
+  Configure(filter.Get(), parameters);
   filter->SetInputData(0, points);
   filter->SetCageData(cage);
   const auto t0 = std::chrono::steady_clock::now();
@@ -123,12 +177,7 @@ vtkSmartPointer<vtkPointSet> Deform(vtkPointSet* model, vtkPolyData* rest_cage,
   nlohmann::json* summary)
 {
   vtkNew<vtkBaryCageDeformation> filter;
-  filter->SetMethod(MethodFromName(parameters.method));
-  filter->SetCageDimension(parameters.cage_dimension);
-  filter->SetBoundaryTolerance(parameters.boundary_tolerance);
-  filter->SetValidateCage(parameters.validate_cage);
-  filter->SetNumberOfThreads(parameters.threads);
-  filter->SetWeightsArrayName(parameters.weights_name.c_str());
+  Configure(filter.Get(), parameters);
   filter->SetInputData(0, model);
   filter->SetRestCageData(rest_cage);
   filter->SetDeformedCageData(posed_cage);

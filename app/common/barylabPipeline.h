@@ -18,6 +18,7 @@ class vtkAlgorithm;
 class vtkDataSet;
 class vtkPointSet;
 class vtkPolyData;
+class vtkUnstructuredGrid;
 
 namespace barylab
 {
@@ -45,7 +46,28 @@ struct WeightsParameters
   bool validate_cage = true;
   int threads = 0;                   ///< 0 = all cores (OpenMP's default)
   std::string weights_name = "Weights";
+  // mesh-based methods (harmonic, ...)
+  int target_cells = 0;              ///< 0 = method default (2D 3000, 3D 20000)
+  double max_cell_size = 0.0;        ///< max triangle area / tet volume; 0 = from target_cells
+  bool insert_points = false;        ///< make the evaluation points mesh vertices
+  std::string outside = "error";     ///< points outside the cage: error | nearest | nan
 };
+
+/// Parameters of `barylab mesh` / vtkBaryCageMesher.
+struct MeshParameters
+{
+  int cage_dimension = 0;
+  int target_cells = 3000;
+  double max_cell_size = 0.0;
+  double min_angle = 20.0;           ///< 2D, degrees
+  double radius_edge_ratio = 1.414;  ///< 3D, TetGen 'q'
+  bool preserve_boundary = false;    ///< 3D, TetGen 'Y'
+};
+
+/// Meshes the interior of @p cage, inserting the points of @p points (may be null).
+vtkSmartPointer<vtkUnstructuredGrid> MeshCage(vtkPolyData* cage, vtkPointSet* points,
+  const MeshParameters& parameters, const RunCallbacks& callbacks = {},
+  nlohmann::json* summary = nullptr);
 
 /// Method id for @p name; throws bary::Error(InvalidArgument) listing the known names.
 int MethodFromName(const std::string& name);

@@ -179,6 +179,10 @@ int vtkBaryCageDeformation::RequestData(
       parameters.BoundaryTolerance = this->BoundaryTolerance;
       parameters.ValidateCage = this->ValidateCage;
       parameters.NumberOfThreads = this->NumberOfThreads;
+      parameters.TargetNumberOfCells = this->TargetNumberOfCells;
+      parameters.MaximumCellSize = this->MaximumCellSize;
+      parameters.InsertPointsIntoMesh = this->InsertPointsIntoMesh;
+      parameters.OutsidePolicy = this->OutsidePolicy;
 
       Hasher hasher;
       hash_points(hasher, restCage->GetPoints());
@@ -189,6 +193,10 @@ int vtkBaryCageDeformation::RequestData(
       hasher.add(parameters.Method);
       hasher.add(parameters.BoundaryTolerance);
       hasher.add(parameters.ValidateCage);
+      hasher.add(parameters.TargetNumberOfCells);
+      hasher.add(parameters.MaximumCellSize);
+      hasher.add(parameters.InsertPointsIntoMesh);
+      hasher.add(parameters.OutsidePolicy);
       if (!this->WeightCache->Valid || this->WeightCache->Key != hasher.h)
       {
         this->WeightCache->Valid = false;

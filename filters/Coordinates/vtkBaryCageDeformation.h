@@ -85,6 +85,16 @@ public:
   vtkBooleanMacro(ValidateCage, bool);
   vtkSetClampMacro(NumberOfThreads, int, 0, 1024);
   vtkGetMacro(NumberOfThreads, int);
+  vtkSetClampMacro(TargetNumberOfCells, int, 0, VTK_INT_MAX);
+  vtkGetMacro(TargetNumberOfCells, int);
+  vtkSetClampMacro(MaximumCellSize, double, 0.0, VTK_DOUBLE_MAX);
+  vtkGetMacro(MaximumCellSize, double);
+  vtkSetMacro(InsertPointsIntoMesh, bool);
+  vtkGetMacro(InsertPointsIntoMesh, bool);
+  vtkBooleanMacro(InsertPointsIntoMesh, bool);
+  vtkSetClampMacro(OutsidePolicy, int, vtkBaryCoordinates::OUTSIDE_ERROR,
+    vtkBaryCoordinates::OUTSIDE_NAN);
+  vtkGetMacro(OutsidePolicy, int);
   ///@}
 
   ///@{
@@ -117,6 +127,10 @@ protected:
   double BoundaryTolerance = 1e-10;
   bool ValidateCage = true;
   int NumberOfThreads = 0;
+  int TargetNumberOfCells = 0;
+  double MaximumCellSize = 0.0;
+  bool InsertPointsIntoMesh = false;
+  int OutsidePolicy = vtkBaryCoordinates::OUTSIDE_ERROR;
   vtkIdType NumberOfWeightComputations = 0;
 
 private:

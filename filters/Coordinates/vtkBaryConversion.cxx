@@ -4,7 +4,12 @@
 
 #include "vtkCellArray.h"
 #include "vtkDataSet.h"
+#include "vtkCellType.h"
 #include "vtkDoubleArray.h"
+#include "vtkIdTypeArray.h"
+#include "vtkPointData.h"
+#include "vtkUnsignedCharArray.h"
+#include "vtkUnstructuredGrid.h"
 #include "vtkErrorCode.h"
 #include "vtkIdList.h"
 #include "vtkObjectFactory.h"
@@ -75,6 +80,7 @@ vtkBaryCage make_polygon(vtkPoints* points, std::vector<vtkIdType> order, const 
   vtkBaryCage cage;
   cage.Cage.V.resize(n, 2);
   cage.ControlPointIds = order;
+  cage.PlaneZ = bounds[4];
   for (vtkIdType k = 0; k < n; ++k)
   {
     double x[3];
@@ -304,4 +310,42 @@ bary::ErrorCode vtkBaryConversion::ErrorCodeOf(unsigned long vtkCode, bary::Erro
   const unsigned long last = first + static_cast<unsigned long>(bary::ErrorCode::Internal);
   return (vtkCode >= first && vtkCode <= last) ? static_cast<bary::ErrorCode>(vtkCode - first)
                                                : fallback;
+}
+
+vtkSmartPointer<vtkUnstructuredGrid> vtkBaryConversion::ToUnstructuredGrid(
+  const bary::DomainMesh& mesh, const vtkBaryCage& cage)
+{
+  auto grid = vtkSmartPointer<vtkUnstructuredGrid>::New();
+  vtkNew<vtkPoints> points;
+  points->SetDataTypeToDouble();
+  points->SetNumberOfPoints(mesh.V.rows());
+  const bool planar = mesh.V.cols() == 2;
+  for (Eigen::Index i = 0; i < mesh.V.rows(); ++i)
+    points->SetPoint(i, mesh.V(i, 0), mesh.V(i, 1), planar ? cage.PlaneZ : mesh.V(i, 2));
+  grid->SetPoints(points);
+  const int corners = static_cast<int>(mesh.T.cols());
+  const int type = corners == 3 ? VTK_TRIANGLE : VTK_TETRA;
+  grid->Allocate(mesh.T.rows());
+  vtkIdType ids[4];
+  for (Eigen::Index t = 0; t < mesh.T.rows(); ++t)
+  {
+    for (int k = 0; k < corners; ++k)
+      ids[k] = mesh.T(t, k);
+    grid->InsertNextCell(type, corners, ids);
+  }
+  vtkNew<vtkIdTypeArray> control;
+  control->SetName("ControlPointId");
+  control->SetNumberOfTuples(mesh.V.rows());
+  control->Fill(-1);
+  for (Eigen::Index k = 0; k < mesh.control_vertex.size(); ++k)
+    control->SetValue(mesh.control_vertex(k), cage.ControlPointIds[static_cast<std::size_t>(k)]);
+  vtkNew<vtkUnsignedCharArray> on_cage;
+  on_cage->SetName("OnCage");
+  on_cage->SetNumberOfTuples(mesh.V.rows());
+  on_cage->Fill(0);
+  for (int v : mesh.boundary_vertices)
+    on_cage->SetValue(v, 1);
+  grid->GetPointData()->AddArray(control);
+  grid->GetPointData()->AddArray(on_cage);
+  return grid;
 }

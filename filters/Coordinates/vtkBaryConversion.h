@@ -23,6 +23,7 @@
 
 #ifndef __VTK_WRAP__
 #include "core/cage.h"  // for bary::Cage
+#include "core/domain_mesh.h" // for bary::DomainMesh
 #include "core/error.h" // for bary::ErrorCode
 #include "core/types.h" // for bary::DenseWeights
 #include <vector>       // for std::vector
@@ -34,6 +35,7 @@ class vtkDoubleArray;
 class vtkPointSet;
 class vtkPoints;
 class vtkPolyData;
+class vtkUnstructuredGrid;
 
 #ifndef __VTK_WRAP__
 /// A cage as core sees it, plus where its control points come from.
@@ -44,6 +46,8 @@ struct vtkBaryCage
   std::vector<vtkIdType> ControlPointIds;
   /// True when ControlPointIds is the identity.
   bool IdentityOrder = true;
+  /// 2D cages: the z of the cage's plane (2D results are placed there).
+  double PlaneZ = 0.0;
 };
 #endif
 
@@ -102,6 +106,14 @@ public:
    * the z coordinate of each point is kept.
    */
   static void SetPoints(vtkPointSet* data, const Eigen::MatrixXd& X);
+
+  /**
+   * A domain mesh as a vtkUnstructuredGrid of triangles (2D, at z = cage.PlaneZ) or tetrahedra,
+   * with point-data arrays "ControlPointId" (cage point id at cage vertices, -1 elsewhere) and
+   * "OnCage" (1 on the cage boundary).
+   */
+  static vtkSmartPointer<vtkUnstructuredGrid> ToUnstructuredGrid(
+    const bary::DomainMesh& mesh, const vtkBaryCage& cage);
 
   /// bary::ErrorCode carried in vtkAlgorithm's error code (vtkErrorCode::UserError + 1 + code).
   static unsigned long ToVTKErrorCode(bary::ErrorCode code);

@@ -20,7 +20,7 @@ vtkStandardNewMacro(vtkBaryCoordinates);
 
 namespace
 {
-const char* const kMethodNames[] = { "mvc" };
+const char* const kMethodNames[] = { "mvc", "harmonic" };
 }
 
 vtkBaryCoordinates::vtkBaryCoordinates()
@@ -117,6 +117,10 @@ int vtkBaryCoordinates::RequestData(
     parameters.BoundaryTolerance = this->BoundaryTolerance;
     parameters.ValidateCage = this->ValidateCage;
     parameters.NumberOfThreads = this->NumberOfThreads;
+    parameters.TargetNumberOfCells = this->TargetNumberOfCells;
+    parameters.MaximumCellSize = this->MaximumCellSize;
+    parameters.InsertPointsIntoMesh = this->InsertPointsIntoMesh;
+    parameters.OutsidePolicy = this->OutsidePolicy;
     vtkBaryMethodReport report;
     this->UpdateProgress(0.0);
     const bary::DenseWeights W = vtkBaryMethod::Compute(cage, points, parameters,
@@ -173,4 +177,8 @@ void vtkBaryCoordinates::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "BoundaryTolerance: " << this->BoundaryTolerance << "\n";
   os << indent << "ValidateCage: " << this->ValidateCage << "\n";
   os << indent << "NumberOfThreads: " << this->NumberOfThreads << "\n";
+  os << indent << "TargetNumberOfCells: " << this->TargetNumberOfCells << "\n";
+  os << indent << "MaximumCellSize: " << this->MaximumCellSize << "\n";
+  os << indent << "InsertPointsIntoMesh: " << this->InsertPointsIntoMesh << "\n";
+  os << indent << "OutsidePolicy: " << this->OutsidePolicy << "\n";
 }

@@ -43,8 +43,17 @@ public:
   /// Coordinate methods. More are added by later BaryLab releases; values are stable.
   enum Methods
   {
-    MEAN_VALUE = 0, ///< Hormann & Floater 2006 (2D), Ju et al. 2005 (3D)
+    MEAN_VALUE = 0, ///< Hormann & Floater 2006 (2D), Ju et al. 2005 (3D); closed form, any point
+    HARMONIC = 1,   ///< Joshi et al. 2007: finite elements on a mesh of the cage's interior
     NUMBER_OF_METHODS
+  };
+
+  /// What mesh-based methods do with points outside the cage.
+  enum OutsidePolicies
+  {
+    OUTSIDE_ERROR = 0,   ///< fail, naming how many and the first one (default)
+    OUTSIDE_NEAREST = 1, ///< use the weights of the nearest point of the domain
+    OUTSIDE_NAN = 2      ///< NaN weights, counted in NumberOfUndefinedPoints
   };
 
   ///@{
@@ -52,6 +61,36 @@ public:
   vtkSetClampMacro(Method, int, MEAN_VALUE, NUMBER_OF_METHODS - 1);
   vtkGetMacro(Method, int);
   void SetMethodToMeanValue() { this->SetMethod(MEAN_VALUE); }
+  void SetMethodToHarmonic() { this->SetMethod(HARMONIC); }
+  ///@}
+
+  ///@{
+  /// Mesh-based methods: approximate number of cells of the domain mesh; 0 (default) = the
+  /// method's default (2D: 3000 triangles, 3D: 20000 tetrahedra).
+  vtkSetClampMacro(TargetNumberOfCells, int, 0, VTK_INT_MAX);
+  vtkGetMacro(TargetNumberOfCells, int);
+  ///@}
+
+  ///@{
+  /// Mesh-based methods: maximum triangle area / tetrahedron volume of the domain mesh; 0
+  /// (default) = from TargetNumberOfCells.
+  vtkSetClampMacro(MaximumCellSize, double, 0.0, VTK_DOUBLE_MAX);
+  vtkGetMacro(MaximumCellSize, double);
+  ///@}
+
+  ///@{
+  /// Mesh-based methods: make the input points (those inside the cage) vertices of the domain
+  /// mesh, so their weights are the finite-element values themselves rather than interpolated.
+  /// Default off.
+  vtkSetMacro(InsertPointsIntoMesh, bool);
+  vtkGetMacro(InsertPointsIntoMesh, bool);
+  vtkBooleanMacro(InsertPointsIntoMesh, bool);
+  ///@}
+
+  ///@{
+  /// Mesh-based methods: points outside the cage (OutsidePolicies). Default OUTSIDE_ERROR.
+  vtkSetClampMacro(OutsidePolicy, int, OUTSIDE_ERROR, OUTSIDE_NAN);
+  vtkGetMacro(OutsidePolicy, int);
   ///@}
 
   /// Short name of a method as used on the command line ("mvc"), nullptr if unknown.
@@ -130,6 +169,10 @@ protected:
   double BoundaryTolerance = 1e-10;
   bool ValidateCage = true;
   int NumberOfThreads = 0;
+  int TargetNumberOfCells = 0;
+  double MaximumCellSize = 0.0;
+  bool InsertPointsIntoMesh = false;
+  int OutsidePolicy = OUTSIDE_ERROR;
 
   vtkIdType NumberOfInsidePoints = 0;
   vtkIdType NumberOfOutsidePoints = 0;

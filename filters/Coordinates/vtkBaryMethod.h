@@ -13,26 +13,33 @@
 #include "vtkBaryConversion.h"
 #include "vtkObject.h"
 
+#include "core/domain_mesh.h"
 #include "core/progress.h"
 #include "core/types.h"
 
 #include <string>
 #include <vector>
 
-/// Parameters shared by every filter that computes weights.
+/// Parameters shared by every filter that computes weights (the CLI and the viewer edit the
+/// same fields through the filters' setters).
 struct vtkBaryMethodParameters
 {
-  int Method = 0;                  ///< vtkBaryCoordinates::Methods
-  double BoundaryTolerance = 1e-10; ///< relative to the cage diameter
+  int Method = 0;                   ///< vtkBaryCoordinates::Methods
+  double BoundaryTolerance = 1e-10; ///< relative to the cage diameter (mean value coordinates)
   bool ValidateCage = true;
-  int NumberOfThreads = 0; ///< 0 = default
-
-  bool operator==(const vtkBaryMethodParameters& o) const
-  {
-    return Method == o.Method && BoundaryTolerance == o.BoundaryTolerance &&
-      ValidateCage == o.ValidateCage;
-  }
+  int NumberOfThreads = 0;          ///< 0 = all cores
+  // mesh-based methods (harmonic, ...)
+  int TargetNumberOfCells = 0;      ///< 0 = method default (2D: 3000 triangles, 3D: 20000 tets)
+  double MaximumCellSize = 0.0;     ///< max triangle area / tet volume; 0 = from the target
+  bool InsertPointsIntoMesh = false; ///< make the evaluation points mesh vertices
+  int OutsidePolicy = 0;            ///< vtkBaryCoordinates::OutsidePolicies
 };
+
+/// Default target cell count of the domain mesh for a cage of dimension @p dim.
+inline int vtkBaryDefaultTargetCells(int dim)
+{
+  return dim == 2 ? 3000 : 20000;
+}
 
 /// What Compute() returns besides the weights.
 struct vtkBaryMethodReport
@@ -50,6 +57,13 @@ public:
 
   /// Weights (#P by #C, core control order) of @p points w.r.t. @p cage.
   /// @throws bary::Error
+  /// Domain-mesh options for @p parameters (size bound, Steiner points = @p points when
+  /// InsertPointsIntoMesh). Shared by the methods and vtkBaryCageMesher.
+  static bary::PolygonMeshOptions PolygonMeshOptions(
+    const vtkBaryMethodParameters& parameters, const Eigen::MatrixXd& points);
+  static bary::SurfaceMeshOptions SurfaceMeshOptions(
+    const vtkBaryMethodParameters& parameters, const Eigen::MatrixXd& points);
+
   static bary::DenseWeights Compute(const vtkBaryCage& cage, const Eigen::MatrixXd& points,
     const vtkBaryMethodParameters& parameters, const bary::ProgressCallback& progress,
     vtkBaryMethodReport* report);

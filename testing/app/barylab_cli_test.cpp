@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include <array>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -306,4 +307,96 @@ TEST_F(CLI, DemoWithoutRendering)
   const nlohmann::json s = nlohmann::json::parse(in);
   EXPECT_LT(s["cases"]["3d"]["statistics"]["reproduction"]["max_error"].get<double>(), 1e-12);
   EXPECT_LT(s["cases"]["2d"]["statistics"]["reproduction"]["max_error"].get<double>(), 1e-12);
+}
+
+// ---- mesh-based methods ---------------------------------------------------------------------
+
+TEST_F(CLI, MeshWritesADomainWithControlPointIds)
+{
+  for (const char* cage : { "cage2d.obj", "cage3d.obj" })
+  {
+    const std::string out_file = out(std::string(cage) + ".vtu");
+    const CommandResult r = run("mesh --cage " + data(cage) + " --cells 2000 --output " + out_file + " -q");
+    ASSERT_EQ(r.code, 0) << r.output;
+    auto grid = vtkBaryDataIO::Read(out_file);
+    auto cagedata = vtkBaryDataIO::Read(data(cage));
+    vtkDataArray* ids = grid->GetPointData()->GetArray("ControlPointId");
+    ASSERT_NE(ids, nullptr);
+    ASSERT_NE(grid->GetPointData()->GetArray("OnCage"), nullptr);
+    // every cage point is a mesh vertex at the same place
+    vtkIdType found = 0;
+    for (vtkIdType v = 0; v < grid->GetNumberOfPoints(); ++v)
+    {
+      const auto c = static_cast<vtkIdType>(ids->GetTuple1(v));
+      if (c < 0)
+        continue;
+      ++found;
+      double a[3], b[3];
+      grid->GetPoint(v, a);
+      cagedata->GetPoint(c, b);
+      EXPECT_EQ(a[0], b[0]);
+      EXPECT_EQ(a[1], b[1]);
+    }
+    EXPECT_EQ(found, cagedata->GetNumberOfPoints()) << cage;
+    EXPECT_GT(grid->GetNumberOfCells(), 1000) << cage;
+  }
+}
+
+TEST_F(CLI, HarmonicWeightsHaveTheirProperties)
+{
+  const CommandResult r = run("weights --method harmonic --cage " + data("cage2d.obj") +
+    " --points " + data("model2d.obj") + " --output " + out("h.vtp") + " --json " + out("h.json") +
+    " -q");
+  ASSERT_EQ(r.code, 0) << r.output;
+  std::ifstream in(out("h.json"));
+  const nlohmann::json s = nlohmann::json::parse(in);
+  EXPECT_EQ(s["method"], "harmonic");
+  EXPECT_LT(s["statistics"]["partition_of_unity"]["max_error"].get<double>(), 1e-10);
+  EXPECT_LT(s["statistics"]["reproduction"]["max_error"].get<double>(), 1e-10);
+  EXPECT_GE(s["statistics"]["min_weight"].get<double>(), -1e-12) << "2D harmonic weights are >= 0";
+  EXPECT_EQ(s["statistics"]["negative_weights"].get<long long>(), 0);
+}
+
+TEST_F(CLI, HarmonicOutsidePolicies)
+{
+  // the posed cage's raised arm lies outside the rest cage
+  const std::string base = "weights --method harmonic --cells 800 --cage " + data("cage2d.obj") +
+    " --points " + data("cage2d_posed.obj") + " --output " + out("h.vtp");
+  ExpectError(run(base), "lie outside");
+  EXPECT_FALSE(fs::exists(out("h.vtp")));
+  const CommandResult nearest = run(base + " --outside nearest --json " + out("n.json") + " -q");
+  ASSERT_EQ(nearest.code, 0) << nearest.output;
+  std::ifstream in(out("n.json"));
+  const nlohmann::json s = nlohmann::json::parse(in);
+  EXPECT_GT(s["points"]["outside"].get<long long>(), 0);
+  EXPECT_EQ(s["points"]["undefined"].get<long long>(), 0);
+  const CommandResult nan = run(base + " --outside nan --json " + out("u.json") + " -q");
+  ASSERT_EQ(nan.code, 0) << nan.output;
+  std::ifstream iu(out("u.json"));
+  const nlohmann::json u = nlohmann::json::parse(iu);
+  EXPECT_EQ(u["points"]["undefined"], u["points"]["outside"]);
+}
+
+TEST_F(CLI, HarmonicDeformation3D)
+{
+  const CommandResult r = run("deform --method harmonic --cage " + data("cage3d.obj") +
+    " --deformed-cage " + data("cage3d_posed.obj") + " --points " + data("model3d.off") +
+    " --cells 8000 --output " + out("d.vtp"));
+  ASSERT_EQ(r.code, 0) << r.output;
+  auto deformed = vtkBaryDataIO::Read(out("d.vtp"));
+  auto rest = vtkBaryDataIO::Read(data("model3d.off"));
+  ASSERT_EQ(deformed->GetNumberOfPoints(), rest->GetNumberOfPoints());
+  double moved = 0.0;
+  for (vtkIdType i = 0; i < rest->GetNumberOfPoints(); ++i)
+  {
+    double a[3], b[3];
+    rest->GetPoint(i, a);
+    deformed->GetPoint(i, b);
+    for (int k = 0; k < 3; ++k)
+    {
+      ASSERT_TRUE(std::isfinite(b[k]));
+      moved = std::max(moved, std::abs(a[k] - b[k]));
+    }
+  }
+  EXPECT_GT(moved, 1e-2);
 }
