@@ -2,6 +2,8 @@
 
 #include "vtkBaryOFFReader.h"
 #include "vtkBaryOFFWriter.h"
+#include "vtkBaryMEDITReader.h"
+#include "vtkBaryTGFReader.h"
 
 #include "vtkBaryErrorObserver.h"
 
@@ -94,6 +96,18 @@ vtkSmartPointer<vtkAlgorithm> make_reader(const std::string& ext, const std::str
     r->SetFileName(path.c_str());
     return r;
   }
+  if (ext == ".mesh")
+  {
+    auto r = vtkSmartPointer<vtkBaryMEDITReader>::New();
+    r->SetFileName(path.c_str());
+    return r;
+  }
+  if (ext == ".tgf")
+  {
+    auto r = vtkSmartPointer<vtkBaryTGFReader>::New();
+    r->SetFileName(path.c_str());
+    return r;
+  }
   return nullptr;
 }
 
@@ -133,7 +147,7 @@ void check_obj_vertices(const std::string& path)
   }
 }
 
-const char* const kReadable = ".vtp, .vtu, .vtk, .obj, .stl, .ply, .off";
+const char* const kReadable = ".vtp, .vtu, .vtk, .obj, .stl, .ply, .off, .mesh, .tgf";
 } // namespace
 
 std::string vtkBaryDataIO::Extension(const std::string& path)
@@ -329,5 +343,70 @@ void vtkBaryDataIO::Write(vtkDataSet* data, const std::string& path)
   {
     std::remove(tmp.c_str());
     throw Error(ErrorCode::Io, "cannot write '" + path + "': renaming the temporary file failed");
+  }
+}
+
+Eigen::MatrixXd vtkBaryDataIO::ReadDMAT(const std::string& path)
+{
+  std::ifstream in(path);
+  if (!in)
+    throw Error(ErrorCode::Io, "cannot read '" + path + "': no such file or not readable");
+  std::string token;
+  auto next_number = [&](double& x) {
+    if (!(in >> token))
+      return false;
+    const char* begin = token.data() + (token[0] == '+' ? 1 : 0);
+    const auto [end, ec] = std::from_chars(begin, token.data() + token.size(), x);
+    return ec == std::errc() && end == token.data() + token.size();
+  };
+  double cols = -1, rows = -1;
+  if (!next_number(cols) || !next_number(rows) || cols < 0 || rows < 0 ||
+    cols != std::floor(cols) || rows != std::floor(rows))
+    throw Error(ErrorCode::Io,
+      "cannot read '" + path + "': a .dmat file starts with 'columns rows' (ASCII)");
+  Eigen::MatrixXd M(static_cast<Eigen::Index>(rows), static_cast<Eigen::Index>(cols));
+  for (Eigen::Index c = 0; c < M.cols(); ++c) // column-major
+    for (Eigen::Index r = 0; r < M.rows(); ++r)
+    {
+      double x;
+      if (!next_number(x))
+        throw Error(ErrorCode::Io,
+          "cannot read '" + path + "': value " + std::to_string(c * M.rows() + r + 1) + " of " +
+            std::to_string(M.size()) + " is missing or not a number");
+      if (!std::isfinite(x))
+        throw Error(ErrorCode::NonFinite,
+          "'" + path + "': value " + std::to_string(c * M.rows() + r + 1) + " is not finite");
+      M(r, c) = x;
+    }
+  return M;
+}
+
+void vtkBaryDataIO::WriteDMAT(const Eigen::MatrixXd& M, const std::string& path)
+{
+  const std::string tmp = path + ".tmp";
+  {
+    std::ofstream out(tmp);
+    if (!out)
+      throw Error(ErrorCode::Io, "cannot write '" + path + "' (is the folder writable?)");
+    out << M.cols() << ' ' << M.rows() << '\n';
+    char buffer[32];
+    for (Eigen::Index c = 0; c < M.cols(); ++c)
+      for (Eigen::Index r = 0; r < M.rows(); ++r)
+      {
+        const auto [end, ec] = std::to_chars(buffer, buffer + sizeof(buffer), M(r, c));
+        (void)ec;
+        out.write(buffer, end - buffer).put('\n');
+      }
+    if (!out)
+    {
+      out.close();
+      std::remove(tmp.c_str());
+      throw Error(ErrorCode::Io, "cannot write '" + path + "' (disk full?)");
+    }
+  }
+  if (std::rename(tmp.c_str(), path.c_str()) != 0)
+  {
+    std::remove(tmp.c_str());
+    throw Error(ErrorCode::Io, "cannot write '" + path + "'");
   }
 }

@@ -1,9 +1,14 @@
+#ifndef __VTK_WRAP__
+#include <Eigen/Core> // for Eigen::MatrixXd
+#endif
+
 /**
  * @class   vtkBaryDataIO
  * @brief   Reads and writes data sets by file extension, with errors as exceptions.
  *
- * Formats: .vtp, .vtu, .vtk (legacy), .obj, .stl, .ply (VTK's readers/writers) and .off
- * (vtkBaryOFFReader/Writer). Read() throws bary::Error(Io) naming the file and the problem
+ * Formats: .vtp, .vtu, .vtk (legacy), .obj, .stl, .ply (VTK's readers/writers), .off
+ * (vtkBaryOFFReader/Writer), and for reading MEDIT .mesh (vtkBaryMEDITReader) and libigl .tgf
+ * skeletons (vtkBaryTGFReader). Read() throws bary::Error(Io) naming the file and the problem
  * (missing, unreadable, unknown extension, parse error reported by the reader, no points).
  * Write() writes to a temporary file beside the target and renames it only on success, so a
  * failed write never leaves a partial file behind.
@@ -42,6 +47,14 @@ public:
   static bool CanRead(const std::string& path);
   /// True if Write() knows the extension of @p path.
   static bool CanWrite(const std::string& path);
+
+#ifndef __VTK_WRAP__
+  /// libigl's ASCII .dmat matrix: header "columns rows", then the values column-major.
+  /// @throws bary::Error(Io) naming the file and the missing/bad value, (NonFinite) for NaN/inf.
+  static Eigen::MatrixXd ReadDMAT(const std::string& path);
+  /// Writes @p M as ASCII .dmat (shortest round-trip decimal representation), atomically.
+  static void WriteDMAT(const Eigen::MatrixXd& M, const std::string& path);
+#endif
 
 protected:
   vtkBaryDataIO() = default;
