@@ -41,10 +41,10 @@ struct DomainMesh
   /// #C: the mesh vertex of each cage vertex, in cage order (the identity, see the vertex order)
   Eigen::VectorXi control_vertex;
   /// #S: the mesh vertex of each requested Steiner point, or -1 when the point was skipped:
-  /// outside the domain (2D: also inside a hole), or closer than steiner_tolerance x the cage
-  /// diameter to the domain's boundary. A point closer than that to an earlier accepted Steiner
-  /// point is merged with it (same mesh vertex, the earlier point's coordinates). Accepted
-  /// points are mesh vertices at exactly the requested coordinates.
+  /// outside the domain (2D: also inside a hole), or within steiner_tolerance x the cage
+  /// diameter of the domain's boundary. A point within that distance of an earlier accepted
+  /// Steiner point is merged with it (same mesh vertex, the earlier point's coordinates).
+  /// Accepted points are mesh vertices at exactly the requested coordinates.
   Eigen::VectorXi steiner_vertex;
   /// Mesh vertices on the cage (the outer boundary; 2D hole boundaries are not included),
   /// sorted. Includes the cage vertices.
@@ -95,8 +95,9 @@ struct PolygonMeshOptions
   /// touching it nor each other, not nested: the regions they enclose are not meshed. Their
   /// vertices are mesh vertices, numbered after the cage's (see DomainMesh).
   std::vector<Eigen::MatrixXd> holes;
-  /// Steiner points closer than this (times the cage diameter) to the boundary (cage and holes)
-  /// are skipped, and to an earlier Steiner point are merged. Range [0, 0.1].
+  /// Steiner points within this distance (times the cage diameter) of the boundary (cage and
+  /// holes) are skipped; within it of an earlier accepted Steiner point, merged with that one
+  /// (exact duplicates always are). Range [0, 0.1].
   double steiner_tolerance = 1e-6;
 };
 
@@ -181,6 +182,7 @@ constexpr double kMinSurfaceFeatureSize = 1e-7;
 ///   Internal for the others; Error(Internal) also if TetGen's output breaks a guarantee above
 /// @warning Thin parts of the cage (gaps much narrower than the cage) make the quality
 ///   refinement add many tetrahedra there (the mesh is graded by the local feature size).
+///   Classifying the Steiner points costs O(#S x #F) (generalized winding numbers, parallel).
 DomainMesh mesh_closed_surface(const Cage& cage3d, const SurfaceMeshOptions& options = {},
   const ProgressCallback& progress = {});
 
