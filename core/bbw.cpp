@@ -1,0 +1,679 @@
+#include "bbw.h"
+
+#include "error.h"
+#include "fem_operators.h"
+#include "min_quad_with_fixed.h"
+
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <exception>
+#include <limits>
+#include <mutex>
+#include <numeric>
+#include <sstream>
+#include <string>
+#include <utility>
+
+namespace bary
+{
+namespace
+{
+
+using SparseMatrix = Eigen::SparseMatrix<double>;
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point start)
+{
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+std::string fmt(double x)
+{
+  std::ostringstream s;
+  s << x;
+  return s.str();
+}
+
+void validate_options(const BBWOptions& o)
+{
+  auto fail = [](const std::string& what) { throw Error(ErrorCode::InvalidArgument, what); };
+  if (o.mode != BBWMode::Fast && o.mode != BBWMode::Coupled)
+    fail("BBWOptions::mode is not a BBWMode value");
+  if (!(o.tolerance > 0.0 && o.tolerance < 1.0))
+    fail("BBWOptions::tolerance must be in (0, 1), got " + fmt(o.tolerance));
+  if (o.max_iterations < 1)
+    fail("BBWOptions::max_iterations must be >= 1, got " + std::to_string(o.max_iterations));
+  if (!(o.partition_tolerance > 0.0 && o.partition_tolerance < 1.0))
+    fail("BBWOptions::partition_tolerance must be in (0, 1), got " + fmt(o.partition_tolerance));
+  if (o.max_outer_iterations < 1)
+    fail("BBWOptions::max_outer_iterations must be >= 1, got " +
+      std::to_string(o.max_outer_iterations));
+  if (!(o.penalty > 0.0 && std::isfinite(o.penalty)))
+    fail("BBWOptions::penalty must be finite and > 0, got " + fmt(o.penalty));
+  if (o.threads < 0)
+    fail("BBWOptions::threads must be >= 0 (0 = OpenMP's default), got " +
+      std::to_string(o.threads));
+}
+
+/// Connected component of every vertex (union-find over the elements).
+Eigen::VectorXi connected_components(Index n, const Eigen::MatrixXi& T)
+{
+  std::vector<int> parent(static_cast<std::size_t>(n));
+  std::iota(parent.begin(), parent.end(), 0);
+  auto find = [&](int i) {
+    while (parent[static_cast<std::size_t>(i)] != i)
+    {
+      parent[static_cast<std::size_t>(i)] =
+        parent[static_cast<std::size_t>(parent[static_cast<std::size_t>(i)])];
+      i = parent[static_cast<std::size_t>(i)];
+    }
+    return i;
+  };
+  for (Index t = 0; t < T.rows(); ++t)
+    for (Index k = 1; k < T.cols(); ++k)
+    {
+      const int a = find(T(t, 0)), b = find(T(t, k));
+      if (a != b)
+        parent[static_cast<std::size_t>(std::max(a, b))] = std::min(a, b);
+    }
+  Eigen::VectorXi component(n);
+  for (Index i = 0; i < n; ++i)
+    component(i) = find(static_cast<int>(i));
+  return component;
+}
+
+/// The bound-constrained QP options of a BBW solve.
+BoxQPOptions qp_options(const BBWOptions& o, const ProgressReporter& reporter)
+{
+  BoxQPOptions q;
+  q.tolerance = o.tolerance;
+  q.max_iterations = o.max_iterations;
+  q.backend = o.backend;
+  q.keep_going = [&reporter]() { return !reporter.cancelled(); };
+  return q;
+}
+
+/// H = blockdiag(Q, ..., Q) (m blocks) + E^T diag(rho) E, E summing the m weights of a vertex,
+/// assembled column by column in compressed form (rows ascending: the penalty entries of the
+/// blocks before, the block's own column with rho on its diagonal, the blocks after).
+SparseMatrix coupled_matrix(const SparseMatrix& Q, Index m, const Eigen::VectorXd& rho)
+{
+  const Index n = Q.rows();
+  Index penalty_nnz = 0;
+  for (Index i = 0; i < n; ++i)
+    penalty_nnz += rho(i) != 0.0 ? m - 1 : 0;
+  SparseMatrix H(n * m, n * m);
+  H.resizeNonZeros(m * (Q.nonZeros() + penalty_nnz));
+  int* outer = H.outerIndexPtr();
+  int* inner = H.innerIndexPtr();
+  double* value = H.valuePtr();
+  Index k = 0;
+  for (Index j = 0; j < m; ++j)
+    for (Index i = 0; i < n; ++i)
+    {
+      outer[j * n + i] = static_cast<int>(k);
+      const bool penalized = rho(i) != 0.0;
+      for (Index b = 0; penalized && b < j; ++b, ++k)
+      {
+        inner[k] = static_cast<int>(b * n + i);
+        value[k] = rho(i);
+      }
+      for (SparseMatrix::InnerIterator it(Q, i); it; ++it, ++k)
+      {
+        inner[k] = static_cast<int>(j * n + it.row());
+        value[k] = it.value() + (it.row() == i ? rho(i) : 0.0);
+      }
+      for (Index b = j + 1; penalized && b < m; ++b, ++k)
+      {
+        inner[k] = static_cast<int>(b * n + i);
+        value[k] = rho(i);
+      }
+    }
+  outer[n * m] = static_cast<int>(k);
+  return H;
+}
+
+[[noreturn]] void throw_not_converged(const std::string& what)
+{
+  throw Error(ErrorCode::NotConverged,
+    "bounded biharmonic weights: " + what +
+      "; raise BBWOptions::max_iterations / max_outer_iterations, loosen the tolerances, or set "
+      "BBWOptions::require_convergence = false to get the unconverged weights");
+}
+
+} // namespace
+
+BBWBoundaryConditions bbw_boundary_conditions(const BBWHandles& handles, Index vertex_count)
+{
+  if (handles.extra_handles < 0)
+    throw Error(ErrorCode::InvalidArgument,
+      "BBWHandles::extra_handles must be >= 0, got " + std::to_string(handles.extra_handles));
+  const Index np = handles.point_vertex.size();
+  const Index nb = static_cast<Index>(handles.bone_vertices.size());
+  const Index m = handles.handle_count();
+  if (m == 0)
+    throw Error(ErrorCode::EmptyInput,
+      "no handles: give point handles, bones, or explicit rows (extra_handles > 0)");
+  auto check_vertex = [vertex_count](int v, const std::string& owner) {
+    if (v < 0 || v >= vertex_count)
+      throw Error(ErrorCode::InvalidArgument,
+        owner + " refers to vertex " + std::to_string(v) + ", outside [0, " +
+          std::to_string(vertex_count) + ")");
+  };
+
+  // Handles of every point / bone vertex.
+  std::vector<std::vector<Index>> members(static_cast<std::size_t>(vertex_count));
+  auto add = [&](int v, Index h) {
+    auto& list = members[static_cast<std::size_t>(v)];
+    if (std::find(list.begin(), list.end(), h) == list.end())
+      list.push_back(h);
+  };
+  for (Index p = 0; p < np; ++p)
+  {
+    check_vertex(handles.point_vertex(p), "point handle " + std::to_string(p));
+    add(handles.point_vertex(p), p);
+  }
+  for (Index b = 0; b < nb; ++b)
+  {
+    const auto& bone = handles.bone_vertices[static_cast<std::size_t>(b)];
+    if (bone.empty())
+      throw Error(ErrorCode::InvalidArgument,
+        "bone " + std::to_string(b) + " has no mesh vertex; sample it into the mesh (e.g. with "
+        "handles_from_skeleton on a mesh that contains points along the bone)");
+    for (const int v : bone)
+    {
+      check_vertex(v, "bone " + std::to_string(b));
+      add(v, np + b);
+    }
+  }
+
+  const Index nf = handles.fixed_vertices.size();
+  if (handles.fixed_values.rows() != nf || (nf > 0 && handles.fixed_values.cols() != m))
+    throw Error(ErrorCode::SizeMismatch,
+      "BBWHandles::fixed_values is " + std::to_string(handles.fixed_values.rows()) + " by " +
+        std::to_string(handles.fixed_values.cols()) + ", expected #fixed_vertices (" +
+        std::to_string(nf) + ") by the number of handles (" + std::to_string(m) + " = " +
+        std::to_string(np) + " points + " + std::to_string(nb) + " bones + " +
+        std::to_string(handles.extra_handles) + " extra)");
+  std::vector<Index> explicit_row(static_cast<std::size_t>(vertex_count), -1);
+  for (Index f = 0; f < nf; ++f)
+  {
+    const int v = handles.fixed_vertices(f);
+    check_vertex(v, "fixed_vertices(" + std::to_string(f) + ")");
+    if (!members[static_cast<std::size_t>(v)].empty())
+      throw Error(ErrorCode::InvalidArgument,
+        "vertex " + std::to_string(v) + " is both in fixed_vertices and a point/bone vertex of "
+        "handle " + std::to_string(members[static_cast<std::size_t>(v)].front()) +
+        "; give it one explicit row instead");
+    if (explicit_row[static_cast<std::size_t>(v)] >= 0)
+      throw Error(ErrorCode::InvalidArgument,
+        "vertex " + std::to_string(v) + " is listed twice in fixed_vertices (at " +
+          std::to_string(explicit_row[static_cast<std::size_t>(v)]) + " and " +
+          std::to_string(f) + ")");
+    explicit_row[static_cast<std::size_t>(v)] = f;
+    double sum = 0.0;
+    for (Index j = 0; j < m; ++j)
+    {
+      const double w = handles.fixed_values(f, j);
+      if (!std::isfinite(w))
+        throw Error(ErrorCode::NonFinite,
+          "fixed_values(" + std::to_string(f) + ", " + std::to_string(j) + ") is not finite");
+      if (w < 0.0 || w > 1.0)
+        throw Error(ErrorCode::InvalidArgument,
+          "fixed_values(" + std::to_string(f) + ", " + std::to_string(j) + ") = " + fmt(w) +
+            " is outside [0, 1] (Eq. 6 bounds every weight)");
+      sum += w;
+    }
+    if (std::abs(sum - 1.0) > 1e-9)
+      throw Error(ErrorCode::InvalidArgument,
+        "the fixed values of vertex " + std::to_string(v) + " (fixed_values row " +
+          std::to_string(f) + ") sum to " + fmt(sum) +
+          ", not 1: partition of unity (Eq. 5) needs every fixed row to sum to 1");
+  }
+
+  BBWBoundaryConditions bc;
+  std::vector<int> known;
+  for (Index v = 0; v < vertex_count; ++v)
+    if (!members[static_cast<std::size_t>(v)].empty() || explicit_row[static_cast<std::size_t>(v)] >= 0)
+      known.push_back(static_cast<int>(v));
+  bc.vertices = Eigen::Map<const Eigen::VectorXi>(known.data(), static_cast<Index>(known.size()));
+  bc.values = Eigen::MatrixXd::Zero(static_cast<Index>(known.size()), m);
+  for (Index k = 0; k < bc.vertices.size(); ++k)
+  {
+    const int v = bc.vertices(k);
+    const auto& list = members[static_cast<std::size_t>(v)];
+    if (!list.empty())
+      for (const Index h : list)
+        bc.values(k, h) = 1.0 / static_cast<double>(list.size());
+    else
+      bc.values.row(k) = handles.fixed_values.row(explicit_row[static_cast<std::size_t>(v)]);
+  }
+  for (Index j = 0; j < m; ++j)
+    if (!(bc.values.rows() > 0 && bc.values.col(j).maxCoeff() > 0.0))
+      throw Error(ErrorCode::InvalidArgument,
+        "handle " + std::to_string(j) + " is fixed to a positive value at no vertex; its "
+        "weights would vanish. Give every handle at least one vertex where its weight is > 0");
+  return bc;
+}
+
+BBWHandles handles_from_skeleton(const Eigen::MatrixXd& V, const Eigen::MatrixXd& C,
+  const Eigen::VectorXi& P, const Eigen::MatrixXi& BE, double tolerance)
+{
+  if (C.cols() != V.cols())
+    throw Error(ErrorCode::SizeMismatch,
+      "the joints are " + std::to_string(C.cols()) + "D but the mesh vertices are " +
+        std::to_string(V.cols()) + "D");
+  if (BE.rows() > 0 && BE.cols() != 2)
+    throw Error(ErrorCode::SizeMismatch,
+      "the bones must be #B by 2 (pairs of joint indices), got " + std::to_string(BE.rows()) +
+        " by " + std::to_string(BE.cols()));
+  if (V.rows() == 0)
+    throw Error(ErrorCode::EmptyInput, "the mesh has no vertices");
+  if (!(tolerance > 0.0))
+  {
+    const double diagonal = (V.colwise().maxCoeff() - V.colwise().minCoeff()).norm();
+    tolerance = 1e-6 * (diagonal > 0.0 ? diagonal : 1.0);
+  }
+  auto joint = [&](Index j, const std::string& owner) -> Eigen::VectorXd {
+    if (j < 0 || j >= C.rows())
+      throw Error(ErrorCode::InvalidArgument,
+        owner + " refers to joint " + std::to_string(j) + ", outside [0, " +
+          std::to_string(C.rows()) + ")");
+    return C.row(j).transpose();
+  };
+
+  BBWHandles handles;
+  handles.point_vertex.resize(P.size());
+  for (Index p = 0; p < P.size(); ++p)
+  {
+    const Eigen::VectorXd c = joint(P(p), "point handle " + std::to_string(p));
+    Index nearest = 0;
+    const double distance = std::sqrt((V.rowwise() - c.transpose()).rowwise().squaredNorm().minCoeff(&nearest));
+    if (distance > tolerance)
+      throw Error(ErrorCode::InvalidArgument,
+        "point handle " + std::to_string(p) + " (joint " + std::to_string(P(p)) +
+          ") is at distance " + fmt(distance) + " from the nearest mesh vertex, more than the "
+          "tolerance " + fmt(tolerance) + "; make the handle a vertex of the mesh");
+    handles.point_vertex(p) = static_cast<int>(nearest);
+  }
+  for (Index b = 0; b < BE.rows(); ++b)
+  {
+    const std::string owner = "bone " + std::to_string(b);
+    const Eigen::VectorXd a = joint(BE(b, 0), owner), e = joint(BE(b, 1), owner);
+    const Eigen::VectorXd d = e - a;
+    const double length2 = d.squaredNorm();
+    std::vector<int> samples;
+    for (Index i = 0; i < V.rows(); ++i)
+    {
+      const Eigen::VectorXd v = V.row(i).transpose() - a;
+      const double t = length2 > 0.0 ? std::clamp(v.dot(d) / length2, 0.0, 1.0) : 0.0;
+      if ((v - t * d).norm() <= tolerance)
+        samples.push_back(static_cast<int>(i));
+    }
+    if (samples.empty())
+      throw Error(ErrorCode::InvalidArgument,
+        owner + " (joints " + std::to_string(BE(b, 0)) + " - " + std::to_string(BE(b, 1)) +
+          ") has no mesh vertex within " + fmt(tolerance) + "; mesh the domain with the bone "
+          "sampled (its joints and points along it as vertices)");
+    handles.bone_vertices.push_back(std::move(samples));
+  }
+  return handles;
+}
+
+WeightDifference weight_difference(const DenseWeights& a, const DenseWeights& b)
+{
+  if (a.rows() != b.rows() || a.cols() != b.cols())
+    throw Error(ErrorCode::SizeMismatch,
+      "cannot compare weights of shapes " + std::to_string(a.rows()) + " by " +
+        std::to_string(a.cols()) + " and " + std::to_string(b.rows()) + " by " +
+        std::to_string(b.cols()));
+  if (a.size() == 0)
+    throw Error(ErrorCode::EmptyInput, "cannot compare empty weight matrices");
+  const DenseWeights d = (a - b).cwiseAbs();
+  return { d.mean(), d.maxCoeff() };
+}
+
+BoundedBiharmonicWeights::BoundedBiharmonicWeights(
+  const Eigen::MatrixXd& V, const Eigen::MatrixXi& T, const BBWOptions& options)
+  : options_(options)
+{
+  const auto start = Clock::now();
+  validate_options(options_);
+  const SparseMatrix K = stiffness_matrix(V, T); // validates the mesh
+  const SparseMatrix M = mass_matrix(V, T, MassMatrixType::Barycentric);
+  const Index n = V.rows();
+  Eigen::VectorXd inverse_mass(n);
+  for (Index i = 0; i < n; ++i)
+  {
+    const double mi = M.coeff(i, i);
+    if (!(mi > 0.0))
+      throw Error(ErrorCode::InvalidArgument,
+        "vertex " + std::to_string(i) + " belongs to no element; remove unreferenced "
+        "vertices from the mesh (their weights are undefined)");
+    inverse_mass(i) = 1.0 / mi;
+  }
+  SparseMatrix Q = K * inverse_mass.asDiagonal() * K;
+
+  const Eigen::VectorXd& rho = options_.shape_preservation;
+  if (rho.size() != 0)
+  {
+    if (rho.size() != T.rows())
+      throw Error(ErrorCode::SizeMismatch,
+        "BBWOptions::shape_preservation has " + std::to_string(rho.size()) +
+          " entries, expected one per element (" + std::to_string(T.rows()) + ")");
+    for (Index t = 0; t < rho.size(); ++t)
+      if (!std::isfinite(rho(t)) || rho(t) < 0.0)
+        throw Error(std::isfinite(rho(t)) ? ErrorCode::InvalidArgument : ErrorCode::NonFinite,
+          "BBWOptions::shape_preservation(" + std::to_string(t) + ") = " + fmt(rho(t)) +
+            " must be finite and >= 0");
+    // Eq. 9: G^T diag(rho_t vol_t, repeated dim times) G, the rho-weighted stiffness matrix.
+    const SparseMatrix G = gradient_operator(V, T);
+    const Eigen::VectorXd volume = simplex_volumes(V, T);
+    const Index dim = V.cols();
+    Eigen::VectorXd weight(T.rows() * dim);
+    for (Index t = 0; t < T.rows(); ++t)
+      weight.segment(t * dim, dim).setConstant(rho(t) * volume(t));
+    Q += SparseMatrix(G.transpose() * weight.asDiagonal() * G);
+  }
+  Q = 0.5 * (Q + SparseMatrix(Q.transpose())); // exactly symmetric
+  Q.prune(0.0);
+  Q.makeCompressed();
+  Q_ = std::move(Q);
+  component_ = connected_components(n, T);
+  operator_seconds_ = seconds_since(start);
+}
+
+BBWResult BoundedBiharmonicWeights::compute(
+  const BBWHandles& handles, const ProgressCallback& progress) const
+{
+  const auto start = Clock::now();
+  const BBWOptions& o = options_;
+  const Index n = Q_.rows();
+  const BBWBoundaryConditions bc = bbw_boundary_conditions(handles, n);
+  const Index m = handles.handle_count();
+  const Index nk = bc.vertices.size();
+
+  // Every connected component needs a fixed vertex, or Q is singular on it.
+  {
+    std::vector<char> anchored(static_cast<std::size_t>(n), 0);
+    for (Index k = 0; k < nk; ++k)
+      anchored[static_cast<std::size_t>(component_(bc.vertices(k)))] = 1;
+    for (Index i = 0; i < n; ++i)
+      if (!anchored[static_cast<std::size_t>(component_(i))])
+        throw Error(ErrorCode::InvalidArgument,
+          "the connected component of the mesh that contains vertex " + std::to_string(i) +
+            " holds no handle, so its weights are undefined; add a handle there or remove it");
+  }
+
+  BBWResult result;
+  result.mode = o.mode;
+  result.fixed_vertices = nk;
+  result.operator_seconds = operator_seconds_;
+  const bool coupled = o.mode == BBWMode::Coupled;
+  const double fast_end = coupled ? 0.4 : 1.0;
+
+  // 1. The unconstrained biharmonic weights (one factorization for all handles): the start of
+  //    every handle's active set.
+  auto phase_start = Clock::now();
+  ProgressReporter setup_reporter(progress, 1, 0.0, 0.1);
+  MinQuadWithFixed unconstrained;
+  unconstrained.precompute(Q_, bc.vertices, o.backend);
+  const Eigen::MatrixXd X0 = unconstrained.solve(Eigen::MatrixXd(), bc.values);
+  result.unconstrained_seconds = seconds_since(phase_start);
+  if (!setup_reporter.step())
+    setup_reporter.throw_if_cancelled("bounded biharmonic weights");
+
+  // 2. Each handle's bound-constrained QP.
+  phase_start = Clock::now();
+  const BoxConstrainedQP qp(Q_);
+  Eigen::VectorXd lower = Eigen::VectorXd::Zero(n), upper = Eigen::VectorXd::Ones(n);
+  Eigen::MatrixXd W(n, m); // column-major: one handle per column
+  result.iterations.assign(static_cast<std::size_t>(m), 0);
+  result.factorizations.assign(static_cast<std::size_t>(m), 0);
+  result.kkt_residual.assign(static_cast<std::size_t>(m), 0.0);
+  std::vector<char> handle_converged(static_cast<std::size_t>(m), 0);
+  {
+    ProgressReporter reporter(progress, m, 0.1, fast_end);
+    const BoxQPOptions box = qp_options(o, reporter);
+    std::exception_ptr failure;
+    std::mutex failure_mutex;
+    std::atomic<bool> stop{ false };
+#ifdef _OPENMP
+    const int threads = o.threads > 0 ? o.threads : omp_get_max_threads();
+#endif
+    // Handle j's QP: [0, 1] bounds, its fixed rows, started from the active set of its
+    // unconstrained weights; written into column j only.
+    auto solve_handle = [&](Index j) {
+      Eigen::VectorXd l = lower, u = upper;
+      for (Index k = 0; k < nk; ++k)
+        l(bc.vertices(k)) = u(bc.vertices(k)) = bc.values(k, j);
+      BoxQPWarmStart warm;
+      warm.state = active_set_from_guess(X0.col(j), l, u);
+      const BoxQPResult r = qp.solve(Eigen::VectorXd::Zero(n), l, u, box, &warm);
+      const auto jj = static_cast<std::size_t>(j);
+      W.col(j) = r.x;
+      result.iterations[jj] = r.iterations;
+      result.factorizations[jj] = r.factorizations;
+      result.kkt_residual[jj] = r.kkt_residual;
+      handle_converged[jj] = r.converged;
+    };
+    // One parallel region; OpenMP's thread 0 reports progress (so fractions never decrease).
+    // Every handle is solved by the same sequential code into its own column, so the weights do
+    // not depend on the number of threads.
+    std::atomic<Index> done{ 0 };
+#pragma omp parallel num_threads(threads)
+    {
+#ifdef _OPENMP
+      const bool reporting_thread = omp_get_thread_num() == 0;
+#else
+      const bool reporting_thread = true;
+#endif
+      Index reported = 0;
+#pragma omp for schedule(dynamic, 1)
+      for (Index j = 0; j < m; ++j)
+      {
+        if (stop.load())
+          continue;
+        try
+        {
+          solve_handle(j);
+          const Index now = ++done;
+          if (reporting_thread)
+          {
+            if (!reporter.step(now - reported))
+              stop = true;
+            reported = now;
+          }
+        }
+        catch (...)
+        {
+          std::lock_guard<std::mutex> lock(failure_mutex);
+          if (!failure)
+            failure = std::current_exception();
+          stop = true;
+        }
+      }
+    }
+    if (failure)
+      std::rethrow_exception(failure);
+    reporter.throw_if_cancelled("bounded biharmonic weights");
+    reporter.finish();
+    reporter.throw_if_cancelled("bounded biharmonic weights");
+  }
+  result.fast_seconds = seconds_since(phase_start);
+  result.converged = true;
+  for (Index j = 0; j < m; ++j)
+  {
+    result.max_kkt_residual =
+      std::max(result.max_kkt_residual, result.kkt_residual[static_cast<std::size_t>(j)]);
+    if (!handle_converged[static_cast<std::size_t>(j)])
+    {
+      result.converged = false;
+      if (o.require_convergence)
+        throw_not_converged("the QP of handle " + std::to_string(j) + " did not converge in " +
+          std::to_string(result.iterations[static_cast<std::size_t>(j)]) +
+          " active-set iterations (KKT residual " +
+          fmt(result.kkt_residual[static_cast<std::size_t>(j)]) + ", tolerance " +
+          fmt(o.tolerance) + ")");
+    }
+  }
+
+  auto row_sums = [&](const Eigen::MatrixXd& X) { return Eigen::VectorXd(X.rowwise().sum()); };
+  // Rows divided by their sums. A zero row throws, or becomes uniform for a coupled start.
+  auto normalized = [&](const Eigen::MatrixXd& X, bool start_of_coupled = false) {
+    Eigen::VectorXd s = row_sums(X);
+    Eigen::MatrixXd Y = X;
+    for (Index i = 0; i < n; ++i)
+      if (!(s(i) > 0.0) && start_of_coupled)
+      {
+        Y.row(i).setConstant(1.0);
+        s(i) = static_cast<double>(m);
+      }
+      else if (!(s(i) > 0.0))
+        throw Error(ErrorCode::InvalidArgument,
+          "vertex " + std::to_string(i) + " gets weight 0 from every handle when the handles "
+          "are solved independently (fast mode), so its weights cannot be normalized; use "
+          "BBWMode::Coupled, which enforces partition of unity");
+    Y = s.cwiseInverse().asDiagonal() * Y;
+    for (Index k = 0; k < nk; ++k) // keep fixed rows exact
+      Y.row(bc.vertices(k)) = bc.values.row(k);
+    return Y;
+  };
+
+  // 3. Coupled: augmented Lagrangian on partition of unity (see BBWMode::Coupled).
+  if (coupled)
+  {
+    phase_start = Clock::now();
+    const Eigen::MatrixXd W_fast = normalized(W, true);
+    std::vector<char> known(static_cast<std::size_t>(n), 0);
+    for (Index k = 0; k < nk; ++k)
+      known[static_cast<std::size_t>(bc.vertices(k))] = 1;
+    Eigen::VectorXd rho = Eigen::VectorXd::Zero(n);
+    double gradient_scale = 0.0;
+    for (Index i = 0; i < n; ++i)
+    {
+      if (!known[static_cast<std::size_t>(i)])
+        rho(i) = o.penalty * Q_.coeff(i, i);
+      double row = 0.0;
+      for (SparseMatrix::InnerIterator it(Q_, i); it; ++it)
+        row += std::abs(it.value());
+      gradient_scale = std::max(gradient_scale, row); // bounds |Q| |w| for 0 <= w <= 1
+    }
+    const BoxConstrainedQP coupled_qp(coupled_matrix(Q_, m, rho));
+    const Index N = n * m;
+    Eigen::VectorXd l = Eigen::VectorXd::Zero(N), u = Eigen::VectorXd::Ones(N);
+    for (Index j = 0; j < m; ++j)
+      for (Index k = 0; k < nk; ++k)
+        l(j * n + bc.vertices(k)) = u(j * n + bc.vertices(k)) = bc.values(k, j);
+    const Eigen::VectorXd x0 = Eigen::Map<const Eigen::VectorXd>(W_fast.data(), N);
+
+    // Multiplier estimate from the fast weights: at the optimum (Q w_j)_i + mu_i = 0 for every
+    // handle j whose weight is free at i; take the handle with the largest weight.
+    Eigen::VectorXd mu = Eigen::VectorXd::Zero(n);
+    {
+      const Eigen::MatrixXd QW = Q_ * W_fast;
+      for (Index i = 0; i < n; ++i)
+        if (!known[static_cast<std::size_t>(i)])
+        {
+          Index j = 0;
+          W_fast.row(i).maxCoeff(&j);
+          mu(i) = -QW(i, j);
+        }
+    }
+
+    ProgressReporter reporter(progress, 1000, fast_end, 1.0);
+    BoxQPOptions box = qp_options(o, reporter);
+    box.gradient_scale = gradient_scale;
+    BoxQPWarmStart warm;
+    warm.state = active_set_from_guess(x0, l, u);
+    Eigen::VectorXd b(N), x = x0;
+    double first_error = -1.0;
+    long long reported = 0;
+    bool settled = false;
+    BoxQPResult r;
+    while (result.outer_iterations < o.max_outer_iterations)
+    {
+      ++result.outer_iterations;
+      for (Index j = 0; j < m; ++j)
+        b.segment(j * n, n) = mu - rho;
+      r = coupled_qp.solve(b, l, u, box, &warm);
+      x = r.x;
+      result.coupled_iterations += r.iterations;
+      result.coupled_factorizations += r.factorizations;
+      double error = 0.0;
+      Eigen::VectorXd residual = Eigen::VectorXd::Zero(n);
+      for (Index j = 0; j < m; ++j)
+        residual += x.segment(j * n, n);
+      for (Index i = 0; i < n; ++i)
+      {
+        if (known[static_cast<std::size_t>(i)])
+          continue;
+        residual(i) -= 1.0;
+        error = std::max(error, std::abs(residual(i)));
+        mu(i) += rho(i) * residual(i);
+      }
+      result.coupled_kkt_residual = r.kkt_residual;
+      if (r.converged && error <= o.partition_tolerance)
+      {
+        settled = true;
+        break;
+      }
+      // Progress: the decrease of log(error) towards log(partition_tolerance).
+      if (first_error < 0.0)
+        first_error = std::max(error, 10.0 * o.partition_tolerance);
+      const double fraction = std::clamp(std::log(first_error / std::max(error, 1e-300)) /
+          std::log(first_error / o.partition_tolerance), 0.0, 1.0);
+      const long long now = static_cast<long long>(999.0 * fraction);
+      if (!reporter.step(std::max(0LL, now - reported)))
+        reporter.throw_if_cancelled("bounded biharmonic weights (coupled)");
+      reported = std::max(reported, now);
+    }
+    reporter.finish();
+    reporter.throw_if_cancelled("bounded biharmonic weights (coupled)");
+    W = Eigen::Map<const Eigen::MatrixXd>(x.data(), n, m);
+    result.max_kkt_residual = result.coupled_kkt_residual;
+    result.coupled_seconds = seconds_since(phase_start);
+    if (!settled)
+    {
+      result.converged = false;
+      if (o.require_convergence)
+        throw_not_converged("the coupled iteration did not converge in " +
+          std::to_string(result.outer_iterations) + " augmented Lagrangian iterations (KKT "
+          "residual " + fmt(r.kkt_residual) + ", partition error " +
+          fmt((row_sums(W) - Eigen::VectorXd::Ones(n)).cwiseAbs().maxCoeff()) + ")");
+    }
+    result.W = W;
+    if (o.normalize)
+      W = normalized(W);
+    const WeightDifference d = weight_difference(DenseWeights(W_fast), DenseWeights(W));
+    result.fast_difference_mean = d.mean;
+    result.fast_difference_max = d.max;
+  }
+
+  // 4. Partition of unity before and after normalizing; bounds.
+  result.partition_error_before_normalization =
+    (row_sums(coupled ? Eigen::MatrixXd(result.W) : W) - Eigen::VectorXd::Ones(n))
+      .cwiseAbs()
+      .maxCoeff();
+  if (o.normalize && !coupled)
+    W = normalized(W);
+  result.partition_error = (row_sums(W) - Eigen::VectorXd::Ones(n)).cwiseAbs().maxCoeff();
+  result.max_bound_violation = std::max({ 0.0, -W.minCoeff(), W.maxCoeff() - 1.0 });
+  result.W = W;
+  result.seconds = seconds_since(start);
+  return result;
+}
+
+BBWResult bounded_biharmonic_weights(const Eigen::MatrixXd& V, const Eigen::MatrixXi& T,
+  const BBWHandles& handles, const BBWOptions& options, const ProgressCallback& progress)
+{
+  return BoundedBiharmonicWeights(V, T, options).compute(handles, progress);
+}
+
+} // namespace bary

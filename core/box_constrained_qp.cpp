@@ -1,0 +1,484 @@
+#include "box_constrained_qp.h"
+
+#include "error.h"
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <sstream>
+#include <string>
+#include <unordered_set>
+#include <utility>
+#include <vector>
+
+namespace bary
+{
+namespace
+{
+
+using SparseMatrix = Eigen::SparseMatrix<double>;
+using Clock = std::chrono::steady_clock;
+using StateVector = Eigen::Matrix<BoxQPState, Eigen::Dynamic, 1>;
+
+double seconds_since(Clock::time_point start)
+{
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+std::string fmt(double x)
+{
+  std::ostringstream s;
+  s << x;
+  return s.str();
+}
+
+std::uint64_t next_id()
+{
+  static std::atomic<std::uint64_t> counter{ 0 };
+  return ++counter;
+}
+
+/// A restricted to the rows and columns @p free (ascending); position(i) is i's index in free or
+/// -1. Column and row order are kept, so the compressed storage is built directly.
+SparseMatrix principal_submatrix(
+  const SparseMatrix& A, const std::vector<int>& free, const std::vector<int>& position)
+{
+  const Index nf = static_cast<Index>(free.size());
+  SparseMatrix S(nf, nf);
+  Index nnz = 0;
+  for (const int j : free)
+    for (SparseMatrix::InnerIterator it(A, j); it; ++it)
+      nnz += position[static_cast<std::size_t>(it.row())] >= 0;
+  S.resizeNonZeros(nnz);
+  int* outer = S.outerIndexPtr();
+  int* inner = S.innerIndexPtr();
+  double* value = S.valuePtr();
+  Index k = 0;
+  for (Index c = 0; c < nf; ++c)
+  {
+    outer[c] = static_cast<int>(k);
+    for (SparseMatrix::InnerIterator it(A, free[static_cast<std::size_t>(c)]); it; ++it)
+    {
+      const int r = position[static_cast<std::size_t>(it.row())];
+      if (r >= 0)
+      {
+        inner[k] = r;
+        value[k] = it.value();
+        ++k;
+      }
+    }
+  }
+  outer[nf] = static_cast<int>(k);
+  return S;
+}
+
+/// FNV-1a hash of an active set (a collision only costs one unnecessary single step).
+std::uint64_t state_hash(const StateVector& state)
+{
+  std::uint64_t h = 14695981039346656037ull;
+  for (Index i = 0; i < state.size(); ++i)
+  {
+    h ^= static_cast<std::uint64_t>(static_cast<unsigned char>(state(i)));
+    h *= 1099511628211ull;
+  }
+  return h;
+}
+
+} // namespace
+
+StateVector active_set_from_guess(
+  const Eigen::VectorXd& x0, const Eigen::VectorXd& l, const Eigen::VectorXd& u)
+{
+  if (x0.size() != l.size() || x0.size() != u.size())
+    throw Error(ErrorCode::SizeMismatch,
+      "the guess has " + std::to_string(x0.size()) + " entries but the bounds have " +
+        std::to_string(l.size()) + " and " + std::to_string(u.size()));
+  StateVector state(x0.size());
+  for (Index i = 0; i < x0.size(); ++i)
+  {
+    if (l(i) == u(i))
+      state(i) = BoxQPState::Fixed;
+    else if (x0(i) <= l(i))
+      state(i) = BoxQPState::Lower;
+    else if (x0(i) >= u(i))
+      state(i) = BoxQPState::Upper;
+    else
+      state(i) = BoxQPState::Free;
+  }
+  return state;
+}
+
+BoxConstrainedQP::BoxConstrainedQP(const SparseMatrix& A)
+{
+  precompute(A);
+}
+
+void BoxConstrainedQP::precompute(const SparseMatrix& A)
+{
+  A_ = SparseMatrix();
+  id_ = 0;
+  if (A.rows() != A.cols())
+    throw Error(ErrorCode::SizeMismatch,
+      "the quadratic term A must be square, got " + std::to_string(A.rows()) + " by " +
+        std::to_string(A.cols()));
+  const Index n = A.rows();
+  if (n == 0)
+    throw Error(ErrorCode::EmptyInput, "the quadratic term A is empty (0 by 0)");
+  Eigen::VectorXd diagonal = Eigen::VectorXd::Zero(n);
+  for (Index j = 0; j < A.outerSize(); ++j)
+    for (SparseMatrix::InnerIterator it(A, j); it; ++it)
+    {
+      if (!std::isfinite(it.value()))
+        throw Error(ErrorCode::NonFinite,
+          "the quadratic term A has a non-finite entry at (" + std::to_string(it.row()) + ", " +
+            std::to_string(it.col()) + ")");
+      if (it.row() == it.col())
+        diagonal(it.row()) += it.value();
+    }
+  for (Index i = 0; i < n; ++i)
+    if (!(diagonal(i) > 0.0))
+      throw Error(ErrorCode::InvalidArgument,
+        "the quadratic term A is not positive definite: its diagonal entry (" +
+          std::to_string(i) + ", " + std::to_string(i) + ") is " + fmt(diagonal(i)) +
+          ", not > 0; a convex QP needs A symmetric positive definite");
+  SparseMatrix stored = A;
+  stored.makeCompressed();
+  const SparseMatrix asymmetry = stored - SparseMatrix(stored.transpose());
+  for (Index j = 0; j < asymmetry.outerSize(); ++j)
+    for (SparseMatrix::InnerIterator it(asymmetry, j); it; ++it)
+      if (std::abs(it.value()) > 1e-10 * std::sqrt(diagonal(it.row()) * diagonal(it.col())))
+        throw Error(ErrorCode::InvalidArgument,
+          "the quadratic term A is not symmetric: entries (" + std::to_string(it.row()) + ", " +
+            std::to_string(it.col()) + ") and (" + std::to_string(it.col()) + ", " +
+            std::to_string(it.row()) + ") differ by " + fmt(it.value()) +
+            "; store both triangles of a symmetric matrix");
+  A_ = std::move(stored);
+  id_ = next_id();
+}
+
+BoxQPResult BoxConstrainedQP::solve(const Eigen::VectorXd& b, const Eigen::VectorXd& l,
+  const Eigen::VectorXd& u, const BoxQPOptions& options, BoxQPWarmStart* warm) const
+{
+  const auto start = Clock::now();
+  if (id_ == 0)
+    throw Error(ErrorCode::InvalidArgument, "BoxConstrainedQP::solve called before precompute()");
+  const Index n = A_.rows();
+  auto check_size = [n](const Eigen::VectorXd& v, const char* name) {
+    if (v.size() != n)
+      throw Error(ErrorCode::SizeMismatch,
+        std::string("the ") + name + " has " + std::to_string(v.size()) +
+          " entries, expected " + std::to_string(n) + " (one per row of A)");
+  };
+  check_size(b, "linear term b");
+  check_size(l, "lower bound l");
+  check_size(u, "upper bound u");
+  if (!b.allFinite())
+    throw Error(ErrorCode::NonFinite, "the linear term b contains NaN or infinity");
+  for (Index i = 0; i < n; ++i)
+  {
+    if (std::isnan(l(i)) || std::isnan(u(i)))
+      throw Error(ErrorCode::NonFinite,
+        "the bounds of variable " + std::to_string(i) + " contain NaN; use -inf / +inf for a "
+        "missing bound");
+    if (l(i) > u(i))
+      throw Error(ErrorCode::InvalidArgument,
+        "the bounds of variable " + std::to_string(i) + " are empty: l = " + fmt(l(i)) +
+          " > u = " + fmt(u(i)) + "; the problem is infeasible");
+    if (l(i) == u(i) && !std::isfinite(l(i)))
+      throw Error(ErrorCode::InvalidArgument,
+        "variable " + std::to_string(i) + " is fixed at an infinite value (l = u = " +
+          fmt(l(i)) + ")");
+  }
+  if (!(options.tolerance > 0.0 && options.tolerance < 1.0))
+    throw Error(ErrorCode::InvalidArgument,
+      "BoxQPOptions::tolerance must be in (0, 1), got " + fmt(options.tolerance));
+  if (options.max_iterations < 1)
+    throw Error(ErrorCode::InvalidArgument,
+      "BoxQPOptions::max_iterations must be >= 1, got " + std::to_string(options.max_iterations));
+  if (!(options.gradient_scale >= 0.0 && std::isfinite(options.gradient_scale)))
+    throw Error(ErrorCode::InvalidArgument,
+      "BoxQPOptions::gradient_scale must be finite and >= 0, got " + fmt(options.gradient_scale));
+  if (options.block_attempts < 0)
+    throw Error(ErrorCode::InvalidArgument,
+      "BoxQPOptions::block_attempts must be >= 0, got " + std::to_string(options.block_attempts));
+
+  // Initial active set, made consistent with the bounds.
+  StateVector state = StateVector::Constant(n, BoxQPState::Free);
+  if (warm && warm->state.size() != 0)
+  {
+    if (warm->state.size() != n)
+      throw Error(ErrorCode::SizeMismatch,
+        "the warm start's active set has " + std::to_string(warm->state.size()) +
+          " entries, expected " + std::to_string(n));
+    state = warm->state;
+  }
+  for (Index i = 0; i < n; ++i)
+  {
+    BoxQPState& s = state(i);
+    if (l(i) == u(i))
+      s = BoxQPState::Fixed;
+    else if (s == BoxQPState::Fixed || (s == BoxQPState::Lower && !std::isfinite(l(i))) ||
+      (s == BoxQPState::Upper && !std::isfinite(u(i))))
+      s = BoxQPState::Free;
+  }
+
+  SparseCholesky factor(options.backend);
+  std::vector<int> factor_free; // free set of `factor`
+  bool have_factor = false;
+  if (warm && warm->owner == id_ && warm->factor.computed() &&
+    warm->factor.backend() == factor.backend())
+  {
+    factor = warm->factor;
+    factor_free.assign(warm->factor_free.data(), warm->factor_free.data() + warm->factor_free.size());
+    have_factor = true;
+  }
+
+  BoxQPResult result;
+  Eigen::VectorXd x = Eigen::VectorXd::Zero(n), y(n), r(n), magnitude(n);
+  std::vector<int> free, position(static_cast<std::size_t>(n));
+  std::vector<Index> violators;
+  const double half_tolerance = 0.5 * options.tolerance;
+
+  // Scales of x and of the gradient's terms (see the header).
+  auto scale_x = [&]() {
+    double s = 1.0;
+    for (Index i = 0; i < n; ++i)
+      if (std::isfinite(x(i)))
+        s = std::max(s, std::abs(x(i)));
+    return s;
+  };
+  auto scale_y = [&]() {
+    if (options.gradient_scale > 0.0)
+      return options.gradient_scale;
+    magnitude = b.cwiseAbs();
+    double s = magnitude.maxCoeff();
+    magnitude.setZero();
+    for (Index j = 0; j < A_.outerSize(); ++j)
+    {
+      const double xj = std::abs(x(j));
+      if (xj == 0.0)
+        continue;
+      for (SparseMatrix::InnerIterator it(A_, j); it; ++it)
+        magnitude(it.row()) += std::abs(it.value()) * xj;
+    }
+    s = std::max(s, magnitude.maxCoeff());
+    return s > 0.0 ? s : 1.0;
+  };
+
+  std::unordered_set<std::uint64_t> visited; // hashes of the active sets solved so far
+  StateVector solved = state;                  // the active set x was computed with
+  Index best_violators = std::numeric_limits<Index>::max();
+  int attempts_left = options.block_attempts;
+  bool settled = false;
+  while (result.iterations < options.max_iterations)
+  {
+    if (options.keep_going && !options.keep_going())
+      throw Error(ErrorCode::Cancelled, "the bound-constrained QP solve was cancelled");
+    ++result.iterations;
+    visited.insert(state_hash(state));
+    solved = state; // the active set of this iteration's x
+
+    // 1. Active variables on their bounds, then the equality-constrained solve on the free set.
+    free.clear();
+    for (Index i = 0; i < n; ++i)
+    {
+      switch (state(i))
+      {
+        case BoxQPState::Lower: x(i) = l(i); break;
+        case BoxQPState::Upper: x(i) = u(i); break;
+        case BoxQPState::Fixed: x(i) = l(i); break;
+        case BoxQPState::Free:
+          position[static_cast<std::size_t>(i)] = static_cast<int>(free.size());
+          free.push_back(static_cast<int>(i));
+          x(i) = 0.0;
+          continue;
+      }
+      position[static_cast<std::size_t>(i)] = -1;
+    }
+    if (!free.empty())
+    {
+      if (!(have_factor && factor_free == free))
+      {
+        const auto factor_start = Clock::now();
+        try
+        {
+          factor.compute(principal_submatrix(A_, free, position));
+        }
+        catch (const Error& e)
+        {
+          if (e.code() != ErrorCode::InvalidArgument)
+            throw;
+          throw Error(ErrorCode::InvalidArgument,
+            "the quadratic term A restricted to the " + std::to_string(free.size()) +
+              " free variables of active-set iteration " + std::to_string(result.iterations) +
+              " cannot be factored (" + e.what() +
+              "); A must be symmetric positive definite on the variables that are not fixed, "
+              "otherwise the problem may be unbounded below");
+        }
+        factor_free = free;
+        have_factor = true;
+        ++result.factorizations;
+        result.factor_seconds += seconds_since(factor_start);
+      }
+      r.noalias() = A_ * x;
+      r += b;
+      Eigen::VectorXd rhs(static_cast<Index>(free.size()));
+      for (std::size_t k = 0; k < free.size(); ++k)
+        rhs(static_cast<Index>(k)) = -r(free[k]);
+      const Eigen::VectorXd x_free = factor.solve(rhs);
+      for (std::size_t k = 0; k < free.size(); ++k)
+        x(free[k]) = x_free(static_cast<Index>(k));
+    }
+    y.noalias() = A_ * x;
+    y += b;
+
+    // 2. Violators beyond half the tolerance.
+    const double tx = half_tolerance * scale_x();
+    const double ty = half_tolerance * scale_y();
+    violators.clear();
+    for (Index i = 0; i < n; ++i)
+    {
+      switch (state(i))
+      {
+        case BoxQPState::Free:
+          if (x(i) < l(i) - tx || x(i) > u(i) + tx)
+            violators.push_back(i);
+          break;
+        case BoxQPState::Lower:
+          if (y(i) < -ty)
+            violators.push_back(i);
+          break;
+        case BoxQPState::Upper:
+          if (y(i) > ty)
+            violators.push_back(i);
+          break;
+        case BoxQPState::Fixed: break;
+      }
+    }
+    result.violators = static_cast<Index>(violators.size());
+    if (violators.empty())
+    {
+      settled = true;
+      break;
+    }
+
+    // 3. Block step, or the safeguard's single step (Júdice & Pires 1994).
+    const Index count = static_cast<Index>(violators.size());
+    bool block = true;
+    if (count < best_violators)
+    {
+      best_violators = count;
+      attempts_left = options.block_attempts;
+    }
+    else if (attempts_left > 0)
+      --attempts_left;
+    else
+      block = false;
+    auto flip = [&](Index i) {
+      BoxQPState& s = state(i);
+      if (s == BoxQPState::Free)
+        s = x(i) < l(i) ? BoxQPState::Lower : BoxQPState::Upper;
+      else
+        s = BoxQPState::Free;
+    };
+    if (block)
+    {
+      for (const Index i : violators)
+        flip(i);
+      if (visited.count(state_hash(state)) != 0)
+      {
+        // The block step returns to an active set seen before (a cycle): undo it and take the
+        // single step instead.
+        for (const Index i : violators)
+          flip(i);
+        block = false;
+      }
+    }
+    if (!block)
+    {
+      flip(violators.back()); // the largest index
+      ++result.single_steps;
+    }
+  }
+
+  // Clamp onto the bounds (moves free variables by at most the primal threshold when settled)
+  // and certify the clamped point.
+  for (Index i = 0; i < n; ++i)
+    x(i) = std::min(u(i), std::max(l(i), x(i)));
+  y.noalias() = A_ * x;
+  y += b;
+  const double sx = scale_x();
+  const double sy = scale_y();
+  for (Index i = 0; i < n; ++i)
+  {
+    if (state(i) == BoxQPState::Fixed)
+    {
+      ++result.fixed;
+      continue;
+    }
+    if (x(i) == l(i))
+    {
+      ++result.lower;
+      result.dual_infeasibility = std::max(result.dual_infeasibility, -y(i) / sy);
+    }
+    else if (x(i) == u(i))
+    {
+      ++result.upper;
+      result.dual_infeasibility = std::max(result.dual_infeasibility, y(i) / sy);
+    }
+    else
+    {
+      ++result.free;
+      result.stationarity = std::max(result.stationarity, std::abs(y(i)) / sy);
+      const double gap = std::min(x(i) - l(i), u(i) - x(i));
+      if (std::isfinite(gap))
+        result.complementarity = std::max(result.complementarity, std::abs(y(i)) * gap / (sx * sy));
+    }
+    result.max_bound_violation =
+      std::max({ result.max_bound_violation, l(i) - x(i), x(i) - u(i) });
+  }
+  result.kkt_residual =
+    std::max({ result.stationarity, result.dual_infeasibility, result.complementarity });
+  result.objective = 0.5 * x.dot(y) + 0.5 * b.dot(x);
+  result.converged = settled && result.kkt_residual <= options.tolerance;
+  // The active set of x: variables that ended on a bound while free are reported in the sets
+  // they sit in. (When not settled, `state` already holds the next iteration's active set,
+  // which is what a warm start should continue from.)
+  for (Index i = 0; i < n; ++i)
+    if (solved(i) == BoxQPState::Free && (x(i) == l(i) || x(i) == u(i)))
+      solved(i) = x(i) == l(i) ? BoxQPState::Lower : BoxQPState::Upper;
+  if (settled)
+    state = solved;
+  result.x = std::move(x);
+  result.gradient = std::move(y);
+  result.state = solved;
+  if (warm)
+  {
+    warm->state = std::move(state);
+    if (have_factor)
+    {
+      warm->factor = factor;
+      warm->factor_free = Eigen::Map<const Eigen::VectorXi>(factor_free.data(),
+        static_cast<Index>(factor_free.size()));
+      warm->owner = id_;
+    }
+  }
+  result.seconds = seconds_since(start);
+  return result;
+}
+
+BoxQPResult box_constrained_qp(const SparseMatrix& A, const Eigen::VectorXd& b,
+  const Eigen::VectorXd& l, const Eigen::VectorXd& u, const BoxQPOptions& options,
+  const Eigen::VectorXd& x0)
+{
+  const BoxConstrainedQP qp(A);
+  if (x0.size() == 0)
+    return qp.solve(b, l, u, options);
+  BoxQPWarmStart warm;
+  warm.state = active_set_from_guess(x0, l, u);
+  return qp.solve(b, l, u, options, &warm);
+}
+
+} // namespace bary
