@@ -118,7 +118,7 @@ void add_method_options(CLI::App* cmd, WeightsParameters& p)
   mesh->add_option("--cells", p.target_cells,
        "approximate number of cells of the domain mesh (0: 3000 in 2D, 20000 in 3D)")
     ->default_val(0)
-    ->check(CLI::NonNegativeNumber);
+    ->check(CLI::Range(0, 50000000));
   mesh->add_option("--max-volume,--max-area", p.max_cell_size,
        "maximum tetrahedron volume / triangle area (overrides --cells)")
     ->default_val(0.0)
@@ -524,7 +524,7 @@ int main(int argc, char** argv)
   mesh->add_option("--output,-o", mea.output, "domain mesh (.vtu, or .vtk)")->required();
   mesh->add_option("--cells", mea.parameters.target_cells, "approximate number of cells")
     ->default_val(mea.parameters.target_cells)
-    ->check(CLI::PositiveNumber);
+    ->check(CLI::Range(1, 50000000));
   mesh->add_option("--max-volume,--max-area", mea.parameters.max_cell_size,
        "maximum tetrahedron volume / triangle area (overrides --cells)")
     ->default_val(0.0)

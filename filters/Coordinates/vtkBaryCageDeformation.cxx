@@ -174,15 +174,7 @@ int vtkBaryCageDeformation::RequestData(
         vtkWarningMacro(<< "Ignoring input array '" << this->WeightsArrayName << "': it has "
                         << given->GetNumberOfComponents() << " components but the cage has "
                         << nc << " points; computing weights instead.");
-      vtkBaryMethodParameters parameters;
-      parameters.Method = this->Method;
-      parameters.BoundaryTolerance = this->BoundaryTolerance;
-      parameters.ValidateCage = this->ValidateCage;
-      parameters.NumberOfThreads = this->NumberOfThreads;
-      parameters.TargetNumberOfCells = this->TargetNumberOfCells;
-      parameters.MaximumCellSize = this->MaximumCellSize;
-      parameters.InsertPointsIntoMesh = this->InsertPointsIntoMesh;
-      parameters.OutsidePolicy = this->OutsidePolicy;
+      const vtkBaryMethodParameters parameters = vtkBaryParametersOf(this);
 
       Hasher hasher;
       hash_points(hasher, restCage->GetPoints());

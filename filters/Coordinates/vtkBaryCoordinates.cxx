@@ -112,15 +112,7 @@ int vtkBaryCoordinates::RequestData(
         vtkWarningMacro(<< "The cage is 2D (a polygon): the points' z coordinates (from "
                         << bounds[4] << " to " << bounds[5] << ") are ignored.");
     }
-    vtkBaryMethodParameters parameters;
-    parameters.Method = this->Method;
-    parameters.BoundaryTolerance = this->BoundaryTolerance;
-    parameters.ValidateCage = this->ValidateCage;
-    parameters.NumberOfThreads = this->NumberOfThreads;
-    parameters.TargetNumberOfCells = this->TargetNumberOfCells;
-    parameters.MaximumCellSize = this->MaximumCellSize;
-    parameters.InsertPointsIntoMesh = this->InsertPointsIntoMesh;
-    parameters.OutsidePolicy = this->OutsidePolicy;
+    const vtkBaryMethodParameters parameters = vtkBaryParametersOf(this);
     vtkBaryMethodReport report;
     this->UpdateProgress(0.0);
     const bary::DenseWeights W = vtkBaryMethod::Compute(cage, points, parameters,

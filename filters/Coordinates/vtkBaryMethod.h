@@ -35,6 +35,23 @@ struct vtkBaryMethodParameters
   int OutsidePolicy = 0;            ///< vtkBaryCoordinates::OutsidePolicies
 };
 
+/// The method parameters of a filter with the standard weights settings (vtkBaryCoordinates,
+/// vtkBaryCageDeformation): one place copies them, so a new setting is added once.
+template <class Filter>
+vtkBaryMethodParameters vtkBaryParametersOf(Filter* filter)
+{
+  vtkBaryMethodParameters p;
+  p.Method = filter->GetMethod();
+  p.BoundaryTolerance = filter->GetBoundaryTolerance();
+  p.ValidateCage = filter->GetValidateCage();
+  p.NumberOfThreads = filter->GetNumberOfThreads();
+  p.TargetNumberOfCells = filter->GetTargetNumberOfCells();
+  p.MaximumCellSize = filter->GetMaximumCellSize();
+  p.InsertPointsIntoMesh = filter->GetInsertPointsIntoMesh();
+  p.OutsidePolicy = filter->GetOutsidePolicy();
+  return p;
+}
+
 /// Default target cell count of the domain mesh for a cage of dimension @p dim.
 inline int vtkBaryDefaultTargetCells(int dim)
 {
