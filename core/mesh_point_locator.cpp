@@ -432,8 +432,8 @@ MeshPointLocator::Result MeshPointLocator::interpolate(const DenseWeights& mesh_
       << tol_ << " from it); the first is point " << first << " at "
       << fmt_point(X.row(first).data(), dim_) << ", at distance "
       << result.outside_distance.front()
-      << ". Use OutsidePolicy::Nearest to clamp them to the mesh or OutsidePolicy::NaN to "
-         "mark them";
+      << ". Choose the outside policy 'nearest' to clamp them to the mesh or 'nan' to mark "
+         "them (OutsidePolicy::Nearest / NaN; on the command line --outside nearest|nan)";
     throw Error(ErrorCode::InvalidArgument, s.str());
   }
   return result;

@@ -1,8 +1,13 @@
 // barylab — the command line: a thin shell over the pipeline builder (barylabPipeline.h).
 //
 //   barylab weights --method mvc --cage CAGE --points MODEL --output OUT [--json SUMMARY]
+//   barylab weights --method bbw --mesh DOMAIN --handles HANDLES [--points MODEL] --output OUT
+//                   [--fast]
 //   barylab deform  --method mvc --cage REST --deformed-cage POSED --points MODEL --output OUT
 //                   [--weights FILE]
+//   barylab deform  --method bbw --mesh DOMAIN --handles HANDLES --points MODEL --output OUT
+//                   (--transforms POSE | --deformed-handles POSED [--pseudo-edges FILE])
+//                   [--weights FILE] [--fast]
 //   barylab stats   --input WEIGHTS_FILE [--cage CAGE] [--json] [--threshold T]
 //   barylab mesh    --cage CAGE [--points MODEL] [--max-volume V | --cells N] --output DOMAIN
 //   barylab render  --input WEIGHTS_FILE [--cage CAGE] --output PNG [--control I]
@@ -30,14 +35,25 @@
 
 #include <CLI/CLI.hpp>
 
+#include "core/skeleton.h"
+
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
+#include <sstream>
 #include <iostream>
 #include <unistd.h>
 
 namespace fs = std::filesystem;
+
+/// A command line that parses but does not make sense (exit code 2, like a parse error).
+struct UsageError : std::runtime_error
+{
+  using std::runtime_error::runtime_error;
+};
 using barylab::RunCallbacks;
 using barylab::WeightsParameters;
 using nlohmann::json;
@@ -125,9 +141,33 @@ void add_method_options(CLI::App* cmd, WeightsParameters& p)
     ->check(CLI::NonNegativeNumber);
   mesh->add_flag("--insert-points", p.insert_points,
     "make the points mesh vertices (exact finite-element values there)");
-  mesh->add_option("--outside", p.outside, "points outside the cage: error|nearest|nan")
+  mesh->add_option("--outside", p.outside, "points outside the cage/domain: error|nearest|nan")
     ->default_val(p.outside)
     ->check(CLI::IsMember({ "error", "nearest", "nan" }));
+  auto* bbw = cmd->add_option_group("bounded biharmonic weights", "--method bbw");
+  bbw->add_flag("--fast", p.bbw_fast,
+    "solve each handle alone, then normalize (the paper's fast mode); default: the coupled "
+    "problem with partition of unity enforced");
+}
+
+/// BBW inputs: --cage (cage handles) or --handles with --mesh (a skeleton in a domain).
+void check_bbw_inputs(const std::string& method, const std::string& cage,
+  const std::string& handles, const std::string& mesh)
+{
+  if (method != "bbw")
+  {
+    if (!handles.empty() || !mesh.empty())
+      throw UsageError("--handles and --mesh are for --method bbw");
+    if (cage.empty())
+      throw UsageError("--cage is required for --method " + method);
+    return;
+  }
+  if (!cage.empty() && (!handles.empty() || !mesh.empty()))
+    throw UsageError("--method bbw takes either --cage (cage handles) or --handles with --mesh "
+                     "(points and bones in a domain), not both");
+  if (cage.empty() && (handles.empty() || mesh.empty()))
+    throw UsageError("--method bbw needs --handles HANDLES and --mesh DOMAIN (or --cage CAGE for "
+                     "cage handles)");
 }
 
 enum class OutputKind
@@ -162,14 +202,30 @@ void check_output(const std::string& path, OutputKind kind)
 void print_summary(const json& s)
 {
   const json& p = s["points"];
-  std::cerr << "barylab: " << s["method"].get<std::string>() << " weights: "
-            << p["count"] << " points x " << s["cage"]["control_points"] << " control points ("
-            << s["cage"]["dimension"] << "D cage) in " << s["seconds"].get<double>() << " s; "
-            << p["inside"] << " inside, " << p["outside"] << " outside, " << p["on_cage"]
-            << " on the cage";
+  std::cerr << "barylab: " << s["method"].get<std::string>() << " weights: " << p["count"]
+            << " points x ";
+  if (s.contains("handles") && s["handles"].contains("count"))
+    std::cerr << s["handles"]["count"] << " handles (" << s["handles"]["point_handles"]
+              << " points, " << s["handles"]["bones"] << " bones; " << s["handles"]["dimension"]
+              << "D)";
+  else
+    std::cerr << s["cage"]["control_points"] << " control points (" << s["cage"]["dimension"]
+              << "D cage)";
+  std::cerr << " in " << s["seconds"].get<double>() << " s; " << p["inside"] << " inside, "
+            << p["outside"] << " outside, " << p["on_cage"] << " on the cage";
   if (p["undefined"].get<long long>() > 0)
     std::cerr << ", " << p["undefined"] << " undefined (NaN)";
   std::cerr << "\n";
+  if (s.contains("solver"))
+  {
+    const json& v = s["solver"];
+    std::cerr << "barylab: solver:";
+    for (const char* key : { "mesh_vertices", "mesh_cells", "fast_iterations", "outer_iterations",
+           "max_kkt_residual", "max_bound_violation", "partition_error", "solve_seconds" })
+      if (v.contains(key))
+        std::cerr << " " << key << " " << v[key].get<double>();
+    std::cerr << "\n";
+  }
 }
 
 // ---- subcommands ------------------------------------------------------------------------------
@@ -177,36 +233,42 @@ void print_summary(const json& s)
 struct WeightsArgs
 {
   WeightsParameters parameters;
-  std::string cage, points, output, json_path;
+  std::string cage, handles, mesh, points, output, json_path;
   bool quiet = false;
 };
 
 int run_weights(const WeightsArgs& a)
 {
+  barylab::MethodFromName(a.parameters.method);
+  check_bbw_inputs(a.parameters.method, a.cage, a.handles, a.mesh);
+  if (a.points.empty() && a.mesh.empty())
+    throw UsageError("--points is required (the points to compute weights at)");
   check_output(a.output, OutputKind::Data);
   if (!a.json_path.empty())
     check_output(a.json_path, OutputKind::Json);
-  barylab::MethodFromName(a.parameters.method);
-  auto cage = vtkBaryDataIO::ReadPolyData(a.cage);
-  auto points = vtkBaryDataIO::Read(a.points);
+  const bool skeleton = !a.handles.empty();
+  auto cage = vtkBaryDataIO::ReadPolyData(skeleton ? a.handles : a.cage);
+  vtkSmartPointer<vtkDataSet> domain = a.mesh.empty() ? nullptr : vtkBaryDataIO::Read(a.mesh);
+  auto points = a.points.empty() ? domain : vtkBaryDataIO::Read(a.points);
   ProgressBar bar(!a.quiet, "weights");
   json summary;
-  auto result =
-    barylab::ComputeWeights(points, cage, a.parameters, callbacks(bar, a.quiet), &summary);
+  auto result = barylab::ComputeWeights(
+    points, cage, a.parameters, callbacks(bar, a.quiet), &summary, domain);
   bar.done();
-  summary["cage"]["file"] = a.cage;
-  summary["points"]["file"] = a.points;
+  summary[skeleton ? "handles" : "cage"]["file"] = skeleton ? a.handles : a.cage;
+  if (domain)
+    summary["domain"] = { { "file", a.mesh } };
+  summary["points"]["file"] = a.points.empty() ? a.mesh : a.points;
   summary["output"] = a.output;
-  summary["statistics"] =
-    barylab::WeightStatisticsJson(result, a.parameters.weights_name, cage, -1.0,
-      a.parameters.cage_dimension);
+  summary["statistics"] = barylab::WeightStatisticsJson(result, a.parameters.weights_name,
+    skeleton ? nullptr : cage.Get(), -1.0, a.parameters.cage_dimension);
   vtkBaryDataIO::Write(result, a.output);
   if (!a.json_path.empty())
     barylab::WriteJson(summary, a.json_path);
   if (!a.quiet)
   {
     print_summary(summary);
-    if (summary["points"]["outside"].get<long long>() > 0)
+    if (summary["points"]["outside"].get<long long>() > 0 && a.parameters.method == "mvc")
       std::cerr << "barylab: note: " << summary["points"]["outside"]
                 << " point(s) lie outside the cage; mean value coordinates are defined there "
                    "but may be negative\n";
@@ -217,18 +279,181 @@ int run_weights(const WeightsArgs& a)
 struct DeformArgs
 {
   WeightsParameters parameters;
-  std::string cage, posed, points, weights, output, json_path;
+  std::string cage, posed, handles, mesh, transforms, posed_handles, pseudo_edges;
+  std::string points, weights, output, json_path;
   bool quiet = false;
 };
 
-int run_deform(const DeformArgs& a)
+/// The model to deform with the weights read from @p weights_path attached (checked against
+/// @p model when both are given), or @p model alone.
+vtkSmartPointer<vtkDataSet> attach_weights(vtkSmartPointer<vtkDataSet> model,
+  const std::string& model_path, const std::string& weights_path, const std::string& array,
+  vtkIdType components, const std::string& what)
 {
+  if (weights_path.empty())
+    return model;
+  auto weighted = vtkBaryDataIO::Read(weights_path);
+  vtkDataArray* w = weighted->GetPointData()->GetArray(array.c_str());
+  if (!w)
+    throw bary::Error(bary::ErrorCode::InvalidArgument,
+      "'" + weights_path + "' has no point-data array '" + array +
+        "' (write it with 'barylab weights')");
+  if (w->GetNumberOfComponents() != components)
+    throw bary::Error(bary::ErrorCode::SizeMismatch,
+      "the weights in '" + weights_path + "' have " + std::to_string(w->GetNumberOfComponents()) +
+        " components but " + what + " has " + std::to_string(components));
+  if (!model)
+    return weighted;
+  if (model->GetNumberOfPoints() != weighted->GetNumberOfPoints())
+    throw bary::Error(bary::ErrorCode::SizeMismatch,
+      "the weights in '" + weights_path + "' are for " +
+        std::to_string(weighted->GetNumberOfPoints()) + " points but '" + model_path + "' has " +
+        std::to_string(model->GetNumberOfPoints()));
+  const double scale = model->GetLength();
+  for (vtkIdType i = 0; i < model->GetNumberOfPoints(); ++i)
+  {
+    double x[3], y[3];
+    model->GetPoint(i, x);
+    weighted->GetPoint(i, y);
+    if (std::abs(x[0] - y[0]) + std::abs(x[1] - y[1]) + std::abs(x[2] - y[2]) > 1e-9 * scale)
+      throw bary::Error(bary::ErrorCode::SizeMismatch,
+        "the weights in '" + weights_path + "' were computed for other points: point " +
+          std::to_string(i) + " differs from '" + model_path + "'");
+  }
+  model->GetPointData()->AddArray(w);
+  return model;
+}
+
+/// Pseudo-edges file: one pair of point-handle indices (0-based) per line, '#' comments.
+Eigen::MatrixXi read_pseudo_edges(const std::string& path)
+{
+  if (path.empty())
+    return Eigen::MatrixXi();
+  std::ifstream in(path);
+  if (!in)
+    throw bary::Error(bary::ErrorCode::Io, "cannot read '" + path + "': no such file or not readable");
+  std::vector<std::array<int, 2>> edges;
+  std::string line;
+  for (int number = 1; std::getline(in, line); ++number)
+  {
+    line = line.substr(0, line.find('#'));
+    std::istringstream fields(line);
+    int a = 0, b = 0;
+    std::string rest;
+    if (!(fields >> a))
+      continue;
+    if (!(fields >> b) || (fields >> rest))
+      throw bary::Error(bary::ErrorCode::Io,
+        "cannot read '" + path + "' line " + std::to_string(number) +
+          ": a pseudo-edge line holds two point-handle indices");
+    edges.push_back({ a, b });
+  }
+  Eigen::MatrixXi E(static_cast<Eigen::Index>(edges.size()), 2);
+  for (std::size_t e = 0; e < edges.size(); ++e)
+    E.row(static_cast<Eigen::Index>(e)) << edges[e][0], edges[e][1];
+  return E;
+}
+
+int run_deform_bbw(const DeformArgs& a)
+{
+  if (a.transforms.empty() == a.posed_handles.empty())
+    throw UsageError("--method bbw with --handles needs either --transforms POSE or "
+                     "--deformed-handles POSED");
+  if (!a.pseudo_edges.empty() && a.posed_handles.empty())
+    throw UsageError("--pseudo-edges goes with --deformed-handles");
+  if (a.points.empty() && a.weights.empty())
+    throw UsageError("give --points MODEL or --weights FILE");
+  if (a.mesh.empty() && a.weights.empty())
+    throw UsageError("--method bbw needs --mesh DOMAIN to compute the weights (or --weights FILE)");
   check_output(a.output, OutputKind::Data);
   if (!a.json_path.empty())
     check_output(a.json_path, OutputKind::Json);
+  auto handles = vtkBaryDataIO::ReadPolyData(a.handles);
+  vtkSmartPointer<vtkDataSet> domain = a.mesh.empty() ? nullptr : vtkBaryDataIO::Read(a.mesh);
+  int dim = 3;
+  if (domain)
+    dim = vtkBaryConversion::DomainDimension(domain);
+  else
+  {
+    double b[6];
+    handles->GetBounds(b);
+    dim = b[5] - b[4] <= 1e-9 * std::max(1.0, std::max(b[1] - b[0], b[3] - b[2])) ? 2 : 3;
+  }
+  const bary::Skeleton skeleton = vtkBaryConversion::ToSkeleton(handles, dim);
+  std::vector<Eigen::MatrixXd> pose;
+  if (!a.transforms.empty())
+    pose = vtkBaryDataIO::ReadPose(a.transforms, skeleton.handle_count(), &skeleton);
+  else
+  {
+    auto posed = vtkBaryDataIO::Read(a.posed_handles);
+    auto* posedSet = vtkPointSet::SafeDownCast(posed);
+    if (!posedSet || posedSet->GetNumberOfPoints() != handles->GetNumberOfPoints())
+      throw bary::Error(bary::ErrorCode::SizeMismatch,
+        "'" + a.posed_handles + "' must hold the " + std::to_string(handles->GetNumberOfPoints()) +
+          " joints of '" + a.handles + "' moved (same points, same order)");
+    const Eigen::MatrixXd posedC = vtkBaryConversion::PointsToMatrix(posedSet, dim);
+    for (Eigen::MatrixXd T :
+      bary::transforms_from_joints(skeleton, posedC, read_pseudo_edges(a.pseudo_edges)))
+    {
+      if (dim == 2)
+      {
+        Eigen::MatrixXd L = Eigen::MatrixXd::Zero(3, 4);
+        L.topLeftCorner(2, 2) = T.leftCols(2);
+        L.block(0, 3, 2, 1) = T.col(2);
+        L(2, 2) = 1.0;
+        T = L;
+      }
+      pose.push_back(T);
+    }
+  }
+  vtkSmartPointer<vtkDataSet> model = a.points.empty() ? nullptr : vtkBaryDataIO::Read(a.points);
+  model = attach_weights(model, a.points, a.weights, a.parameters.weights_name,
+    skeleton.handle_count(), "the skeleton '" + a.handles + "'");
+  ProgressBar bar(!a.quiet, "deform");
+  json summary;
+  bool computed = false;
+  if (a.weights.empty())
+  {
+    json weights_summary;
+    model = barylab::ComputeWeights(model, handles, a.parameters, callbacks(bar, a.quiet),
+      &weights_summary, domain);
+    summary["weights"] = weights_summary;
+    computed = true;
+  }
+  vtkPointSet* weighted = vtkPointSet::SafeDownCast(model);
+  if (!weighted)
+    throw bary::Error(bary::ErrorCode::Io, "the model does not hold a point set");
+  json skin_summary;
+  auto deformed = barylab::Skin(weighted, pose, a.parameters, {}, &skin_summary);
+  bar.done();
+  summary["skinning"] = skin_summary;
+  summary["weights_computed"] = computed;
+  vtkBaryDataIO::Write(deformed, a.output);
+  if (!a.json_path.empty())
+    barylab::WriteJson(summary, a.json_path);
+  if (!a.quiet)
+    std::cerr << "barylab: skinned " << weighted->GetNumberOfPoints() << " points with "
+              << pose.size() << " handle transforms ("
+              << (computed ? "weights computed" : "weights from the input") << ")\n";
+  return 0;
+}
+
+int run_deform(const DeformArgs& a)
+{
   barylab::MethodFromName(a.parameters.method);
+  if (a.parameters.method == "bbw" && !a.handles.empty())
+    return run_deform_bbw(a);
+  check_bbw_inputs(a.parameters.method, a.cage, a.handles, a.mesh);
+  if (a.posed.empty())
+    throw UsageError("--deformed-cage is required (or, for --method bbw, --handles with "
+                     "--transforms / --deformed-handles)");
+  if (!a.transforms.empty() || !a.posed_handles.empty())
+    throw UsageError("--transforms and --deformed-handles go with --method bbw --handles");
+  check_output(a.output, OutputKind::Data);
+  if (!a.json_path.empty())
+    check_output(a.json_path, OutputKind::Json);
   if (a.points.empty() && a.weights.empty())
-    throw bary::Error(bary::ErrorCode::InvalidArgument, "give --points MODEL or --weights FILE");
+    throw UsageError("give --points MODEL or --weights FILE");
   auto cage = vtkBaryDataIO::ReadPolyData(a.cage);
   auto posedData = vtkBaryDataIO::Read(a.posed);
   vtkPointSet* posed = vtkPointSet::SafeDownCast(posedData);
@@ -236,42 +461,8 @@ int run_deform(const DeformArgs& a)
     throw bary::Error(bary::ErrorCode::Io, "'" + a.posed + "' does not hold a point set");
 
   vtkSmartPointer<vtkDataSet> modelData = a.points.empty() ? nullptr : vtkBaryDataIO::Read(a.points);
-  if (!a.weights.empty())
-  {
-    auto weighted = vtkBaryDataIO::Read(a.weights);
-    vtkDataArray* w = weighted->GetPointData()->GetArray(a.parameters.weights_name.c_str());
-    if (!w)
-      throw bary::Error(bary::ErrorCode::InvalidArgument,
-        "'" + a.weights + "' has no point-data array '" + a.parameters.weights_name +
-          "' (write it with 'barylab weights')");
-    if (w->GetNumberOfComponents() != cage->GetNumberOfPoints())
-      throw bary::Error(bary::ErrorCode::SizeMismatch,
-        "the weights in '" + a.weights + "' have " + std::to_string(w->GetNumberOfComponents()) +
-          " components but the cage '" + a.cage + "' has " +
-          std::to_string(cage->GetNumberOfPoints()) + " points");
-    if (modelData)
-    {
-      if (modelData->GetNumberOfPoints() != weighted->GetNumberOfPoints())
-        throw bary::Error(bary::ErrorCode::SizeMismatch,
-          "the weights in '" + a.weights + "' are for " +
-            std::to_string(weighted->GetNumberOfPoints()) + " points but '" + a.points +
-            "' has " + std::to_string(modelData->GetNumberOfPoints()));
-      double scale = modelData->GetLength();
-      for (vtkIdType i = 0; i < modelData->GetNumberOfPoints(); ++i)
-      {
-        double x[3], y[3];
-        modelData->GetPoint(i, x);
-        weighted->GetPoint(i, y);
-        if (std::abs(x[0] - y[0]) + std::abs(x[1] - y[1]) + std::abs(x[2] - y[2]) > 1e-9 * scale)
-          throw bary::Error(bary::ErrorCode::SizeMismatch,
-            "the weights in '" + a.weights + "' were computed for other points: point " +
-              std::to_string(i) + " differs from '" + a.points + "'");
-      }
-      modelData->GetPointData()->AddArray(w);
-    }
-    else
-      modelData = weighted;
-  }
+  modelData = attach_weights(modelData, a.points, a.weights, a.parameters.weights_name,
+    cage->GetNumberOfPoints(), "the cage '" + a.cage + "'");
   vtkPointSet* model = vtkPointSet::SafeDownCast(modelData);
   if (!model)
     throw bary::Error(bary::ErrorCode::Io, "the model does not hold a point set");
@@ -483,9 +674,13 @@ int main(int argc, char** argv)
 
   WeightsArgs wa;
   auto* weights = app.add_subcommand("weights", "compute coordinates of points w.r.t. a cage");
-  weights->add_option("--cage,-c", wa.cage, "cage: closed triangle surface (3D) or polygon (2D)")
-    ->required();
-  weights->add_option("--points,-p", wa.points, "points/mesh to evaluate at")->required();
+  weights->add_option("--cage,-c", wa.cage, "cage: closed triangle surface (3D) or polygon (2D)");
+  weights->add_option("--handles", wa.handles,
+    "bbw: skeleton (.tgf, or .vtp points + lines): bones and point handles");
+  weights->add_option("--mesh", wa.mesh,
+    "bbw: domain: tet/triangle mesh (.vtu, .mesh) or a closed surface / polygon to mesh");
+  weights->add_option("--points,-p", wa.points,
+    "points/mesh to evaluate at (bbw: default the --mesh itself)");
   weights->add_option("--output,-o", wa.output, "output file (.vtp/.vtu/.vtk keep the weights)")
     ->required();
   weights->add_option("--json", wa.json_path, "write a JSON summary (counts, timings, statistics)");
@@ -493,10 +688,19 @@ int main(int argc, char** argv)
   add_method_options(weights, wa.parameters);
 
   DeformArgs da;
-  auto* deform = app.add_subcommand("deform", "deform a model by moving its cage");
-  deform->add_option("--cage,-c", da.cage, "rest cage")->required();
-  deform->add_option("--deformed-cage,-d", da.posed, "moved cage (same points, same order)")
-    ->required();
+  auto* deform = app.add_subcommand("deform", "deform a model by moving its cage or handles");
+  deform->add_option("--cage,-c", da.cage, "rest cage");
+  deform->add_option("--deformed-cage,-d", da.posed, "moved cage (same points, same order)");
+  deform->add_option("--handles", da.handles, "bbw: skeleton (.tgf or .vtp points + lines)");
+  deform->add_option("--mesh", da.mesh, "bbw: domain mesh or closed surface (see 'weights')");
+  deform->add_option("--transforms", da.transforms,
+    "bbw: pose, one affine transform per handle (text: 12 numbers [A|t] row-major per line, 6 "
+    "in 2D; or libigl .dmat: per-bone quaternions or stacked transforms)");
+  deform->add_option("--deformed-handles", da.posed_handles,
+    "bbw: the skeleton's joints moved (same points, same order): bones rotate onto them");
+  deform->add_option("--pseudo-edges", da.pseudo_edges,
+    "bbw with --deformed-handles: pairs of point-handle indices whose rotations drive the "
+    "point handles' rotations (paper §3.4)");
   deform->add_option("--points,-p", da.points, "model to deform");
   deform->add_option("--weights,-w", da.weights,
     "reuse weights from a file written by 'barylab weights' (then --points is optional)");
@@ -592,6 +796,11 @@ int main(int argc, char** argv)
       ma.render = !no_render;
       return run_demo(ma);
     }
+  }
+  catch (const UsageError& e)
+  {
+    std::cerr << "barylab: usage error: " << e.what() << "\nRun with --help for more information.\n";
+    return 2;
   }
   catch (const bary::Error& e)
   {

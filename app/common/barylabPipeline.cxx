@@ -5,6 +5,7 @@
 #include "vtkBaryConversion.h"
 #include "vtkBaryCoordinates.h"
 #include "vtkBaryErrorObserver.h"
+#include "vtkBaryLinearBlendSkinning.h"
 
 #include "core/weight_statistics.h"
 
@@ -12,6 +13,7 @@
 #include "vtkCommand.h"
 #include "vtkDataArray.h"
 #include "vtkDataSet.h"
+#include "vtkDoubleArray.h"
 #include "vtkExecutive.h"
 #include "vtkPointData.h"
 #include "vtkPointSet.h"
@@ -110,6 +112,7 @@ void Configure(Filter* filter, const WeightsParameters& p)
   filter->SetMaximumCellSize(p.max_cell_size);
   filter->SetInsertPointsIntoMesh(p.insert_points);
   filter->SetOutsidePolicy(OutsidePolicyFromName(p.outside));
+  filter->SetBBWMode(p.bbw_fast ? vtkBaryCoordinates::BBW_FAST : vtkBaryCoordinates::BBW_COUPLED);
 }
 } // namespace
 
@@ -145,22 +148,44 @@ int CageDimension(vtkPolyData* cage, int requested)
 }
 
 vtkSmartPointer<vtkDataSet> ComputeWeights(vtkDataSet* points, vtkPolyData* cage,
-  const WeightsParameters& parameters, const RunCallbacks& callbacks, nlohmann::json* summary)
+  const WeightsParameters& parameters, const RunCallbacks& callbacks, nlohmann::json* summary,
+  vtkDataSet* domain)
 {
   vtkNew<vtkBaryCoordinates> filter;
   Configure(filter.Get(), parameters);
   filter->SetInputData(0, points);
   filter->SetCageData(cage);
+  if (domain)
+    filter->SetDomainData(domain);
   const auto t0 = std::chrono::steady_clock::now();
   RunAlgorithm(filter, callbacks, bary::ErrorCode::InvalidCage);
   const double elapsed = seconds_since(t0);
   vtkSmartPointer<vtkDataSet> out = vtkDataSet::SafeDownCast(filter->GetOutputDataObject(0));
   if (summary)
   {
-    const vtkBaryCage c = vtkBaryConversion::ToCage(cage, parameters.cage_dimension);
     (*summary)["method"] = parameters.method;
-    (*summary)["cage"] = { { "dimension", c.Cage.dimension() },
-      { "control_points", c.Cage.num_controls() }, { "faces", c.Cage.F.rows() } };
+    const bool skeleton = parameters.method == "bbw" && cage->GetNumberOfPolys() == 0 &&
+      cage->GetNumberOfStrips() == 0;
+    if (skeleton)
+    {
+      const int dim = vtkBaryConversion::DomainDimension(domain);
+      const bary::Skeleton s = vtkBaryConversion::ToSkeleton(cage, dim);
+      (*summary)["handles"] = { { "dimension", dim }, { "count", s.handle_count() },
+        { "point_handles", s.P.size() }, { "bones", s.BE.rows() }, { "joints", s.C.rows() } };
+    }
+    else
+    {
+      const vtkBaryCage c = vtkBaryConversion::ToCage(cage, parameters.cage_dimension);
+      (*summary)["cage"] = { { "dimension", c.Cage.dimension() },
+        { "control_points", c.Cage.num_controls() }, { "faces", c.Cage.F.rows() } };
+    }
+    if (filter->GetNumberOfStatistics() > 0)
+    {
+      nlohmann::json solver = nlohmann::json::object();
+      for (int i = 0; i < filter->GetNumberOfStatistics(); ++i)
+        solver[filter->GetStatisticName(i)] = filter->GetStatisticValue(i);
+      (*summary)["solver"] = solver;
+    }
     (*summary)["points"] = { { "count", points->GetNumberOfPoints() },
       { "inside", filter->GetNumberOfInsidePoints() },
       { "outside", filter->GetNumberOfOutsidePoints() },
@@ -188,6 +213,39 @@ vtkSmartPointer<vtkPointSet> Deform(vtkPointSet* model, vtkPolyData* rest_cage,
     (*summary)["method"] = parameters.method;
     (*summary)["weights_computed"] = filter->GetNumberOfWeightComputations() > 0;
     (*summary)["points"] = model->GetNumberOfPoints();
+    (*summary)["seconds"] = seconds_since(t0);
+  }
+  return filter->GetOutput();
+}
+
+vtkSmartPointer<vtkPointSet> Skin(vtkPointSet* weighted, const std::vector<Eigen::MatrixXd>& pose,
+  const WeightsParameters& parameters, const RunCallbacks& callbacks, nlohmann::json* summary)
+{
+  vtkNew<vtkDoubleArray> transforms;
+  transforms->SetName("Transforms");
+  transforms->SetNumberOfComponents(12);
+  transforms->SetNumberOfTuples(static_cast<vtkIdType>(pose.size()));
+  for (std::size_t j = 0; j < pose.size(); ++j)
+  {
+    if (pose[j].rows() != 3 || pose[j].cols() != 4)
+      throw bary::Error(bary::ErrorCode::SizeMismatch,
+        "transform " + std::to_string(j) + " is not 3 by 4 ([A | t])");
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 4; ++c)
+        transforms->SetComponent(static_cast<vtkIdType>(j), 4 * r + c, pose[j](r, c));
+  }
+  vtkNew<vtkBaryLinearBlendSkinning> filter;
+  filter->SetInputData(weighted);
+  filter->SetTransforms(transforms);
+  filter->SetWeightsArrayName(parameters.weights_name.c_str());
+  filter->SetNumberOfThreads(parameters.threads);
+  const auto t0 = std::chrono::steady_clock::now();
+  RunAlgorithm(filter, callbacks, bary::ErrorCode::InvalidArgument);
+  if (summary)
+  {
+    (*summary)["method"] = "linear blend skinning";
+    (*summary)["handles"] = pose.size();
+    (*summary)["points"] = weighted->GetNumberOfPoints();
     (*summary)["seconds"] = seconds_since(t0);
   }
   return filter->GetOutput();

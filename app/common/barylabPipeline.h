@@ -6,6 +6,7 @@
 
 #include "core/error.h"
 
+#include <Eigen/Core>
 #include <nlohmann/json.hpp>
 
 #include "vtkSmartPointer.h"
@@ -51,6 +52,8 @@ struct WeightsParameters
   double max_cell_size = 0.0;        ///< max triangle area / tet volume; 0 = from target_cells
   bool insert_points = false;        ///< make the evaluation points mesh vertices
   std::string outside = "error";     ///< points outside the cage: error | nearest | nan
+  // bounded biharmonic weights
+  bool bbw_fast = false;             ///< fast mode (per handle, then normalized) vs coupled
 };
 
 /// Parameters of `barylab mesh` / vtkBaryCageMesher.
@@ -73,8 +76,18 @@ vtkSmartPointer<vtkUnstructuredGrid> MeshCage(vtkPolyData* cage, vtkPointSet* po
 int MethodFromName(const std::string& name);
 
 /// Weights of the points of @p points w.r.t. @p cage: a copy of @p points with the weights
-/// array (and the CageLocation array). Fills @p summary (if given) with counts and timings.
+/// array (and the CageLocation array). Fills @p summary (if given) with counts and timings,
+/// and with the method's solver figures under "solver". For BBW, @p cage may instead be a
+/// skeleton (points and lines) with @p domain the mesh or closed surface it lives in (see
+/// vtkBaryCoordinates).
 vtkSmartPointer<vtkDataSet> ComputeWeights(vtkDataSet* points, vtkPolyData* cage,
+  const WeightsParameters& parameters, const RunCallbacks& callbacks = {},
+  nlohmann::json* summary = nullptr, vtkDataSet* domain = nullptr);
+
+/// Deforms @p weighted (carrying the weights array parameters.weights_name, one component per
+/// handle) by linear blend skinning with one 3 x 4 transform [A | t] per handle
+/// (vtkBaryLinearBlendSkinning).
+vtkSmartPointer<vtkPointSet> Skin(vtkPointSet* weighted, const std::vector<Eigen::MatrixXd>& pose,
   const WeightsParameters& parameters, const RunCallbacks& callbacks = {},
   nlohmann::json* summary = nullptr);
 

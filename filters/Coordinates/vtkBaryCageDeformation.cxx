@@ -188,6 +188,7 @@ int vtkBaryCageDeformation::RequestData(
       hasher.add(parameters.TargetNumberOfCells);
       hasher.add(parameters.MaximumCellSize);
       hasher.add(parameters.InsertPointsIntoMesh);
+      hasher.add(parameters.BBWMode);
       hasher.add(parameters.OutsidePolicy);
       if (!this->WeightCache->Valid || this->WeightCache->Key != hasher.h)
       {

@@ -95,6 +95,8 @@ public:
   vtkSetClampMacro(OutsidePolicy, int, vtkBaryCoordinates::OUTSIDE_ERROR,
     vtkBaryCoordinates::OUTSIDE_NAN);
   vtkGetMacro(OutsidePolicy, int);
+  vtkSetClampMacro(BBWMode, int, vtkBaryCoordinates::BBW_FAST, vtkBaryCoordinates::BBW_COUPLED);
+  vtkGetMacro(BBWMode, int);
   ///@}
 
   ///@{
@@ -131,6 +133,7 @@ protected:
   double MaximumCellSize = 0.0;
   bool InsertPointsIntoMesh = false;
   int OutsidePolicy = vtkBaryCoordinates::OUTSIDE_ERROR;
+  int BBWMode = vtkBaryCoordinates::BBW_COUPLED;
   vtkIdType NumberOfWeightComputations = 0;
 
 private:

@@ -5,6 +5,7 @@
 #include "vtkCellArray.h"
 #include "vtkDataSet.h"
 #include "vtkCellType.h"
+#include "vtkCellTypes.h"
 #include "vtkDoubleArray.h"
 #include "vtkIdTypeArray.h"
 #include "vtkPointData.h"
@@ -19,6 +20,7 @@
 #include "vtkSmartPointer.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <string>
 
@@ -312,27 +314,181 @@ bary::ErrorCode vtkBaryConversion::ErrorCodeOf(unsigned long vtkCode, bary::Erro
                                                : fallback;
 }
 
-vtkSmartPointer<vtkUnstructuredGrid> vtkBaryConversion::ToUnstructuredGrid(
-  const bary::DomainMesh& mesh, const vtkBaryCage& cage)
+bary::Skeleton vtkBaryConversion::ToSkeleton(vtkPolyData* data, int dimension)
+{
+  if (!data || !data->GetPoints() || data->GetNumberOfPoints() == 0)
+    throw Error(ErrorCode::EmptyInput, "the handles have no points");
+  if (dimension != CAGE_2D && dimension != CAGE_3D)
+    throw Error(ErrorCode::InvalidArgument, "the handles' dimension must be 2 or 3");
+  if (data->GetNumberOfPolys() > 0 || data->GetNumberOfStrips() > 0)
+    throw Error(ErrorCode::InvalidArgument,
+      "the handles have polygon cells: a skeleton is points (point handles) and lines (bones); "
+      "a closed surface or polygon is a cage (give it as cage handles, without a domain)");
+  vtkPoints* points = data->GetPoints();
+  const vtkIdType n = points->GetNumberOfPoints();
+  for (vtkIdType i = 0; i < n; ++i)
+  {
+    double x[3];
+    points->GetPoint(i, x);
+    if (!std::isfinite(x[0]) || !std::isfinite(x[1]) || !std::isfinite(x[2]))
+      throw Error(ErrorCode::NonFinite,
+        "handle point " + std::to_string(i) + " has a non-finite coordinate (NaN or inf)");
+  }
+  if (dimension == CAGE_2D)
+  {
+    double bounds[6];
+    if (!flat_in_z(points, bounds))
+      throw Error(ErrorCode::InvalidArgument,
+        "2D handles must lie in a plane z = const, but their z ranges over [" +
+          std::to_string(bounds[4]) + ", " + std::to_string(bounds[5]) + "]");
+  }
+  bary::Skeleton skeleton;
+  skeleton.C = ToMatrix(points, dimension);
+  std::vector<std::array<int, 2>> bones;
+  std::vector<char> on_bone(static_cast<std::size_t>(n), 0);
+  vtkCellArray* lines = data->GetLines();
+  for (vtkIdType c = 0; lines && c < lines->GetNumberOfCells(); ++c)
+  {
+    const std::vector<vtkIdType> ids = cell_ids(lines, c);
+    for (std::size_t k = 0; k + 1 < ids.size(); ++k)
+    {
+      bones.push_back({ static_cast<int>(ids[k]), static_cast<int>(ids[k + 1]) });
+      on_bone[static_cast<std::size_t>(ids[k])] = on_bone[static_cast<std::size_t>(ids[k + 1])] = 1;
+    }
+  }
+  skeleton.BE.resize(static_cast<Eigen::Index>(bones.size()), 2);
+  for (std::size_t b = 0; b < bones.size(); ++b)
+  {
+    skeleton.BE(static_cast<Eigen::Index>(b), 0) = bones[b][0];
+    skeleton.BE(static_cast<Eigen::Index>(b), 1) = bones[b][1];
+  }
+  std::vector<int> point_handles;
+  for (vtkIdType i = 0; i < n; ++i)
+    if (!on_bone[static_cast<std::size_t>(i)])
+      point_handles.push_back(static_cast<int>(i));
+  skeleton.P = Eigen::Map<const Eigen::VectorXi>(
+    point_handles.data(), static_cast<Eigen::Index>(point_handles.size()));
+  bary::validate_skeleton(skeleton);
+  return skeleton;
+}
+
+void vtkBaryConversion::ToSimplices(
+  vtkDataSet* data, int dimension, Eigen::MatrixXd& V, Eigen::MatrixXi& T)
+{
+  if (!data || data->GetNumberOfPoints() == 0)
+    throw Error(ErrorCode::EmptyInput, "the domain mesh has no points");
+  const vtkIdType nc = data->GetNumberOfCells();
+  vtkIdType tets = 0, triangles = 0;
+  for (vtkIdType c = 0; c < nc; ++c)
+  {
+    const int type = data->GetCellType(c);
+    tets += type == VTK_TETRA;
+    triangles += type == VTK_TRIANGLE;
+  }
+  if (tets == 0 && triangles == 0)
+    throw Error(ErrorCode::EmptyInput,
+      "the domain mesh has no tetrahedra and no triangles: give a tetrahedral mesh (.vtu, "
+      ".mesh) or a triangle mesh");
+  const int corners = tets > 0 ? 4 : 3;
+  T.resize(tets > 0 ? tets : triangles, corners);
+  vtkNew<vtkIdList> ids;
+  Eigen::Index row = 0;
+  for (vtkIdType c = 0; c < nc; ++c)
+  {
+    const int type = data->GetCellType(c);
+    if (tets > 0 ? type != VTK_TETRA : type != VTK_TRIANGLE)
+    {
+      const bool lower = type == VTK_VERTEX || type == VTK_POLY_VERTEX || type == VTK_LINE ||
+        type == VTK_POLY_LINE || (tets > 0 && (type == VTK_TRIANGLE || type == VTK_POLYGON ||
+        type == VTK_QUAD || type == VTK_TRIANGLE_STRIP));
+      if (lower || type == VTK_EMPTY_CELL)
+        continue;
+      throw Error(ErrorCode::InvalidArgument,
+        "domain mesh cell " + std::to_string(c) + " is a " +
+          std::string(vtkCellTypes::GetClassNameFromTypeId(type)) + "; the domain must be " +
+          (tets > 0 ? "tetrahedra" : "triangles") + " (triangulate it, e.g. vtkDataSetTriangleFilter)");
+    }
+    data->GetCellPoints(c, ids);
+    for (int k = 0; k < corners; ++k)
+      T(row, k) = static_cast<int>(ids->GetId(k));
+    ++row;
+  }
+  bool planar = false;
+  if (corners == 3)
+  {
+    double b[6];
+    data->GetBounds(b);
+    const double extent = std::max(b[1] - b[0], b[3] - b[2]);
+    planar = b[5] - b[4] <= 1e-9 * std::max(1.0, extent);
+    if (dimension == CAGE_2D && !planar)
+      throw Error(ErrorCode::InvalidArgument,
+        "a 2D domain mesh must lie in a plane z = const, but its z ranges over [" +
+          std::to_string(b[4]) + ", " + std::to_string(b[5]) + "]");
+  }
+  const int dim = corners == 3 && (dimension == CAGE_2D || (dimension == AUTOMATIC && planar)) ? 2 : 3;
+  V = PointsToMatrix(data, dim);
+  if (!V.allFinite())
+    throw Error(ErrorCode::NonFinite, "the domain mesh has NaN or infinite point coordinates");
+}
+
+int vtkBaryConversion::DomainDimension(vtkDataSet* domain)
+{
+  if (!domain || domain->GetNumberOfPoints() == 0)
+    throw Error(ErrorCode::EmptyInput,
+      "bounded biharmonic weights with point/bone handles need a domain: a tetrahedral or "
+      "triangle mesh, or a closed surface / polygon to mesh (none given)");
+  bool triangles = false, polygon = false;
+  for (vtkIdType c = 0; c < domain->GetNumberOfCells(); ++c)
+  {
+    const int type = domain->GetCellType(c);
+    if (type == VTK_TETRA)
+      return 3;
+    triangles = triangles || type == VTK_TRIANGLE;
+    polygon = polygon || type == VTK_POLYGON || type == VTK_POLY_LINE || type == VTK_QUAD;
+  }
+  double b[6];
+  domain->GetBounds(b);
+  const bool planar = b[5] - b[4] <= 1e-9 * std::max(1.0, std::max(b[1] - b[0], b[3] - b[2]));
+  if (triangles && !polygon)
+    return planar ? 2 : 3;
+  if (polygon && !triangles && planar)
+    return 2;
+  vtkPolyData* poly = vtkPolyData::SafeDownCast(domain);
+  if (domain->GetNumberOfCells() == 0 && poly && planar && domain->GetNumberOfPoints() >= 3)
+    return 2; // bare points in order: a polygon (an .obj with only `v` lines)
+  throw Error(ErrorCode::InvalidArgument,
+    "the domain is neither a simplicial mesh (tetrahedra, or triangles in a plane z = const) nor "
+    "a closed triangle surface nor one planar polygon");
+}
+
+vtkSmartPointer<vtkUnstructuredGrid> vtkBaryConversion::SimplicesToGrid(
+  const Eigen::MatrixXd& V, const Eigen::MatrixXi& T, double z)
 {
   auto grid = vtkSmartPointer<vtkUnstructuredGrid>::New();
   vtkNew<vtkPoints> points;
   points->SetDataTypeToDouble();
-  points->SetNumberOfPoints(mesh.V.rows());
-  const bool planar = mesh.V.cols() == 2;
-  for (Eigen::Index i = 0; i < mesh.V.rows(); ++i)
-    points->SetPoint(i, mesh.V(i, 0), mesh.V(i, 1), planar ? cage.PlaneZ : mesh.V(i, 2));
+  points->SetNumberOfPoints(V.rows());
+  const bool planar = V.cols() == 2;
+  for (Eigen::Index i = 0; i < V.rows(); ++i)
+    points->SetPoint(i, V(i, 0), V(i, 1), planar ? z : V(i, 2));
   grid->SetPoints(points);
-  const int corners = static_cast<int>(mesh.T.cols());
+  const int corners = static_cast<int>(T.cols());
   const int type = corners == 3 ? VTK_TRIANGLE : VTK_TETRA;
-  grid->Allocate(mesh.T.rows());
+  grid->Allocate(T.rows());
   vtkIdType ids[4];
-  for (Eigen::Index t = 0; t < mesh.T.rows(); ++t)
+  for (Eigen::Index t = 0; t < T.rows(); ++t)
   {
     for (int k = 0; k < corners; ++k)
-      ids[k] = mesh.T(t, k);
+      ids[k] = T(t, k);
     grid->InsertNextCell(type, corners, ids);
   }
+  return grid;
+}
+
+vtkSmartPointer<vtkUnstructuredGrid> vtkBaryConversion::ToUnstructuredGrid(
+  const bary::DomainMesh& mesh, const vtkBaryCage& cage)
+{
+  auto grid = SimplicesToGrid(mesh.V, mesh.T, cage.PlaneZ);
   vtkNew<vtkIdTypeArray> control;
   control->SetName("ControlPointId");
   control->SetNumberOfTuples(mesh.V.rows());

@@ -25,6 +25,7 @@
 #include "core/cage.h"  // for bary::Cage
 #include "core/domain_mesh.h" // for bary::DomainMesh
 #include "core/error.h" // for bary::ErrorCode
+#include "core/skeleton.h" // for bary::Skeleton
 #include "core/types.h" // for bary::DenseWeights
 #include <vector>       // for std::vector
 #endif
@@ -114,6 +115,38 @@ public:
    */
   static vtkSmartPointer<vtkUnstructuredGrid> ToUnstructuredGrid(
     const bary::DomainMesh& mesh, const vtkBaryCage& cage);
+
+  /**
+   * Handles of bounded biharmonic weights as a skeleton (libigl's convention, as in a .tgf):
+   * the points of @p handles are the joints; every segment of every line/polyline cell is a bone
+   * (cell order, then segment order); every point on no bone is a point handle (point order).
+   * Vertex cells are allowed (vtkBaryTGFReader writes one per point handle) and change nothing.
+   * Handle j of the weights is point handle j for j < #P, then bone j - #P.
+   * Throws bary::Error: EmptyInput (no points / no handle), InvalidArgument (polygon cells: a
+   * cage is not a skeleton; a zero-length bone, named), NonFinite (named point), and for
+   * @p dimension 2 when the points are not in a plane z = const.
+   */
+  static bary::Skeleton ToSkeleton(vtkPolyData* handles, int dimension);
+
+  /**
+   * The simplices of a domain mesh: tetrahedra (#T by 4) when @p data has any — other cells
+   * (boundary triangles, edges, vertices) are then ignored — else triangles (#T by 3; other
+   * polygons are an error). @p V receives the points (#V by 3, or by 2 for triangles when
+   * @p dimension is 2 or the triangles lie in a plane z = const and @p dimension is AUTOMATIC).
+   * Throws bary::Error: EmptyInput (no points or no triangle/tetrahedron), InvalidArgument
+   * (a non-simplex cell, named, or a non-planar triangle mesh asked as 2D), NonFinite.
+   */
+  static void ToSimplices(vtkDataSet* data, int dimension, Eigen::MatrixXd& V, Eigen::MatrixXi& T);
+
+  /// Dimension (2 or 3) of a BBW domain: a tetrahedral mesh -> 3, a triangle mesh in a plane
+  /// z = const -> 2, a closed triangle surface (to be tetrahedralized) -> 3, one polygon or
+  /// polyline, or bare points in a plane in polygon order (to be triangulated) -> 2. Throws
+  /// bary::Error for anything else or no domain.
+  static int DomainDimension(vtkDataSet* domain);
+
+  /// A simplicial mesh (#V by 2 or 3, #T by 3 or 4) as a vtkUnstructuredGrid (2D at z = @p z).
+  static vtkSmartPointer<vtkUnstructuredGrid> SimplicesToGrid(
+    const Eigen::MatrixXd& V, const Eigen::MatrixXi& T, double z = 0.0);
 
   /// bary::ErrorCode carried in vtkAlgorithm's error code (vtkErrorCode::UserError + 1 + code).
   static unsigned long ToVTKErrorCode(bary::ErrorCode code);

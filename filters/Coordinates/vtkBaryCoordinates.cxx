@@ -14,18 +14,19 @@
 #include "vtkPolyData.h"
 #include "vtkUnsignedCharArray.h"
 
+#include <cmath>
 #include <cstring>
 
 vtkStandardNewMacro(vtkBaryCoordinates);
 
 namespace
 {
-const char* const kMethodNames[] = { "mvc", "harmonic" };
+const char* const kMethodNames[] = { "mvc", "harmonic", "bbw" };
 }
 
 vtkBaryCoordinates::vtkBaryCoordinates()
 {
-  this->SetNumberOfInputPorts(2);
+  this->SetNumberOfInputPorts(3);
   this->SetWeightsArrayName("Weights");
   this->SetLocationArrayName("CageLocation");
 }
@@ -59,12 +60,49 @@ void vtkBaryCoordinates::SetCageConnection(vtkAlgorithmOutput* output)
   this->SetInputConnection(1, output);
 }
 
+void vtkBaryCoordinates::SetDomainData(vtkDataSet* domain)
+{
+  this->SetInputData(2, domain);
+}
+
+void vtkBaryCoordinates::SetDomainConnection(vtkAlgorithmOutput* output)
+{
+  this->SetInputConnection(2, output);
+}
+
+double vtkBaryCoordinates::GetStatistic(const char* name) const
+{
+  for (const auto& entry : this->Statistics)
+    if (name && entry.first == name)
+      return entry.second;
+  return std::nan("");
+}
+
+const char* vtkBaryCoordinates::GetStatisticName(int i) const
+{
+  return i >= 0 && i < this->GetNumberOfStatistics()
+    ? this->Statistics[static_cast<std::size_t>(i)].first.c_str()
+    : nullptr;
+}
+
+double vtkBaryCoordinates::GetStatisticValue(int i) const
+{
+  return i >= 0 && i < this->GetNumberOfStatistics()
+    ? this->Statistics[static_cast<std::size_t>(i)].second
+    : std::nan("");
+}
+
 int vtkBaryCoordinates::FillInputPortInformation(int port, vtkInformation* info)
 {
   if (port == 0)
     info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkDataSet");
-  else
+  else if (port == 1)
     info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkPolyData");
+  else
+  {
+    info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkDataSet");
+    info->Set(vtkAlgorithm::INPUT_IS_OPTIONAL(), 1);
+  }
   return 1;
 }
 
@@ -73,8 +111,10 @@ int vtkBaryCoordinates::RequestData(
 {
   vtkDataSet* input = vtkDataSet::GetData(inputVector[0]);
   vtkPolyData* cagePoly = vtkPolyData::GetData(inputVector[1]);
+  vtkDataSet* domain = vtkDataSet::GetData(inputVector[2]);
   vtkDataSet* output = vtkDataSet::GetData(outputVector);
   this->SetErrorCode(0);
+  this->Statistics.clear();
   this->NumberOfInsidePoints = this->NumberOfOutsidePoints = 0;
   this->NumberOfBoundaryPoints = this->NumberOfUndefinedPoints = 0;
   if (!input || !output)
@@ -101,6 +141,31 @@ int vtkBaryCoordinates::RequestData(
 
   try
   {
+    const auto progress = [this](double f) {
+      this->UpdateProgress(f);
+      return !this->GetAbortExecute();
+    };
+    // BBW with a skeleton (points and lines) on a domain; a BBW cage goes the cage way below.
+    const bool skeleton = this->Method == BBW && cagePoly->GetNumberOfPolys() == 0 &&
+      cagePoly->GetNumberOfStrips() == 0;
+    if (skeleton)
+    {
+      const int dim = vtkBaryConversion::DomainDimension(domain);
+      const bary::Skeleton handles = vtkBaryConversion::ToSkeleton(cagePoly, dim);
+      const Eigen::MatrixXd points = vtkBaryConversion::PointsToMatrix(input, dim);
+      vtkBaryMethodReport report;
+      this->UpdateProgress(0.0);
+      const bary::DenseWeights W = vtkBaryMethod::ComputeBBW(
+        handles, domain, points, vtkBaryParametersOf(this), progress, &report);
+      vtkBaryCage columns; // identity column order: handle j is component j
+      columns.ControlPointIds.resize(static_cast<std::size_t>(W.cols()));
+      for (std::size_t j = 0; j < columns.ControlPointIds.size(); ++j)
+        columns.ControlPointIds[j] = static_cast<vtkIdType>(j);
+      this->FinishOutput(output, W, columns, report);
+      return 1;
+    }
+    if (domain && this->Method != BBW)
+      vtkWarningMacro(<< "The domain (input 2) is used by BBW with skeleton handles only; ignored.");
     const vtkBaryCage cage = vtkBaryConversion::ToCage(cagePoly, this->CageDimension);
     const Eigen::MatrixXd points =
       vtkBaryConversion::PointsToMatrix(input, cage.Cage.dimension());
@@ -115,31 +180,9 @@ int vtkBaryCoordinates::RequestData(
     const vtkBaryMethodParameters parameters = vtkBaryParametersOf(this);
     vtkBaryMethodReport report;
     this->UpdateProgress(0.0);
-    const bary::DenseWeights W = vtkBaryMethod::Compute(cage, points, parameters,
-      [this](double f) {
-        this->UpdateProgress(f);
-        return !this->GetAbortExecute();
-      },
-      &report);
-
-    output->GetPointData()->AddArray(
-      vtkBaryConversion::ToArray(W, cage, this->WeightsArrayName));
-    if (this->GenerateLocation && this->LocationArrayName && *this->LocationArrayName)
-    {
-      vtkNew<vtkUnsignedCharArray> location;
-      location->SetName(this->LocationArrayName);
-      location->SetNumberOfTuples(static_cast<vtkIdType>(report.Location.size()));
-      std::copy(report.Location.begin(), report.Location.end(), location->GetPointer(0));
-      output->GetPointData()->AddArray(location);
-    }
-    this->NumberOfInsidePoints = report.Inside;
-    this->NumberOfOutsidePoints = report.Outside;
-    this->NumberOfBoundaryPoints = report.Boundary;
-    this->NumberOfUndefinedPoints = static_cast<vtkIdType>(report.Undefined.size());
-    if (!report.Undefined.empty())
-      vtkWarningMacro(<< report.Undefined.size()
-                      << " point(s) outside the cage have undefined weights (NaN), first id "
-                      << report.Undefined.front());
+    const bary::DenseWeights W =
+      vtkBaryMethod::Compute(cage, points, parameters, progress, &report);
+    this->FinishOutput(output, W, cage, report);
   }
   catch (const bary::Error& e)
   {
@@ -155,6 +198,29 @@ int vtkBaryCoordinates::RequestData(
     return 0;
   }
   return 1;
+}
+
+void vtkBaryCoordinates::FinishOutput(vtkDataSet* output, const bary::DenseWeights& W,
+  const vtkBaryCage& columns, const vtkBaryMethodReport& report)
+{
+  output->GetPointData()->AddArray(vtkBaryConversion::ToArray(W, columns, this->WeightsArrayName));
+  if (this->GenerateLocation && this->LocationArrayName && *this->LocationArrayName)
+  {
+    vtkNew<vtkUnsignedCharArray> location;
+    location->SetName(this->LocationArrayName);
+    location->SetNumberOfTuples(static_cast<vtkIdType>(report.Location.size()));
+    std::copy(report.Location.begin(), report.Location.end(), location->GetPointer(0));
+    output->GetPointData()->AddArray(location);
+  }
+  this->NumberOfInsidePoints = report.Inside;
+  this->NumberOfOutsidePoints = report.Outside;
+  this->NumberOfBoundaryPoints = report.Boundary;
+  this->NumberOfUndefinedPoints = static_cast<vtkIdType>(report.Undefined.size());
+  this->Statistics = report.Statistics;
+  if (!report.Undefined.empty())
+    vtkWarningMacro(<< report.Undefined.size()
+                    << " point(s) outside the domain have undefined weights (NaN), first id "
+                    << report.Undefined.front());
 }
 
 void vtkBaryCoordinates::PrintSelf(ostream& os, vtkIndent indent)
@@ -173,4 +239,5 @@ void vtkBaryCoordinates::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "MaximumCellSize: " << this->MaximumCellSize << "\n";
   os << indent << "InsertPointsIntoMesh: " << this->InsertPointsIntoMesh << "\n";
   os << indent << "OutsidePolicy: " << this->OutsidePolicy << "\n";
+  os << indent << "BBWMode: " << (this->BBWMode == BBW_FAST ? "fast" : "coupled") << "\n";
 }

@@ -7,6 +7,19 @@
  * triangle surface (3D), or one polygon in a plane z = const (2D: a polygon cell, a polyline, or
  * bare points in order as in an .obj with only `v` lines).
  *
+ * Bounded biharmonic weights (Method BBW) take two kinds of handles on input 1:
+ * - **cage handles**: a cage as above (3D: triangles; 2D: a polygon *cell* — bare points are
+ *   point handles for BBW). One handle per cage point, weights linear on the cage's faces
+ *   (Jacobson et al. Eq. 4); the cage's interior is meshed as for HARMONIC.
+ * - **a skeleton**: points and lines (vtkBaryConversion::ToSkeleton; libigl's .tgf convention):
+ *   every line segment is a bone, every point on no line a point handle; weights columns are the
+ *   point handles (point order), then the bones (cell order). Needs input 2, the **domain**: a
+ *   tetrahedral mesh or a triangle mesh in a plane z = const (used as is: it must contain the
+ *   joints and vertices along the bones, as libigl's .mesh files do), or a closed triangle
+ *   surface / one planar polygon, which is meshed with the joints and bone samples inserted.
+ * BBW's solver figures (iterations, KKT residual, bound violation, partition error, times) are
+ * available from GetStatistic() after an update.
+ *
  * Output: a shallow copy of input 0 with
  * - a point-data array WeightsArrayName (default "Weights") of #C components: component i is the
  *   weight of cage point i, so ParaView can colour, contour and warp by any component;
@@ -31,7 +44,16 @@
 #include "BaryLabFiltersModule.h" // for export macro
 #include "vtkPassInputTypeAlgorithm.h"
 
+#ifndef __VTK_WRAP__
+#include "core/types.h" // for bary::DenseWeights
+#endif
+
+class vtkDataSet;
 class vtkPolyData;
+
+#include <string>  // for std::string
+#include <utility> // for std::pair
+#include <vector>  // for std::vector
 
 class BARYLABFILTERS_EXPORT vtkBaryCoordinates : public vtkPassInputTypeAlgorithm
 {
@@ -45,7 +67,15 @@ public:
   {
     MEAN_VALUE = 0, ///< Hormann & Floater 2006 (2D), Ju et al. 2005 (3D); closed form, any point
     HARMONIC = 1,   ///< Joshi et al. 2007: finite elements on a mesh of the cage's interior
+    BBW = 2,        ///< Jacobson et al. 2011: bounded biharmonic weights (cage or skeleton handles)
     NUMBER_OF_METHODS
+  };
+
+  /// Bounded biharmonic weights: how the handles' problems are solved (bary::BBWMode).
+  enum BBWModes
+  {
+    BBW_FAST = 0,   ///< each handle alone, then rows normalized (the paper's §3.4 speed-up)
+    BBW_COUPLED = 1 ///< the full problem with partition of unity enforced (default)
   };
 
   /// What mesh-based methods do with points outside the cage.
@@ -62,6 +92,28 @@ public:
   vtkGetMacro(Method, int);
   void SetMethodToMeanValue() { this->SetMethod(MEAN_VALUE); }
   void SetMethodToHarmonic() { this->SetMethod(HARMONIC); }
+  void SetMethodToBBW() { this->SetMethod(BBW); }
+  ///@}
+
+  ///@{
+  /// BBW: BBW_FAST or BBW_COUPLED (default).
+  vtkSetClampMacro(BBWMode, int, BBW_FAST, BBW_COUPLED);
+  vtkGetMacro(BBWMode, int);
+  ///@}
+
+  ///@{
+  /// The domain of BBW with skeleton handles (input port 2, optional otherwise).
+  void SetDomainData(vtkDataSet* domain);
+  void SetDomainConnection(vtkAlgorithmOutput* output);
+  ///@}
+
+  ///@{
+  /// Figures of the last computation by name (NaN when the method does not report it), e.g.
+  /// "mesh_vertices", "fast_iterations", "max_kkt_residual", "partition_error", "solve_seconds".
+  double GetStatistic(const char* name) const;
+  int GetNumberOfStatistics() const { return static_cast<int>(this->Statistics.size()); }
+  const char* GetStatisticName(int i) const;
+  double GetStatisticValue(int i) const;
   ///@}
 
   ///@{
@@ -160,6 +212,11 @@ protected:
 
   int FillInputPortInformation(int port, vtkInformation* info) override;
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+#ifndef __VTK_WRAP__
+  /// Adds the weights (columns permuted by @p columns) and location arrays, keeps the counts.
+  void FinishOutput(vtkDataSet* output, const bary::DenseWeights& W, const struct vtkBaryCage& columns,
+    const struct vtkBaryMethodReport& report);
+#endif
 
   int Method = MEAN_VALUE;
   int CageDimension = 0;
@@ -173,11 +230,13 @@ protected:
   double MaximumCellSize = 0.0;
   bool InsertPointsIntoMesh = false;
   int OutsidePolicy = OUTSIDE_ERROR;
+  int BBWMode = BBW_COUPLED;
 
   vtkIdType NumberOfInsidePoints = 0;
   vtkIdType NumberOfOutsidePoints = 0;
   vtkIdType NumberOfBoundaryPoints = 0;
   vtkIdType NumberOfUndefinedPoints = 0;
+  std::vector<std::pair<std::string, double>> Statistics;
 
 private:
   vtkBaryCoordinates(const vtkBaryCoordinates&) = delete;

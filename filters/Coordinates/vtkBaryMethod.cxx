@@ -2,15 +2,145 @@
 
 #include "vtkBaryCoordinates.h"
 
+#include "core/bbw.h"
 #include "core/error.h"
 #include "core/harmonic_coordinates.h"
 #include "core/mean_value_coordinates.h"
+#include "core/mesh_point_locator.h"
 
+#include "vtkCellType.h"
+#include "vtkDataSet.h"
 #include "vtkObjectFactory.h"
+#include "vtkPolyData.h"
 
 #include <algorithm>
+#include <chrono>
+#include <cmath>
 
 vtkStandardNewMacro(vtkBaryMethod);
+
+namespace
+{
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point start)
+{
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+bary::OutsidePolicy outside_policy(const vtkBaryMethodParameters& parameters)
+{
+  static const bary::OutsidePolicy policies[] = { bary::OutsidePolicy::Error,
+    bary::OutsidePolicy::Nearest, bary::OutsidePolicy::NaN };
+  return policies[std::clamp(parameters.OutsidePolicy, 0, 2)];
+}
+
+/// A progress callback for the slice [begin, end] of @p progress.
+bary::ProgressCallback slice(const bary::ProgressCallback& progress, double begin, double end)
+{
+  return [&progress, begin, end](double f) { return !progress || progress(begin + (end - begin) * f); };
+}
+
+/// Location and undefined points of a mesh-based method from the locator's outside list.
+void report_outside(vtkBaryMethodReport* report, vtkIdType np, const std::vector<bary::Index>& outside,
+  bary::OutsidePolicy policy)
+{
+  if (!report)
+    return;
+  report->Outside = static_cast<vtkIdType>(outside.size());
+  report->Inside = np - report->Outside;
+  report->Boundary = 0;
+  report->Location.assign(static_cast<std::size_t>(np), 0);
+  for (auto id : outside)
+    report->Location[static_cast<std::size_t>(id)] = 1;
+  report->Undefined.clear();
+  if (policy == bary::OutsidePolicy::NaN)
+    report->Undefined.assign(outside.begin(), outside.end());
+}
+
+bary::BBWOptions bbw_options(const vtkBaryMethodParameters& parameters)
+{
+  bary::BBWOptions options;
+  options.mode = parameters.BBWMode == vtkBaryCoordinates::BBW_FAST ? bary::BBWMode::Fast
+                                                                     : bary::BBWMode::Coupled;
+  options.threads = parameters.NumberOfThreads;
+  return options;
+}
+
+/// BBW on the mesh (V, T), then interpolated at @p points; fills the report.
+bary::DenseWeights solve_bbw_and_interpolate(const Eigen::MatrixXd& V, const Eigen::MatrixXi& T,
+  const bary::BBWHandles& handles, const Eigen::MatrixXd& points,
+  const vtkBaryMethodParameters& parameters, const bary::ProgressCallback& progress,
+  double begin, vtkBaryMethodReport* report)
+{
+  const bary::BBWResult result =
+    bary::bounded_biharmonic_weights(V, T, handles, bbw_options(parameters), slice(progress, begin, 0.95));
+  const bary::MeshPointLocator locator(V, T);
+  const bary::OutsidePolicy policy = outside_policy(parameters);
+  bary::MeshPointLocator::Result at_points =
+    locator.interpolate(result.W, points, policy, slice(progress, 0.95, 1.0));
+  report_outside(report, points.rows(), at_points.outside, policy);
+  if (report)
+  {
+    auto& st = report->Statistics;
+    long long iterations = 0, factorizations = 0;
+    int most = 0;
+    for (std::size_t j = 0; j < result.iterations.size(); ++j)
+    {
+      iterations += result.iterations[j];
+      factorizations += result.factorizations[j];
+      most = std::max(most, result.iterations[j]);
+    }
+    st.emplace_back("mesh_vertices", static_cast<double>(V.rows()));
+    st.emplace_back("mesh_cells", static_cast<double>(T.rows()));
+    st.emplace_back("handles", static_cast<double>(handles.handle_count()));
+    st.emplace_back("fixed_vertices", static_cast<double>(result.fixed_vertices));
+    st.emplace_back("coupled", result.mode == bary::BBWMode::Coupled ? 1.0 : 0.0);
+    st.emplace_back("fast_iterations", static_cast<double>(iterations));
+    st.emplace_back("fast_factorizations", static_cast<double>(factorizations));
+    st.emplace_back("max_fast_iterations_per_handle", static_cast<double>(most));
+    if (result.mode == bary::BBWMode::Coupled)
+    {
+      st.emplace_back("outer_iterations", result.outer_iterations);
+      st.emplace_back("coupled_iterations", result.coupled_iterations);
+      st.emplace_back("coupled_factorizations", result.coupled_factorizations);
+      st.emplace_back("coupled_kkt_residual", result.coupled_kkt_residual);
+      st.emplace_back("fast_difference_mean", result.fast_difference_mean);
+      st.emplace_back("fast_difference_max", result.fast_difference_max);
+    }
+    st.emplace_back("max_kkt_residual", result.max_kkt_residual);
+    st.emplace_back("max_bound_violation", result.max_bound_violation);
+    st.emplace_back("partition_error", result.partition_error);
+    st.emplace_back("partition_error_before_normalization", result.partition_error_before_normalization);
+    st.emplace_back("converged", result.converged ? 1.0 : 0.0);
+    st.emplace_back("solve_seconds", result.seconds);
+  }
+  return std::move(at_points.W);
+}
+
+/// Enclosed area (2D) or volume (3D) of a cage, for size bounds before meshing.
+double enclosed_measure(const bary::Cage& cage)
+{
+  double sum = 0.0;
+  if (cage.dimension() == 2)
+  {
+    const bary::Index n = cage.V.rows();
+    for (bary::Index i = 0; i < n; ++i)
+    {
+      const bary::Index j = (i + 1) % n;
+      sum += cage.V(i, 0) * cage.V(j, 1) - cage.V(j, 0) * cage.V(i, 1);
+    }
+    return std::abs(sum) / 2.0;
+  }
+  for (bary::Index f = 0; f < cage.F.rows(); ++f)
+  {
+    const Eigen::Vector3d a = cage.V.row(cage.F(f, 0)), b = cage.V.row(cage.F(f, 1)),
+                          c = cage.V.row(cage.F(f, 2));
+    sum += a.dot(b.cross(c));
+  }
+  return std::abs(sum) / 6.0;
+}
+} // namespace
 
 bary::PolygonMeshOptions vtkBaryMethod::PolygonMeshOptions(
   const vtkBaryMethodParameters& parameters, const Eigen::MatrixXd& points)
@@ -70,29 +200,110 @@ bary::DenseWeights vtkBaryMethod::Compute(const vtkBaryCage& cage,
       options.surface_mesh = SurfaceMeshOptions(parameters, points);
       const bary::HarmonicCoordinates harmonic(cage.Cage, options,
         [&progress](double f) { return !progress || progress(0.9 * f); });
-      static const bary::OutsidePolicy policies[] = { bary::OutsidePolicy::Error,
-        bary::OutsidePolicy::Nearest, bary::OutsidePolicy::NaN };
-      const bary::OutsidePolicy policy = policies[std::clamp(parameters.OutsidePolicy, 0, 2)];
+      const bary::OutsidePolicy policy = outside_policy(parameters);
       std::vector<bary::Index> outside;
       bary::DenseWeights W = harmonic.evaluate(points, policy, &outside,
         [&progress](double f) { return !progress || progress(0.9 + 0.1 * f); });
+      report_outside(report, points.rows(), outside, policy);
       if (report)
       {
-        const vtkIdType np = points.rows();
-        report->Outside = static_cast<vtkIdType>(outside.size());
-        report->Inside = np - report->Outside;
-        report->Boundary = 0;
-        report->Location.assign(static_cast<std::size_t>(np), 0);
-        for (auto id : outside)
-          report->Location[static_cast<std::size_t>(id)] = 1;
-        report->Undefined.clear();
-        if (policy == bary::OutsidePolicy::NaN)
-          report->Undefined.assign(outside.begin(), outside.end());
+        report->Statistics.emplace_back("mesh_vertices", harmonic.mesh().num_vertices());
+        report->Statistics.emplace_back("mesh_cells", harmonic.mesh().num_elements());
       }
       return W;
+    }
+    case vtkBaryCoordinates::BBW:
+    {
+      // Cage handles (Eq. 4): one handle per cage vertex, values linear on the cage's faces
+      // (edges in 2D) fixed on the mesh boundary.
+      const auto start = Clock::now();
+      const bary::DomainMesh mesh = cage.Cage.dimension() == 2
+        ? bary::mesh_polygon(cage.Cage, PolygonMeshOptions(parameters, points), slice(progress, 0, 0.1))
+        : bary::mesh_closed_surface(cage.Cage, SurfaceMeshOptions(parameters, points), slice(progress, 0, 0.1));
+      bary::BBWHandles handles;
+      handles.extra_handles = cage.Cage.num_controls();
+      handles.fixed_vertices = Eigen::Map<const Eigen::VectorXi>(
+        mesh.boundary_vertices.data(), static_cast<Eigen::Index>(mesh.boundary_vertices.size()));
+      handles.fixed_values = bary::DenseWeights(mesh.boundary_weights);
+      if (report)
+        report->Statistics.emplace_back("mesh_seconds", seconds_since(start));
+      return solve_bbw_and_interpolate(mesh.V, mesh.T, handles, points, parameters, progress, 0.1, report);
     }
     default:
       throw bary::Error(bary::ErrorCode::InvalidArgument,
         "unknown coordinate method " + std::to_string(parameters.Method));
   }
+}
+
+bary::DenseWeights vtkBaryMethod::ComputeBBW(const bary::Skeleton& skeleton, vtkDataSet* domain,
+  const Eigen::MatrixXd& points, const vtkBaryMethodParameters& parameters,
+  const bary::ProgressCallback& progress, vtkBaryMethodReport* report)
+{
+  const int dim = vtkBaryConversion::DomainDimension(domain);
+  if (skeleton.dimension() != dim)
+    throw bary::Error(bary::ErrorCode::SizeMismatch,
+      "the handles are " + std::to_string(skeleton.dimension()) + "D but the domain is " +
+        std::to_string(dim) + "D");
+  bary::validate_skeleton(skeleton);
+  const auto start = Clock::now();
+  Eigen::MatrixXd V;
+  Eigen::MatrixXi T;
+  bool meshed = false;
+  // A simplicial mesh is used as is; a closed surface or a polygon is meshed with the skeleton.
+  bool tets = false, triangles = false, polygons = false;
+  for (vtkIdType c = 0; c < domain->GetNumberOfCells(); ++c)
+  {
+    const int type = domain->GetCellType(c);
+    tets = tets || type == VTK_TETRA;
+    triangles = triangles || type == VTK_TRIANGLE;
+    polygons = polygons || type == VTK_POLYGON || type == VTK_POLY_LINE || type == VTK_QUAD;
+  }
+  const bool simplicial = tets || (dim == 2 && triangles && !polygons);
+  if (simplicial)
+    vtkBaryConversion::ToSimplices(domain, dim, V, T);
+  else
+  {
+    vtkPolyData* surface = vtkPolyData::SafeDownCast(domain);
+    if (!surface)
+      throw bary::Error(bary::ErrorCode::InvalidArgument,
+        "a domain to be meshed must be a vtkPolyData (a closed triangle surface or a polygon)");
+    const vtkBaryCage boundary = vtkBaryConversion::ToCage(surface, dim);
+    // Bone samples about one cell size apart, so the bones are resolved by the mesh.
+    const int target = parameters.TargetNumberOfCells > 0 ? parameters.TargetNumberOfCells
+                                                          : vtkBaryDefaultTargetCells(dim);
+    const double cell = parameters.MaximumCellSize > 0 ? parameters.MaximumCellSize
+                                                       : enclosed_measure(boundary.Cage) / target;
+    const double spacing = dim == 2 ? std::sqrt(4.0 * cell / std::sqrt(3.0))
+                                    : std::cbrt(6.0 * std::sqrt(2.0) * cell);
+    const Eigen::MatrixXd samples = bary::skeleton_samples(skeleton, spacing);
+    Eigen::MatrixXd steiner = samples;
+    if (parameters.InsertPointsIntoMesh)
+    {
+      steiner.resize(samples.rows() + points.rows(), dim);
+      steiner << samples, points;
+    }
+    vtkBaryMethodParameters meshing = parameters;
+    meshing.InsertPointsIntoMesh = false;
+    bary::DomainMesh mesh;
+    if (dim == 2)
+    {
+      bary::PolygonMeshOptions options = PolygonMeshOptions(meshing, points);
+      options.steiner_points = steiner;
+      mesh = bary::mesh_polygon(boundary.Cage, options, slice(progress, 0, 0.1));
+    }
+    else
+    {
+      bary::SurfaceMeshOptions options = SurfaceMeshOptions(meshing, points);
+      options.steiner_points = steiner;
+      mesh = bary::mesh_closed_surface(boundary.Cage, options, slice(progress, 0, 0.1));
+    }
+    V = std::move(mesh.V);
+    T = std::move(mesh.T);
+    meshed = true;
+  }
+  const bary::BBWHandles handles =
+    bary::handles_from_skeleton(V, skeleton.C, skeleton.P, skeleton.BE);
+  if (report && meshed)
+    report->Statistics.emplace_back("mesh_seconds", seconds_since(start));
+  return solve_bbw_and_interpolate(V, T, handles, points, parameters, progress, 0.1, report);
 }

@@ -14,10 +14,12 @@
 #include "vtkObject.h"
 
 #include "core/domain_mesh.h"
+#include "core/skeleton.h"
 #include "core/progress.h"
 #include "core/types.h"
 
 #include <string>
+#include <utility>
 #include <vector>
 
 /// Parameters shared by every filter that computes weights (the CLI and the viewer edit the
@@ -33,6 +35,8 @@ struct vtkBaryMethodParameters
   double MaximumCellSize = 0.0;     ///< max triangle area / tet volume; 0 = from the target
   bool InsertPointsIntoMesh = false; ///< make the evaluation points mesh vertices
   int OutsidePolicy = 0;            ///< vtkBaryCoordinates::OutsidePolicies
+  // bounded biharmonic weights
+  int BBWMode = 1;                  ///< vtkBaryCoordinates::BBWModes (default coupled)
 };
 
 /// The method parameters of a filter with the standard weights settings (vtkBaryCoordinates,
@@ -49,6 +53,7 @@ vtkBaryMethodParameters vtkBaryParametersOf(Filter* filter)
   p.MaximumCellSize = filter->GetMaximumCellSize();
   p.InsertPointsIntoMesh = filter->GetInsertPointsIntoMesh();
   p.OutsidePolicy = filter->GetOutsidePolicy();
+  p.BBWMode = filter->GetBBWMode();
   return p;
 }
 
@@ -64,7 +69,12 @@ struct vtkBaryMethodReport
   vtkIdType Inside = 0, Outside = 0, Boundary = 0;
   std::vector<vtkIdType> Undefined; ///< points whose weights are undefined (NaN rows)
   std::vector<unsigned char> Location; ///< per point: 0 inside, 1 outside, 2 on the cage
+  /// Solver and mesh figures of iterative / mesh-based methods, in the order computed
+  /// (e.g. "iterations", "max_kkt_residual", "mesh_vertices", "seconds").
+  std::vector<std::pair<std::string, double>> Statistics;
 };
+
+class vtkDataSet;
 
 class BARYLABFILTERS_NO_EXPORT vtkBaryMethod : public vtkObject
 {
@@ -84,6 +94,19 @@ public:
   static bary::DenseWeights Compute(const vtkBaryCage& cage, const Eigen::MatrixXd& points,
     const vtkBaryMethodParameters& parameters, const bary::ProgressCallback& progress,
     vtkBaryMethodReport* report);
+
+  /**
+   * Bounded biharmonic weights of skeleton handles (points and bones, see
+   * vtkBaryConversion::ToSkeleton) on @p domain (see vtkBaryConversion::DomainDimension): a simplicial mesh is used
+   * as is (it must hold the joints and vertices along the bones: libigl's rule,
+   * bary::handles_from_skeleton); a closed surface / polygon is meshed first with the joints and
+   * bone samples (and, with InsertPointsIntoMesh, @p points) as Steiner points. Weights at
+   * @p points (#P by dim) are interpolated on the mesh; columns in libigl's handle order.
+   * @throws bary::Error
+   */
+  static bary::DenseWeights ComputeBBW(const bary::Skeleton& skeleton, vtkDataSet* domain,
+    const Eigen::MatrixXd& points, const vtkBaryMethodParameters& parameters,
+    const bary::ProgressCallback& progress, vtkBaryMethodReport* report);
 
 protected:
   vtkBaryMethod() = default;

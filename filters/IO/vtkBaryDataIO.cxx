@@ -410,3 +410,140 @@ void vtkBaryDataIO::WriteDMAT(const Eigen::MatrixXd& M, const std::string& path)
     throw Error(ErrorCode::Io, "cannot write '" + path + "'");
   }
 }
+
+namespace
+{
+/// A 2D transform (2 x 3) lifted to 3 x 4; a 3 x 4 returned as is.
+Eigen::MatrixXd lift(const Eigen::MatrixXd& T)
+{
+  if (T.rows() == 3)
+    return T;
+  Eigen::MatrixXd L = Eigen::MatrixXd::Zero(3, 4);
+  L.topLeftCorner(2, 2) = T.leftCols(2);
+  L.block(0, 3, 2, 1) = T.col(2);
+  L(2, 2) = 1.0;
+  return L;
+}
+} // namespace
+
+std::vector<Eigen::MatrixXd> vtkBaryDataIO::ReadPose(
+  const std::string& path, Eigen::Index handles, const bary::Skeleton* skeleton)
+{
+  std::vector<Eigen::MatrixXd> pose;
+  const auto count_mismatch = [&](Eigen::Index got, const std::string& what) {
+    return Error(ErrorCode::SizeMismatch,
+      "'" + path + "' holds " + std::to_string(got) + " " + what + " but the weights have " +
+        std::to_string(handles) + " handles: a pose needs one transform per handle, in weights "
+        "order (point handles, then bones)");
+  };
+  if (Extension(path) == ".dmat")
+  {
+    const Eigen::MatrixXd M = ReadDMAT(path);
+    const Eigen::Index bones = skeleton ? skeleton->BE.rows() : -1;
+    const bool column = M.cols() == 1 && M.rows() % 4 == 0 && M.rows() > 0;
+    const bool rows4 = M.cols() == 4 && M.rows() > 0;
+    if (column || rows4)
+    {
+      // libigl's per-bone rotations (x y z w), relative to the parent bone.
+      const Eigen::Index nq = column ? M.rows() / 4 : M.rows();
+      if (!skeleton)
+        throw Error(ErrorCode::InvalidArgument,
+          "'" + path + "' holds " + std::to_string(nq) + " quaternions (per-bone rotations); "
+          "posing them needs the skeleton (the handles file)");
+      if (nq != bones)
+        throw Error(ErrorCode::SizeMismatch,
+          "'" + path + "' holds " + std::to_string(nq) + " quaternions but the skeleton has " +
+            std::to_string(bones) + " bones (one rotation per bone, in bone order)");
+      std::vector<Eigen::Quaterniond> rotations;
+      for (Eigen::Index b = 0; b < nq; ++b)
+      {
+        const auto q = [&](int k) { return column ? M(4 * b + k, 0) : M(b, k); };
+        rotations.emplace_back(q(3), q(0), q(1), q(2));
+      }
+      const std::vector<Eigen::MatrixXd> bone_transforms = bary::forward_kinematics(*skeleton, rotations);
+      Eigen::MatrixXd identity = Eigen::MatrixXd::Zero(3, 4);
+      identity.leftCols(3).setIdentity();
+      pose.assign(static_cast<std::size_t>(skeleton->P.size()), identity);
+      pose.insert(pose.end(), bone_transforms.begin(), bone_transforms.end());
+      return pose;
+    }
+    // libigl's stacked transforms: (dim + 1) m rows by dim columns.
+    const Eigen::Index dim = M.cols();
+    if ((dim != 2 && dim != 3) || M.rows() % (dim + 1) != 0)
+      throw Error(ErrorCode::Io,
+        "'" + path + "' is a " + std::to_string(M.rows()) + " by " + std::to_string(M.cols()) +
+          " matrix: a .dmat pose holds per-bone quaternions (4 #B numbers) or libigl's stacked "
+          "transforms ((dim+1) #handles rows by dim columns)");
+    if (M.rows() / (dim + 1) != handles)
+      throw count_mismatch(M.rows() / (dim + 1), "transforms");
+    for (Eigen::Index j = 0; j < handles; ++j)
+      pose.push_back(lift(M.block((dim + 1) * j, 0, dim + 1, dim).transpose()));
+    return pose;
+  }
+
+  std::ifstream in(path);
+  if (!in)
+    throw Error(ErrorCode::Io, "cannot read '" + path + "': no such file or not readable");
+  std::string line;
+  int line_number = 0;
+  while (std::getline(in, line))
+  {
+    ++line_number;
+    const auto hash = line.find('#');
+    if (hash != std::string::npos)
+      line.erase(hash);
+    std::vector<double> values;
+    std::size_t i = 0;
+    while (i < line.size())
+    {
+      while (i < line.size() && std::isspace(static_cast<unsigned char>(line[i])))
+        ++i;
+      if (i == line.size())
+        break;
+      std::size_t j = i;
+      while (j < line.size() && !std::isspace(static_cast<unsigned char>(line[j])))
+        ++j;
+      double x = 0;
+      const char* begin = line.data() + i + (line[i] == '+' ? 1 : 0);
+      const auto [end, ec] = std::from_chars(begin, line.data() + j, x);
+      if (ec != std::errc() || end != line.data() + j)
+        throw Error(ErrorCode::Io,
+          "cannot read '" + path + "' line " + std::to_string(line_number) + ": '" +
+            line.substr(i, j - i) + "' is not a number");
+      if (!std::isfinite(x))
+        throw Error(ErrorCode::NonFinite,
+          "'" + path + "' line " + std::to_string(line_number) + " holds NaN or infinity");
+      values.push_back(x);
+      i = j;
+    }
+    if (values.empty())
+      continue;
+    Eigen::MatrixXd T;
+    switch (values.size())
+    {
+      case 12:
+        T = Eigen::Map<const Eigen::Matrix<double, 3, 4, Eigen::RowMajor>>(values.data());
+        break;
+      case 6:
+        T = Eigen::Map<const Eigen::Matrix<double, 2, 3, Eigen::RowMajor>>(values.data());
+        break;
+      case 3:
+      case 2:
+        T = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(values.size()),
+          static_cast<Eigen::Index>(values.size()) + 1);
+        T.leftCols(static_cast<Eigen::Index>(values.size())).setIdentity();
+        for (std::size_t k = 0; k < values.size(); ++k)
+          T(static_cast<Eigen::Index>(k), static_cast<Eigen::Index>(values.size())) = values[k];
+        break;
+      default:
+        throw Error(ErrorCode::Io,
+          "cannot read '" + path + "' line " + std::to_string(line_number) + ": " +
+            std::to_string(values.size()) + " numbers; a pose line holds 12 (3D [A | t] "
+            "row-major), 6 (2D), 3 or 2 (a translation)");
+    }
+    pose.push_back(lift(T));
+  }
+  if (static_cast<Eigen::Index>(pose.size()) != handles)
+    throw count_mismatch(static_cast<Eigen::Index>(pose.size()), "transforms");
+  return pose;
+}

@@ -1,4 +1,6 @@
 #ifndef __VTK_WRAP__
+#include "core/skeleton.h" // for bary::Skeleton
+#include <vector>          // for std::vector
 #include <Eigen/Core> // for Eigen::MatrixXd
 #endif
 
@@ -54,6 +56,26 @@ public:
   static Eigen::MatrixXd ReadDMAT(const std::string& path);
   /// Writes @p M as ASCII .dmat (shortest round-trip decimal representation), atomically.
   static void WriteDMAT(const Eigen::MatrixXd& M, const std::string& path);
+
+  /**
+   * A pose: one affine transform per handle, returned as 3 x 4 matrices [A | t] (2D transforms
+   * are lifted: third row [0 0 1 0]). Formats, by content:
+   * - BaryLab pose text (any extension but .dmat): one line per handle in weights-column order,
+   *   `#` starts a comment, blank lines are skipped; a line holds 12 numbers (3D, row-major
+   *   a00 a01 a02 t0 a10 a11 a12 t1 a20 a21 a22 t2), 6 (2D, a00 a01 t0 a10 a11 t1), or a
+   *   translation alone (3 numbers in 3D, 2 in 2D).
+   * - libigl .dmat, either per-bone rotations as its BBW tutorial poses the hand (a column of
+   *   4 #B numbers, or #B rows of 4: quaternions x y z w, relative to the parent bone, applied by
+   *   forward kinematics: bary::forward_kinematics; needs @p skeleton; point handles stay put),
+   *   or libigl's stacked transforms ((dim+1) #handles rows by dim columns: handle j's [A | t]
+   *   transposed in rows (dim+1) j ...).
+   * @param handles the number of handles (weights components) the pose must cover
+   * @param skeleton the handles' skeleton (may be null unless the file holds rotations)
+   * @throws bary::Error(Io) naming the file, line and problem; (SizeMismatch) for a pose that
+   *   does not have one transform per handle; (NonFinite) for NaN / infinity.
+   */
+  static std::vector<Eigen::MatrixXd> ReadPose(
+    const std::string& path, Eigen::Index handles, const bary::Skeleton* skeleton = nullptr);
 #endif
 
 protected:
