@@ -237,6 +237,56 @@ def gingerbread_posed(P):
     return [(rnd(x), rnd(y)) for (x, y) in Q]
 
 
+# 2D skeleton for bounded biharmonic weights: joints inside the gingerbread man, bones as
+# (tail, head) joint pairs; the pose turns bones about their tails by the cage pose's angles.
+SKELETON2D_JOINTS = [
+    (0.0, -0.15),    # 0 pelvis
+    (0.0, 0.36),     # 1 neck
+    (0.0, 0.72),     # 2 top of the head
+    (0.25, 0.24),    # 3 right shoulder
+    (0.82, 0.22),    # 4 right hand
+    (-0.25, 0.24),   # 5 left shoulder
+    (-0.82, 0.22),   # 6 left hand
+    (0.25, -0.85),   # 7 right foot
+    (-0.25, -0.85),  # 8 left foot
+]
+SKELETON2D_BONES = [(0, 1), (1, 2), (1, 3), (3, 4), (1, 5), (5, 6), (0, 7), (0, 8)]
+# bone index -> rotation (degrees, counter-clockwise) about its tail
+SKELETON2D_POSE = {3: POSE2D_ARM_DEG, 1: POSE2D_HEAD_DEG, 7: POSE2D_LEG_DEG}
+
+
+def skeleton2d_checks(P):
+    """Every joint and every bone sample lies inside the gingerbread polygon, off its boundary."""
+    worst = 1e9
+    for a, b in SKELETON2D_BONES:
+        A, B = SKELETON2D_JOINTS[a], SKELETON2D_JOINTS[b]
+        for k in range(101):
+            t = k / 100.0
+            x = (A[0] + t * (B[0] - A[0]), A[1] + t * (B[1] - A[1]))
+            assert point_in_polygon(x, P), "skeleton2d: bone (%d, %d) leaves the cage" % (a, b)
+            worst = min(worst, dist_to_polygon(x, P))
+    assert worst > 0.03, "skeleton2d: a bone passes within %.4f of the boundary" % worst
+    return worst
+
+
+def tgf_text(joints, bones):
+    return ("".join("%d %s %s 0\n" % (i + 1, fmt(x), fmt(y)) for i, (x, y) in enumerate(joints)) +
+            "#\n" + "".join("%d %d\n" % (a + 1, b + 1) for a, b in bones) + "#\n")
+
+
+def skeleton2d_pose_text():
+    """One line per bone: a00 a01 t0 a10 a11 t1 (rotation about the bone's tail)."""
+    lines = ["# BaryLab pose for skeleton2d.tgf: one 2D affine transform per bone (bone order),\n",
+             "# a00 a01 t0 a10 a11 t1; rotations about the bone's tail\n"]
+    for b, (tail, _) in enumerate(SKELETON2D_BONES):
+        deg = SKELETON2D_POSE.get(b, 0.0)
+        c, s_ = math.cos(math.radians(deg)), math.sin(math.radians(deg))
+        px, py = SKELETON2D_JOINTS[tail]
+        tx, ty = px - (c * px - s_ * py), py - (s_ * px + c * py)
+        lines.append("%s %s %s %s %s %s\n" % tuple(fmt(v) for v in (c, -s_, tx, s_, c, ty)))
+    return "".join(lines)
+
+
 class UnionFind:
     def __init__(self, n):
         self.parent = list(range(n))
@@ -864,6 +914,11 @@ def main(argv):
     files["cage2d.obj"] = obj_polygon_text(cage2d)
     files["cage2d_posed.obj"] = obj_polygon_text(posed2d)
     files["model2d.obj"] = obj_mesh2d_text(model2d_V, model2d_F)
+    skeleton_clearance = skeleton2d_checks(cage2d)
+    files["skeleton2d.tgf"] = tgf_text(SKELETON2D_JOINTS, SKELETON2D_BONES)
+    files["skeleton2d_pose.txt"] = skeleton2d_pose_text()
+    summary.append("skeleton2d: %d joints, %d bones, min clearance to the cage %.4f"
+                   % (len(SKELETON2D_JOINTS), len(SKELETON2D_BONES), skeleton_clearance))
     summary.append("cage2d: %d vertices, area %.4f" % (len(cage2d), polygon_area(cage2d)))
     summary.append("cage2d_posed: %d vertices, area %.4f" % (len(posed2d), polygon_area(posed2d)))
     summary.append("model2d: %d vertices, %d triangles, min clearance %.4f, covers %.1f%% of "

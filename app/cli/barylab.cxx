@@ -551,17 +551,21 @@ int run_mesh(const MeshArgs& a)
 
 struct RenderArgs
 {
-  std::string input, cage, output, title;
+  std::string input, cage, handles, output, title;
   barylab::RenderOptions options;
 };
 
 int run_render(const RenderArgs& a)
 {
+  if (!a.cage.empty() && !a.handles.empty())
+    throw UsageError("give --cage or --handles, not both");
   check_output(a.output, OutputKind::Png);
   auto data = vtkBaryDataIO::Read(a.input);
-  vtkSmartPointer<vtkPolyData> cage = a.cage.empty() ? nullptr : vtkBaryDataIO::ReadPolyData(a.cage);
+  const std::string& controls = a.handles.empty() ? a.cage : a.handles;
+  vtkSmartPointer<vtkPolyData> cage = controls.empty() ? nullptr : vtkBaryDataIO::ReadPolyData(controls);
   barylab::RenderOptions options = a.options;
   options.title = a.title;
+  options.skeleton = !a.handles.empty();
   auto window = barylab::WeightFieldWindow(data, cage, options);
   barylab::WritePNG(window, a.output);
   return 0;
@@ -642,6 +646,65 @@ json demo_case(const DemoArgs& a, const std::string& name, const std::string& ca
   return summary;
 }
 
+/// The BBW pipeline: bones of a 2D skeleton in the gingerbread man, coupled BBW on a mesh of
+/// the cage's interior with the skeleton inserted, weights at the model's vertices, skinning by
+/// the bundled pose, images.
+json demo_bbw(const DemoArgs& a)
+{
+  const fs::path data(a.data_dir), out(a.output_dir);
+  const std::string name = "gingerbread2d_bbw";
+  auto domain = vtkBaryDataIO::Read((data / "cage2d.obj").string());
+  auto handles = vtkBaryDataIO::ReadPolyData((data / "skeleton2d.tgf").string());
+  auto model = vtkBaryDataIO::Read((data / "model2d.obj").string());
+  WeightsParameters parameters;
+  parameters.method = "bbw";
+  parameters.threads = a.threads;
+  ProgressBar bar(true, "bbw 2d");
+  json summary;
+  auto weighted = barylab::ComputeWeights(model, handles, parameters, callbacks(bar, false),
+    &summary, domain);
+  bar.done();
+  summary["handles"]["file"] = (data / "skeleton2d.tgf").string();
+  summary["domain"] = { { "file", (data / "cage2d.obj").string() } };
+  summary["points"]["file"] = (data / "model2d.obj").string();
+  summary["statistics"] = barylab::WeightStatisticsJson(weighted, "Weights", nullptr);
+  const std::string weights_out = (out / (name + "_weights.vtp")).string();
+  vtkBaryDataIO::Write(weighted, weights_out);
+  summary["output"] = weights_out;
+  print_summary(summary);
+
+  const bary::Skeleton skeleton = vtkBaryConversion::ToSkeleton(handles, 2);
+  const std::string pose_file = (data / "skeleton2d_pose.txt").string();
+  const auto pose = vtkBaryDataIO::ReadPose(pose_file, skeleton.handle_count(), &skeleton);
+  json skin_summary;
+  auto deformed = barylab::Skin(vtkPointSet::SafeDownCast(weighted), pose, parameters, {}, &skin_summary);
+  const std::string deformed_out = (out / (name + "_deformed.vtp")).string();
+  vtkBaryDataIO::Write(deformed, deformed_out);
+  summary["deformation"] = skin_summary;
+  summary["deformation"]["pose"] = pose_file;
+  summary["deformation"]["output"] = deformed_out;
+  if (a.render)
+  {
+    barylab::RenderOptions options;
+    options.skeleton = true;
+    options.component = 3; // the right arm
+    options.title = name + ": BBW weight of bone 3 (right arm)";
+    const std::string field_png = (out / (name + "_weights.png")).string();
+    barylab::WritePNG(barylab::WeightFieldWindow(weighted, handles, options), field_png);
+    options.title.clear();
+    options.width = 1200;
+    options.height = 600;
+    const std::string deformed_png = (out / (name + "_deformed.png")).string();
+    barylab::WritePNG(barylab::DeformationWindow(weighted, handles, deformed,
+                        barylab::PoseHandles(handles, pose), options),
+      deformed_png);
+    summary["images"] = { field_png, deformed_png };
+  }
+  std::cerr << "barylab: " << name << ": wrote " << weights_out << ", " << deformed_out
+            << (a.render ? " and two PNG images" : "") << "\n";
+  return summary;
+}
+
 int run_demo(const DemoArgs& a)
 {
   if (a.render && !barylab::HasDisplay())
@@ -650,11 +713,13 @@ int run_demo(const DemoArgs& a)
       "Xvfb (xvfb-run -a barylab demo), or pass --no-render");
   fs::create_directories(a.output_dir);
   json summary;
-  summary["demo"] = "mean value coordinates: weights and cage deformation on bundled data";
+  summary["demo"] = "mean value coordinates (cage deformation) and bounded biharmonic weights "
+                    "(skeleton skinning) on bundled data";
   summary["cases"]["2d"] = demo_case(a, "gingerbread2d", "cage2d.obj", "cage2d_posed.obj",
     "model2d.obj", 14);
   summary["cases"]["3d"] = demo_case(a, "kidney3d", "cage3d.obj", "cage3d_posed.obj",
     "model3d.off", -1);
+  summary["cases"]["bbw2d"] = demo_bbw(a);
   const std::string path = (fs::path(a.output_dir) / "summary.json").string();
   barylab::WriteJson(summary, path);
   std::cerr << "barylab: demo finished; summary in " << path << "\n";
@@ -751,8 +816,10 @@ int main(int argc, char** argv)
   auto* render = app.add_subcommand("render", "render one weight field to a PNG (needs X/Xvfb)");
   render->add_option("--input,-i", ra.input, "file with a weights point-data array")->required();
   render->add_option("--cage,-c", ra.cage, "the cage (drawn as wireframe)");
+  render->add_option("--handles", ra.handles, "BBW skeleton handles (bones and points) to draw");
   render->add_option("--output,-o", ra.output, "PNG file")->required();
-  render->add_option("--control", ra.options.component, "control point whose weight is shown")
+  render->add_option("--control", ra.options.component,
+       "control point / handle whose weight is shown")
     ->default_val(0);
   render->add_option("--size", ra.options.width, "image width")->default_val(900);
   render->add_option("--title", ra.title, "title text");

@@ -3,6 +3,7 @@
 #include "vtkBaryConversion.h"
 
 #include "core/error.h"
+#include "core/skeleton.h"
 
 #include "vtkActor.h"
 #include "vtkCamera.h"
@@ -209,6 +210,87 @@ void add_cage_actors(vtkRenderer* renderer, vtkPolyData* rest_cage, vtkPointSet*
   }
 }
 
+/// Skeleton handles: bones as thick lines, joints as spheres, handle options.component in red.
+/// Returns the selected handle's centre in @p selected.
+void add_skeleton_actors(vtkRenderer* renderer, vtkPolyData* handles, vtkPointSet* posed,
+  const RenderOptions& options, double selected[3], bool* has_selected)
+{
+  const bary::Skeleton skeleton = vtkBaryConversion::ToSkeleton(handles, 3);
+  vtkPoints* points = posed ? posed->GetPoints() : handles->GetPoints();
+  double bounds[6];
+  points->GetBounds(bounds);
+  const double diameter = std::sqrt((bounds[1] - bounds[0]) * (bounds[1] - bounds[0]) +
+    (bounds[3] - bounds[2]) * (bounds[3] - bounds[2]) + (bounds[5] - bounds[4]) * (bounds[5] - bounds[4]));
+  const auto lines_actor = [&](const std::vector<int>& bones, double width, const double rgb[3]) {
+    vtkNew<vtkPolyData> wire;
+    wire->SetPoints(points);
+    vtkNew<vtkCellArray> cells;
+    for (int b : bones)
+    {
+      const vtkIdType ids[2] = { skeleton.BE(b, 0), skeleton.BE(b, 1) };
+      cells->InsertNextCell(2, ids);
+    }
+    wire->SetLines(cells);
+    vtkNew<vtkPolyDataMapper> mapper;
+    mapper->SetInputData(wire);
+    mapper->ScalarVisibilityOff();
+    vtkNew<vtkActor> actor;
+    actor->SetMapper(mapper);
+    actor->GetProperty()->SetColor(rgb[0], rgb[1], rgb[2]);
+    actor->GetProperty()->SetLineWidth(static_cast<float>(width));
+    renderer->AddActor(actor);
+  };
+  const auto sphere_actor = [&](const double* center, double radius, const double rgb[3]) {
+    vtkNew<vtkSphereSource> sphere;
+    sphere->SetCenter(center[0], center[1], center[2]);
+    sphere->SetRadius(radius);
+    sphere->SetThetaResolution(16);
+    sphere->SetPhiResolution(16);
+    vtkNew<vtkPolyDataMapper> mapper;
+    mapper->SetInputConnection(sphere->GetOutputPort());
+    vtkNew<vtkActor> actor;
+    actor->SetMapper(mapper);
+    actor->GetProperty()->SetColor(rgb[0], rgb[1], rgb[2]);
+    renderer->AddActor(actor);
+  };
+  const double grey[3] = { 0.25, 0.25, 0.3 }, blue[3] = { 0.2, 0.35, 0.8 }, red[3] = { 0.9, 0.15, 0.1 };
+  std::vector<int> all(static_cast<std::size_t>(skeleton.BE.rows()));
+  for (std::size_t b = 0; b < all.size(); ++b)
+    all[b] = static_cast<int>(b);
+  lines_actor(all, 4.0, grey);
+  const double radius = 0.012 * diameter;
+  for (vtkIdType i = 0; i < points->GetNumberOfPoints(); ++i)
+    sphere_actor(points->GetPoint(i), radius, blue);
+  *has_selected = false;
+  const int j = options.component, np = static_cast<int>(skeleton.P.size());
+  if (j >= 0 && j < np)
+  {
+    points->GetPoint(skeleton.P(j), selected);
+    sphere_actor(selected, 2.0 * radius, red);
+    *has_selected = true;
+  }
+  else if (j >= np && j < np + skeleton.BE.rows())
+  {
+    lines_actor({ j - np }, 7.0, red);
+    double a[3], b[3];
+    points->GetPoint(skeleton.BE(j - np, 0), a);
+    points->GetPoint(skeleton.BE(j - np, 1), b);
+    for (int k = 0; k < 3; ++k)
+      selected[k] = 0.5 * (a[k] + b[k]);
+    sphere_actor(a, 1.5 * radius, red);
+    sphere_actor(b, 1.5 * radius, red);
+    *has_selected = true;
+  }
+}
+
+/// 2 when the points of @p data lie in a plane z = const, else 3.
+int planar_dimension(vtkDataSet* data)
+{
+  double b[6];
+  data->GetBounds(b);
+  return b[5] - b[4] <= 1e-9 * std::max(1.0, std::max(b[1] - b[0], b[3] - b[2])) ? 2 : 3;
+}
+
 /// 2D: orthographic view from +z. 3D: perspective view from the side of the selected control
 /// point @p towards (if given), so the region it influences most faces the viewer.
 void set_camera(vtkRenderer* renderer, int dimension, const double* towards = nullptr)
@@ -305,7 +387,12 @@ vtkSmartPointer<vtkRenderWindow> WeightFieldWindow(
   int dimension = 3;
   double selected[3];
   bool has_selected = false;
-  if (cage)
+  if (cage && options.skeleton)
+  {
+    dimension = planar_dimension(data);
+    add_skeleton_actors(renderer, cage, nullptr, options, selected, &has_selected);
+  }
+  else if (cage)
   {
     dimension = vtkBaryConversion::ToCage(cage, options.cage_dimension).Cage.dimension();
     if (options.show_cage)
@@ -336,8 +423,11 @@ vtkSmartPointer<vtkRenderWindow> DeformationWindow(vtkDataSet* rest, vtkPolyData
   vtkDataSet* deformed, vtkPointSet* posed_cage, const RenderOptions& options)
 {
   auto window = make_window(options);
-  const int dimension =
-    rest_cage ? vtkBaryConversion::ToCage(rest_cage, options.cage_dimension).Cage.dimension() : 3;
+  const int dimension = options.skeleton ? planar_dimension(rest)
+    : rest_cage ? vtkBaryConversion::ToCage(rest_cage, options.cage_dimension).Cage.dimension()
+                : 3;
+  double handle_center[3];
+  bool has_handle = false;
   vtkDataSet* datas[2] = { rest, deformed };
   vtkRenderer* first = nullptr;
   for (int side = 0; side < 2; ++side)
@@ -350,7 +440,10 @@ vtkSmartPointer<vtkRenderWindow> DeformationWindow(vtkDataSet* rest, vtkPolyData
     const bool colored = datas[side]->GetPointData()->GetArray(options.weights_name.c_str());
     auto surface = surface_with_component(datas[side], options, range);
     add_weight_actors(renderer, surface, range, options, colored);
-    if (rest_cage && options.show_cage)
+    if (rest_cage && options.skeleton)
+      add_skeleton_actors(renderer, rest_cage, side == 0 ? nullptr : posed_cage, options,
+        handle_center, &has_handle);
+    else if (rest_cage && options.show_cage)
       add_cage_actors(renderer, rest_cage, side == 0 ? nullptr : posed_cage, options);
     add_title(renderer, side == 0 ? "rest" : "deformed");
     if (!first)
@@ -372,10 +465,15 @@ vtkSmartPointer<vtkRenderWindow> DeformationWindow(vtkDataSet* rest, vtkPolyData
         b[2 * k + 1] = std::max(b0[2 * k + 1], b1[2 * k + 1]);
       }
       double selected[3];
-      const bool has_selected = rest_cage && options.component >= 0 &&
+      bool has_selected = !options.skeleton && rest_cage && options.component >= 0 &&
         options.component < rest_cage->GetNumberOfPoints();
       if (has_selected)
         rest_cage->GetPoint(options.component, selected);
+      else if (options.skeleton && has_handle)
+      {
+        std::copy(handle_center, handle_center + 3, selected);
+        has_selected = true;
+      }
       set_camera(first, dimension, has_selected ? selected : nullptr);
       first->ResetCamera(b);
       first->ResetCameraClippingRange(b);
@@ -383,6 +481,35 @@ vtkSmartPointer<vtkRenderWindow> DeformationWindow(vtkDataSet* rest, vtkPolyData
     }
   }
   return window;
+}
+
+vtkSmartPointer<vtkPolyData> PoseHandles(vtkPolyData* handles, const std::vector<Eigen::MatrixXd>& pose)
+{
+  const bary::Skeleton skeleton = vtkBaryConversion::ToSkeleton(handles, 3);
+  if (static_cast<bary::Index>(pose.size()) != skeleton.handle_count())
+    throw Error(ErrorCode::SizeMismatch,
+      "the pose has " + std::to_string(pose.size()) + " transforms but the skeleton has " +
+        std::to_string(skeleton.handle_count()) + " handles");
+  const vtkIdType n = handles->GetNumberOfPoints();
+  std::vector<int> owner(static_cast<std::size_t>(n), -1);
+  const int np = static_cast<int>(skeleton.P.size());
+  for (int j = 0; j < np; ++j)
+    owner[static_cast<std::size_t>(skeleton.P(j))] = j;
+  for (int end : { 1, 0 })
+    for (int b = 0; b < skeleton.BE.rows(); ++b)
+      if (owner[static_cast<std::size_t>(skeleton.BE(b, end))] < 0)
+        owner[static_cast<std::size_t>(skeleton.BE(b, end))] = np + b;
+  auto posed = vtkSmartPointer<vtkPolyData>::New();
+  posed->DeepCopy(handles);
+  for (vtkIdType i = 0; i < n; ++i)
+  {
+    Eigen::Vector3d x;
+    handles->GetPoint(i, x.data());
+    const Eigen::MatrixXd& T = pose[static_cast<std::size_t>(owner[static_cast<std::size_t>(i)])];
+    const Eigen::Vector3d y = T.leftCols(3) * x + T.col(3);
+    posed->GetPoints()->SetPoint(i, y.data());
+  }
+  return posed;
 }
 
 void WritePNG(vtkRenderWindow* window, const std::string& path)

@@ -6,7 +6,10 @@
 
 #include "vtkSmartPointer.h"
 
+#include <Eigen/Core>
+
 #include <string>
+#include <vector>
 
 class vtkDataSet;
 class vtkPointSet;
@@ -27,6 +30,10 @@ struct RenderOptions
   std::string title;        ///< text in the upper-left corner
   std::string weights_name = "Weights";
   int cage_dimension = 0;   ///< 0 automatic
+  /// The "cage" arguments are BBW skeleton handles (points and lines, see
+  /// vtkBaryConversion::ToSkeleton): bones are drawn as thick lines, joints as spheres, and
+  /// the selected handle (options.component: point handles first, then bones) in red.
+  bool skeleton = false;
 };
 
 /// The weight of control point options.component over @p data (which carries the weights
@@ -39,6 +46,11 @@ vtkSmartPointer<vtkRenderWindow> WeightFieldWindow(
 /// by the weight of options.component when the data carry the weights array.
 vtkSmartPointer<vtkRenderWindow> DeformationWindow(vtkDataSet* rest, vtkPolyData* rest_cage,
   vtkDataSet* deformed, vtkPointSet* posed_cage, const RenderOptions& options);
+
+/// The joints of skeleton @p handles moved by @p pose (one 3 x 4 [A | t] per handle, point
+/// handles first, then bones): a point handle's joint by its transform, any other joint by the
+/// first bone ending there (else starting there). For drawing posed skeletons.
+vtkSmartPointer<vtkPolyData> PoseHandles(vtkPolyData* handles, const std::vector<Eigen::MatrixXd>& pose);
 
 /// Renders @p window and writes it as PNG to @p path (atomically). Throws bary::Error(Io).
 void WritePNG(vtkRenderWindow* window, const std::string& path);

@@ -400,3 +400,194 @@ TEST_F(CLI, HarmonicDeformation3D)
   }
   EXPECT_GT(moved, 1e-2);
 }
+
+// ---- bounded biharmonic weights -----------------------------------------------------------------
+
+namespace
+{
+/// Max |sum_j w_j - 1| and the extreme weights of the weights array of @p path.
+struct WeightCheck
+{
+  int components = 0;
+  vtkIdType points = 0;
+  double partition = 0, min = 1, max = 0;
+};
+WeightCheck CheckWeights(const std::string& path)
+{
+  WeightCheck c;
+  auto result = vtkBaryDataIO::Read(path);
+  vtkDataArray* w = result->GetPointData()->GetArray("Weights");
+  if (!w)
+    return c;
+  c.components = w->GetNumberOfComponents();
+  c.points = w->GetNumberOfTuples();
+  for (vtkIdType p = 0; p < w->GetNumberOfTuples(); ++p)
+  {
+    double sum = 0.0;
+    for (int j = 0; j < w->GetNumberOfComponents(); ++j)
+    {
+      const double v = w->GetComponent(p, j);
+      sum += v;
+      c.min = std::min(c.min, v);
+      c.max = std::max(c.max, v);
+    }
+    c.partition = std::max(c.partition, std::abs(sum - 1.0));
+  }
+  return c;
+}
+
+std::string bbw2d_inputs()
+{
+  return " --method bbw --mesh " + data("cage2d.obj") + " --handles " + data("skeleton2d.tgf") +
+    " --points " + data("model2d.obj") + " --fast";
+}
+
+/// Largest coordinate difference between the points of two files.
+double MaxPointDifference(const std::string& a, const std::string& b)
+{
+  auto da = vtkBaryDataIO::Read(a);
+  auto db = vtkBaryDataIO::Read(b);
+  if (da->GetNumberOfPoints() != db->GetNumberOfPoints())
+    return 1e300;
+  double diff = 0.0;
+  for (vtkIdType i = 0; i < da->GetNumberOfPoints(); ++i)
+  {
+    double x[3], y[3];
+    da->GetPoint(i, x);
+    db->GetPoint(i, y);
+    for (int k = 0; k < 3; ++k)
+      diff = std::max(diff, std::abs(x[k] - y[k]));
+  }
+  return diff;
+}
+} // namespace
+
+TEST_F(CLI, BBWWeightsOfASkeletonInAPolygon)
+{
+  const CommandResult r =
+    run("weights" + bbw2d_inputs() + " --output " + out("w.vtp") + " --json " + out("w.json"));
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_NE(r.output.find("8 handles (0 points, 8 bones; 2D)"), std::string::npos) << r.output;
+  const WeightCheck c = CheckWeights(out("w.vtp"));
+  EXPECT_EQ(c.components, 8);
+  EXPECT_EQ(c.points, vtkBaryDataIO::Read(data("model2d.obj"))->GetNumberOfPoints());
+  EXPECT_LE(c.partition, 1e-12);
+  EXPECT_GE(c.min, 0.0);
+  EXPECT_LE(c.max, 1.0 + 1e-15) << "interpolated at the model's points: convex combinations of "
+                                   "mesh weights in [0, 1], up to rounding";
+  std::ifstream in(out("w.json"));
+  const nlohmann::json s = nlohmann::json::parse(in);
+  EXPECT_EQ(s["method"], "bbw");
+  EXPECT_EQ(s["handles"]["bones"], 8);
+  EXPECT_EQ(s["handles"]["point_handles"], 0);
+  EXPECT_LE(s["solver"]["max_kkt_residual"].get<double>(), 1e-9);
+  EXPECT_EQ(s["solver"]["max_bound_violation"].get<double>(), 0.0);
+  EXPECT_EQ(s["solver"]["converged"].get<double>(), 1.0);
+  EXPECT_GT(s["solver"]["mesh_vertices"].get<double>(), 1000.0);
+}
+
+TEST_F(CLI, BBWDeformByPoseFileAndByMovedJoints)
+{
+  ASSERT_EQ(run("weights" + bbw2d_inputs() + " --output " + out("w.vtp") + " -q").code, 0);
+  // the bundled pose moves the model; reusing the weights gives the same result
+  CommandResult a = run("deform" + bbw2d_inputs() + " --transforms " +
+    data("skeleton2d_pose.txt") + " --output " + out("a.vtp"));
+  ASSERT_EQ(a.code, 0) << a.output;
+  EXPECT_NE(a.output.find("weights computed"), std::string::npos) << a.output;
+  CommandResult b = run("deform --method bbw --handles " + data("skeleton2d.tgf") +
+    " --weights " + out("w.vtp") + " --transforms " + data("skeleton2d_pose.txt") + " --output " +
+    out("b.vtp"));
+  ASSERT_EQ(b.code, 0) << b.output;
+  EXPECT_NE(b.output.find("weights from the input"), std::string::npos) << b.output;
+  EXPECT_LT(MaxPointDifference(out("a.vtp"), out("b.vtp")), 1e-12);
+  EXPECT_GT(MaxPointDifference(out("a.vtp"), data("model2d.obj")), 0.1) << "the pose must move the arm";
+
+  // One rotation for every bone (a rigid motion of the whole figure), given as joints moved by
+  // it: every model point moves by exactly that rigid motion (partition of unity + LBS).
+  auto skeleton = vtkBaryDataIO::Read(data("skeleton2d.tgf"));
+  const double c = std::cos(0.4), s = std::sin(0.4), tx = 0.3, ty = -0.2;
+  {
+    std::ofstream obj(out("posed.obj"));
+    for (vtkIdType i = 0; i < skeleton->GetNumberOfPoints(); ++i)
+    {
+      double x[3];
+      skeleton->GetPoint(i, x);
+      obj << "v " << c * x[0] - s * x[1] + tx << " " << s * x[0] + c * x[1] + ty << " 0\n";
+    }
+  }
+  CommandResult r = run("deform" + bbw2d_inputs() + " --deformed-handles " + out("posed.obj") +
+    " --output " + out("r.vtp") + " -q");
+  ASSERT_EQ(r.code, 0) << r.output;
+  auto rigid = vtkBaryDataIO::Read(out("r.vtp"));
+  auto model = vtkBaryDataIO::Read(data("model2d.obj"));
+  double worst = 0.0;
+  for (vtkIdType i = 0; i < model->GetNumberOfPoints(); ++i)
+  {
+    double x[3], y[3];
+    model->GetPoint(i, x);
+    rigid->GetPoint(i, y);
+    worst = std::max(worst, std::hypot(c * x[0] - s * x[1] + tx - y[0], s * x[0] + c * x[1] + ty - y[1]));
+  }
+  EXPECT_LT(worst, 1e-5) << "a rigid motion of every bone moves the model rigidly (OBJ keeps 6 digits)";
+}
+
+TEST_F(CLI, BBWUsageErrorsExitWith2)
+{
+  for (const std::string& args :
+    { "weights --method bbw --handles " + data("skeleton2d.tgf") + " --points " + data("model2d.obj") +
+        " --output " + out("w.vtp"),
+      "weights --method mvc --handles " + data("skeleton2d.tgf") + " --mesh " + data("cage2d.obj") +
+        " --points " + data("model2d.obj") + " --output " + out("w.vtp"),
+      "weights --method bbw --cage " + data("cage2d.obj") + " --handles " + data("skeleton2d.tgf") +
+        " --mesh " + data("cage2d.obj") + " --output " + out("w.vtp"),
+      "deform" + bbw2d_inputs() + " --output " + out("d.vtp"),
+      "deform" + bbw2d_inputs() + " --transforms " + data("skeleton2d_pose.txt") +
+        " --deformed-handles " + data("skeleton2d.tgf") + " --output " + out("d.vtp") })
+  {
+    const CommandResult r = run(args);
+    EXPECT_EQ(r.code, 2) << args << "\n" << r.output;
+    EXPECT_NE(r.output.find("usage error"), std::string::npos) << r.output;
+  }
+  ExpectEmptyFolder();
+}
+
+TEST_F(CLI, BBWBadPoseAndBadHandlesAreClearErrors)
+{
+  {
+    std::ofstream(out("pose.txt")) << "1 0 0 0 1 0\n1 0 0 0 1\n";
+    const CommandResult r = run("deform" + bbw2d_inputs() + " --transforms " + out("pose.txt") +
+      " --output " + out("d.vtp"));
+    ExpectError(r, "line 2: 5 numbers");
+  }
+  {
+    std::ofstream(out("pose.txt")) << "1 0 0 0 1 0\n";
+    const CommandResult r = run("deform" + bbw2d_inputs() + " --transforms " + out("pose.txt") +
+      " --output " + out("d.vtp"));
+    ExpectError(r, "1 transforms but the weights have 8 handles");
+  }
+  {
+    // a joint outside the domain: no mesh vertex for it
+    std::ofstream(out("far.tgf")) << "1 5 5 0\n2 6 5 0\n#\n1 2\n#\n";
+    const CommandResult r = run("weights --method bbw --mesh " + data("cage2d.obj") + " --handles " +
+      out("far.tgf") + " --points " + data("model2d.obj") + " --fast --output " + out("w.vtp"));
+    ExpectError(r, "bone 0");
+  }
+  EXPECT_FALSE(fs::exists(out("d.vtp")));
+  EXPECT_FALSE(fs::exists(out("w.vtp")));
+}
+
+TEST_F(CLI, BBWOnLibiglsKnightMeshAndSkeleton)
+{
+  const std::string dir = std::string(BARYLAB_SHARED_DIR) + "/igl";
+  if (!fs::exists(dir + "/decimated-knight.mesh"))
+    GTEST_SKIP() << "shared data not found in " << dir;
+  const CommandResult r = run("weights --method bbw --fast --mesh " + dir +
+    "/decimated-knight.mesh --handles " + dir + "/decimated-knight.tgf --output " + out("k.vtu") +
+    " -q");
+  ASSERT_EQ(r.code, 0) << r.output;
+  const WeightCheck c = CheckWeights(out("k.vtu"));
+  EXPECT_EQ(c.components, 7);
+  EXPECT_EQ(c.points, 1822);
+  EXPECT_LE(c.partition, 1e-12);
+  EXPECT_GE(c.min, 0.0);
+}

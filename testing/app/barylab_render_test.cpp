@@ -8,7 +8,10 @@
 #include "barylabPipeline.h"
 #include "barylabRender.h"
 
+#include "vtkBaryConversion.h"
 #include "vtkBaryDataIO.h"
+
+#include "core/skeleton.h"
 
 #include "vtkDataSet.h"
 #include "vtkPointSet.h"
@@ -112,6 +115,78 @@ TEST(RenderImages, Deformation3D)
   ExpectMatchesBaseline(
     barylab::DeformationWindow(e.weighted, e.cage, deformed, vtkPointSet::SafeDownCast(e.posed), options),
     "deformation_3d");
+}
+
+/// BBW of the bundled 2D skeleton in the gingerbread man (fast mode), at the model's vertices.
+struct BBWExample
+{
+  vtkSmartPointer<vtkPolyData> handles;
+  vtkSmartPointer<vtkDataSet> weighted;
+  std::vector<Eigen::MatrixXd> pose;
+};
+
+BBWExample load_bbw2d()
+{
+  BBWExample e;
+  e.handles = vtkBaryDataIO::ReadPolyData(data("skeleton2d.tgf"));
+  barylab::WeightsParameters p;
+  p.method = "bbw";
+  p.bbw_fast = true;
+  e.weighted = barylab::ComputeWeights(
+    vtkBaryDataIO::Read(data("model2d.obj")), e.handles, p, {}, nullptr, vtkBaryDataIO::Read(data("cage2d.obj")));
+  const bary::Skeleton skeleton = vtkBaryConversion::ToSkeleton(e.handles, 2);
+  e.pose = vtkBaryDataIO::ReadPose(data("skeleton2d_pose.txt"), skeleton.handle_count(), &skeleton);
+  return e;
+}
+
+TEST(RenderImages, BBWWeightField2D)
+{
+  const BBWExample e = load_bbw2d();
+  barylab::RenderOptions options;
+  options.skeleton = true;
+  options.component = 3; // the right arm's bone
+  options.title = "bounded biharmonic weight of bone 3";
+  ExpectMatchesBaseline(barylab::WeightFieldWindow(e.weighted, e.handles, options), "bbw_weight_field_2d");
+}
+
+TEST(RenderImages, BBWSkinning2D)
+{
+  const BBWExample e = load_bbw2d();
+  barylab::WeightsParameters p;
+  auto deformed = barylab::Skin(vtkPointSet::SafeDownCast(e.weighted), e.pose, p);
+  barylab::RenderOptions options;
+  options.skeleton = true;
+  options.component = 3;
+  options.width = 1000;
+  options.height = 500;
+  ExpectMatchesBaseline(barylab::DeformationWindow(e.weighted, e.handles, deformed,
+                          barylab::PoseHandles(e.handles, e.pose), options),
+    "bbw_skinning_2d");
+}
+
+TEST(RenderImages, BBWSkinningLibiglHand3D)
+{
+  // libigl's BBW tutorial: the hand tet mesh, its skeleton and its pose (a fist).
+  const std::string dir = std::string(BARYLAB_SHARED_DIR) + "/igl";
+  if (!fs::exists(dir + "/hand.mesh"))
+    GTEST_SKIP() << "shared data not found in " << dir;
+  auto mesh = vtkBaryDataIO::Read(dir + "/hand.mesh");
+  auto handles = vtkBaryDataIO::ReadPolyData(dir + "/hand.tgf");
+  barylab::WeightsParameters p;
+  p.method = "bbw";
+  p.bbw_fast = true;
+  auto weighted = barylab::ComputeWeights(mesh, handles, p, {}, nullptr, mesh);
+  const bary::Skeleton skeleton = vtkBaryConversion::ToSkeleton(handles, 3);
+  const auto pose = vtkBaryDataIO::ReadPose(dir + "/hand-pose.dmat", skeleton.handle_count(), &skeleton);
+  auto deformed = barylab::Skin(vtkPointSet::SafeDownCast(weighted), pose, p);
+  barylab::RenderOptions options;
+  options.skeleton = true;
+  options.component = 6; // a finger bone
+  options.width = 1000;
+  options.height = 500;
+  ExpectMatchesBaseline(barylab::DeformationWindow(weighted, handles, deformed,
+                          barylab::PoseHandles(handles, pose), options),
+    "bbw_skinning_hand_3d");
 }
 
 TEST(RenderImages, NoDisplayIsAClearError)
