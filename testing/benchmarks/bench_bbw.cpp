@@ -1,0 +1,211 @@
+// Bounded biharmonic weights: bind time per handle against mesh size (2D: the bundled
+// gingerbread man with its 8-bone skeleton; 3D: a cube with a 3-bone chain and 2 point handles),
+// fast and coupled modes, with active-set iteration counts; libigl's hand (7,234 vertices, 20
+// bones) on 1 and 2 threads when ../shared/data is present; and pose time per frame (linear
+// blend skinning) against the number of points and handles. See docs/benchmarks.md.
+#include "core/bbw.h"
+#include "core/domain_mesh.h"
+#include "core/linear_blend_skinning.h"
+#include "core/skeleton.h"
+
+#include "igl_formats.h"
+
+#include <benchmark/benchmark.h>
+
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <sstream>
+
+namespace
+{
+/// The bundled gingerbread polygon (data/cage2d.obj: `v x y 0` lines).
+bary::Cage gingerbread()
+{
+  std::ifstream in(std::string(BARYLAB_DATA_DIR) + "/cage2d.obj");
+  std::vector<std::array<double, 2>> v;
+  std::string tag;
+  double x, y, z;
+  while (in >> tag >> x >> y >> z)
+    if (tag == "v")
+      v.push_back({ x, y });
+  bary::Cage c;
+  c.V.resize(static_cast<Eigen::Index>(v.size()), 2);
+  for (std::size_t i = 0; i < v.size(); ++i)
+    c.V.row(static_cast<Eigen::Index>(i)) << v[i][0], v[i][1];
+  return c;
+}
+
+/// data/skeleton2d.tgf (bones only).
+bary::Skeleton skeleton2d()
+{
+  const bary::test::TgfSkeleton t = bary::test::read_tgf(std::string(BARYLAB_DATA_DIR) + "/skeleton2d.tgf");
+  bary::Skeleton s;
+  s.C = t.C.leftCols(2);
+  s.BE = t.E;
+  return s;
+}
+
+bary::Cage cube()
+{
+  bary::Cage c;
+  c.V.resize(8, 3);
+  for (int i = 0; i < 8; ++i)
+    c.V.row(i) << 2.0 * (i & 1) - 1, 2.0 * (i >> 1 & 1) - 1, 2.0 * (i >> 2 & 1) - 1;
+  c.F.resize(12, 3);
+  c.F << 0, 2, 1, 1, 2, 3, 4, 5, 6, 5, 7, 6, 0, 1, 4, 1, 5, 4, 2, 6, 3, 3, 6, 7, 0, 4, 2, 2, 4, 6, 1,
+    3, 5, 3, 7, 5;
+  return c;
+}
+
+/// A chain of 3 bones through the cube and 2 point handles (5 handles).
+bary::Skeleton skeleton3d()
+{
+  bary::Skeleton s;
+  s.C.resize(6, 3);
+  s.C << -0.7, -0.6, 0, -0.2, 0, 0.1, 0.3, 0.2, -0.1, 0.7, 0.6, 0.2, 0.5, -0.6, 0.5, -0.5, 0.6, -0.5;
+  s.P.resize(2);
+  s.P << 4, 5;
+  s.BE.resize(3, 2);
+  s.BE << 0, 1, 1, 2, 2, 3;
+  return s;
+}
+
+struct Bound
+{
+  bary::DomainMesh mesh;
+  bary::BBWHandles handles;
+};
+
+/// Meshes the domain with the skeleton's samples inserted about one edge length apart.
+Bound mesh_with_skeleton(const bary::Cage& domain, const bary::Skeleton& s, int cells)
+{
+  Bound b;
+  if (domain.dimension() == 2)
+  {
+    double area = 0;
+    for (Eigen::Index i = 0; i < domain.V.rows(); ++i)
+    {
+      const Eigen::Index j = (i + 1) % domain.V.rows();
+      area += domain.V(i, 0) * domain.V(j, 1) - domain.V(j, 0) * domain.V(i, 1);
+    }
+    const double h = std::sqrt(4.0 * std::abs(area) / 2 / cells / std::sqrt(3.0));
+    bary::PolygonMeshOptions o;
+    o.target_cells = cells;
+    o.steiner_points = bary::skeleton_samples(s, h);
+    b.mesh = bary::mesh_polygon(domain, o);
+  }
+  else
+  {
+    const double h = std::cbrt(6.0 * std::sqrt(2.0) * 8.0 / cells);
+    bary::SurfaceMeshOptions o;
+    o.target_cells = cells;
+    o.steiner_points = bary::skeleton_samples(s, h);
+    b.mesh = bary::mesh_closed_surface(domain, o);
+  }
+  b.handles = bary::handles_from_skeleton(b.mesh.V, s.C, s.P, s.BE);
+  return b;
+}
+
+void report(benchmark::State& state, const bary::BBWResult& r, Eigen::Index vertices, double seconds)
+{
+  long long iterations = 0, factorizations = 0;
+  for (std::size_t j = 0; j < r.iterations.size(); ++j)
+  {
+    iterations += r.iterations[j];
+    factorizations += r.factorizations[j];
+  }
+  const double handles = static_cast<double>(r.W.cols());
+  state.counters["vertices"] = static_cast<double>(vertices);
+  state.counters["handles"] = handles;
+  state.counters["s_per_handle"] = seconds / handles;
+  state.counters["fast_iterations"] = static_cast<double>(iterations);
+  state.counters["fast_factorizations"] = static_cast<double>(factorizations);
+  state.counters["outer"] = r.outer_iterations;
+  state.counters["coupled_iterations"] = r.coupled_iterations;
+  state.counters["max_kkt"] = r.max_kkt_residual;
+  state.counters["E_mean"] = r.fast_difference_mean;
+  state.counters["E_max"] = r.fast_difference_max;
+}
+
+void bind(benchmark::State& state, const bary::Cage& domain, const bary::Skeleton& s,
+  bary::BBWMode mode)
+{
+  const Bound b = mesh_with_skeleton(domain, s, static_cast<int>(state.range(0)));
+  bary::BBWOptions options;
+  options.mode = mode;
+  bary::BBWResult r;
+  double seconds = 0;
+  for (auto _ : state)
+  {
+    r = bary::bounded_biharmonic_weights(b.mesh.V, b.mesh.T, b.handles, options);
+    seconds = r.seconds;
+    benchmark::DoNotOptimize(r.W.data());
+  }
+  report(state, r, b.mesh.V.rows(), seconds);
+  state.counters["cells"] = static_cast<double>(b.mesh.T.rows());
+}
+
+void BBW2DFast(benchmark::State& state) { bind(state, gingerbread(), skeleton2d(), bary::BBWMode::Fast); }
+void BBW2DCoupled(benchmark::State& state) { bind(state, gingerbread(), skeleton2d(), bary::BBWMode::Coupled); }
+void BBW3DFast(benchmark::State& state) { bind(state, cube(), skeleton3d(), bary::BBWMode::Fast); }
+void BBW3DCoupled(benchmark::State& state) { bind(state, cube(), skeleton3d(), bary::BBWMode::Coupled); }
+
+BENCHMARK(BBW2DFast)->Arg(1000)->Arg(3000)->Arg(10000)->Arg(30000)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1);
+BENCHMARK(BBW2DCoupled)->Arg(1000)->Arg(3000)->Arg(10000)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1);
+BENCHMARK(BBW3DFast)->Arg(5000)->Arg(20000)->Arg(80000)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1);
+BENCHMARK(BBW3DCoupled)->Arg(5000)->Arg(20000)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1);
+
+/// libigl's tutorial hand (7,234 vertices, 20 bones), fast mode, range(0) threads.
+void BBWHandFast(benchmark::State& state)
+{
+  const std::string dir = std::string(BARYLAB_SHARED_DIR) + "/igl";
+  if (!std::filesystem::exists(dir + "/hand.mesh"))
+  {
+    state.SkipWithError("shared data not found (../shared/data/igl/hand.mesh)");
+    return;
+  }
+  const auto mesh = bary::test::read_medit_mesh(dir + "/hand.mesh");
+  const auto tgf = bary::test::read_tgf(dir + "/hand.tgf");
+  const bary::BBWHandles h = bary::handles_from_skeleton(mesh.V, tgf.C, Eigen::VectorXi(), tgf.E);
+  bary::BBWOptions options;
+  options.mode = bary::BBWMode::Fast;
+  options.threads = static_cast<int>(state.range(0));
+  bary::BBWResult r;
+  for (auto _ : state)
+  {
+    r = bary::bounded_biharmonic_weights(mesh.V, mesh.T, h, options);
+    benchmark::DoNotOptimize(r.W.data());
+  }
+  report(state, r, mesh.V.rows(), r.seconds);
+}
+BENCHMARK(BBWHandFast)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1);
+
+/// Pose time: linear blend skinning of range(0) points by range(1) handles, dense weights.
+void Skinning(benchmark::State& state)
+{
+  const auto np = static_cast<Eigen::Index>(state.range(0));
+  const auto m = static_cast<Eigen::Index>(state.range(1));
+  std::mt19937 rng(1);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  bary::Points X(np, 3);
+  bary::DenseWeights W(np, m);
+  for (Eigen::Index p = 0; p < np; ++p)
+  {
+    for (int k = 0; k < 3; ++k)
+      X(p, k) = u(rng);
+    for (Eigen::Index j = 0; j < m; ++j)
+      W(p, j) = u(rng);
+    W.row(p) /= W.row(p).sum();
+  }
+  bary::AffineTransforms T(static_cast<std::size_t>(m), Eigen::MatrixXd::Identity(3, 4));
+  for (auto _ : state)
+    benchmark::DoNotOptimize(bary::linear_blend_skinning(X, W, T).data());
+  state.counters["points"] = static_cast<double>(np);
+  state.counters["handles"] = static_cast<double>(m);
+  state.SetItemsProcessed(state.iterations() * np);
+}
+BENCHMARK(Skinning)->Args({ 10000, 8 })->Args({ 10000, 20 })->Args({ 100000, 8 })->Args({ 100000, 20 })->Args({ 1000000, 20 })->Unit(benchmark::kMillisecond)->UseRealTime();
+} // namespace
+
+BENCHMARK_MAIN();
