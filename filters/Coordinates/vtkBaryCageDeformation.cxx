@@ -210,7 +210,13 @@ int vtkBaryCageDeformation::RequestData(
     if (!W->allFinite())
       vtkWarningMacro(<< "Some weights are undefined (NaN) — points far outside the cage; "
                          "their deformed positions are NaN.");
-    const Eigen::MatrixXd X = bary::deform_points(*W, C);
+    // Methods with linear precision (sum_i w_i c_i = x): x' = sum_i w_i c'_i. BBW have none (the
+    // paper, §4): they blend the cage vertices' displacements instead, x' = x + sum_i w_i
+    // (c'_i - c_i) — linear blend skinning with translations — so the rest pose is the identity.
+    const Eigen::MatrixXd X = this->Method == vtkBaryCoordinates::BBW
+      ? Eigen::MatrixXd(vtkBaryConversion::PointsToMatrix(input, dim) +
+          bary::deform_points(*W, C - cage.Cage.V))
+      : bary::deform_points(*W, C);
     vtkBaryConversion::SetPoints(output, X);
     if (this->PassWeights && this->WeightsArrayName && *this->WeightsArrayName)
       output->GetPointData()->AddArray(

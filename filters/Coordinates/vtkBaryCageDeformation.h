@@ -3,6 +3,10 @@
  * @brief   Deforms a point set by moving the control points of a cage.
  *
  * x'_p = sum_i w_i(x_p) c'_i, with w the generalized barycentric coordinates of the rest pose.
+ * Method BBW (cage handles) has no linear precision, so it blends displacements instead:
+ * x'_p = x_p + sum_i w_i(x_p) (c'_i - c_i) (linear blend skinning with the cage vertices'
+ * translations, as Jacobson et al. 2011 deform with cages); the rest cage then reproduces the
+ * model exactly and a translated cage translates it.
  *
  * Input 0: the model (any vtkPointSet). Input 1: the rest cage (vtkPolyData, as in
  * vtkBaryCoordinates). Input 2: the deformed cage: a vtkPointSet with the same number of points

@@ -591,3 +591,52 @@ TEST_F(CLI, BBWOnLibiglsKnightMeshAndSkeleton)
   EXPECT_LE(c.partition, 1e-12);
   EXPECT_GE(c.min, 0.0);
 }
+
+TEST_F(CLI, BBWPointHandlesRotateThroughPseudoEdges)
+{
+  // Three point handles (no bones) in the gingerbread man; every joint moved by one rotation
+  // plus translation. Through the pseudo-edges (0,1), (1,2), (2,0) each handle recovers the full
+  // rotation (paper §3.4), so the model moves rigidly; without them the handles only translate
+  // and the model does not.
+  {
+    std::ofstream tgf(out("points.tgf"));
+    tgf << "1 0 0.5 0\n2 -0.5 0.2 0\n3 0.15 -0.6 0\n#\n#\n";
+    std::ofstream edges(out("pseudo.txt"));
+    edges << "# pseudo-edges between point handles\n0 1\n1 2\n2 0\n";
+  }
+  const double c = std::cos(0.5), s = std::sin(0.5), tx = -0.1, ty = 0.25;
+  {
+    std::ofstream obj(out("posed.obj"));
+    for (auto [x, y] : { std::pair{ 0.0, 0.5 }, { -0.5, 0.2 }, { 0.15, -0.6 } })
+      obj << "v " << c * x - s * y + tx << " " << s * x + c * y + ty << " 0\n";
+  }
+  const std::string inputs = " --method bbw --fast --mesh " + data("cage2d.obj") + " --handles " +
+    out("points.tgf") + " --points " + data("model2d.obj") + " --deformed-handles " + out("posed.obj");
+  CommandResult r = run("deform" + inputs + " --pseudo-edges " + out("pseudo.txt") + " --output " +
+    out("r.vtp") + " -q");
+  ASSERT_EQ(r.code, 0) << r.output;
+  CommandResult t = run("deform" + inputs + " --output " + out("t.vtp") + " -q");
+  ASSERT_EQ(t.code, 0) << t.output;
+  auto model = vtkBaryDataIO::Read(data("model2d.obj"));
+  const auto rigid_error = [&](const std::string& path) {
+    auto deformed = vtkBaryDataIO::Read(path);
+    double worst = 0.0;
+    for (vtkIdType i = 0; i < model->GetNumberOfPoints(); ++i)
+    {
+      double x[3], y[3];
+      model->GetPoint(i, x);
+      deformed->GetPoint(i, y);
+      worst = std::max(worst, std::hypot(c * x[0] - s * x[1] + tx - y[0], s * x[0] + c * x[1] + ty - y[1]));
+    }
+    return worst;
+  };
+  EXPECT_LT(rigid_error(out("r.vtp")), 1e-5);
+  EXPECT_GT(rigid_error(out("t.vtp")), 0.05);
+  // a pseudo-edge naming a handle that does not exist
+  {
+    std::ofstream edges(out("bad.txt"));
+    edges << "0 7\n";
+  }
+  ExpectError(run("deform" + inputs + " --pseudo-edges " + out("bad.txt") + " --output " + out("b.vtp")),
+    "pseudo-edge 0 (0, 7)");
+}

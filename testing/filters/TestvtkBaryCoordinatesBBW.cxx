@@ -317,3 +317,53 @@ TEST(vtkBaryCoordinatesBBW, Errors)
 }
 
 } // namespace
+
+#include "vtkBaryCageDeformation.h"
+
+namespace
+{
+TEST(vtkBaryCoordinatesBBW, CageDeformationWithCageHandlesFollowsATranslatedCage)
+{
+  // BBW with cage handles have partition of unity but no linear precision (the paper says so):
+  // a translated cage translates the model exactly; a scaled one does not scale it exactly.
+  auto cube = MakeCube();
+  auto model = MakePointCloud({ { 0.1, 0.2, -0.3 }, { -0.7, 0.5, 0.6 }, { 0.0, 0.0, 0.0 } });
+  const auto moved_cube = [&](double scale, double tx, double ty, double tz) {
+    auto moved = vtkSmartPointer<vtkPolyData>::New();
+    moved->DeepCopy(cube);
+    for (vtkIdType i = 0; i < moved->GetNumberOfPoints(); ++i)
+    {
+      double c[3];
+      cube->GetPoint(i, c);
+      moved->GetPoints()->SetPoint(i, scale * c[0] + tx, scale * c[1] + ty, scale * c[2] + tz);
+    }
+    return moved;
+  };
+  vtkNew<vtkBaryCageDeformation> deform;
+  vtkNew<ErrorObserver> errors;
+  errors->Attach(deform);
+  deform->SetMethod(vtkBaryCoordinates::BBW);
+  deform->SetBBWMode(vtkBaryCoordinates::BBW_FAST);
+  deform->SetTargetNumberOfCells(400);
+  deform->SetInputData(model);
+  deform->SetRestCageData(cube);
+  deform->SetDeformedCageData(moved_cube(1.0, 0.3, -1.2, 0.5));
+  ASSERT_EQ(RunPipeline(deform), 1) << errors->AllErrors();
+  for (vtkIdType p = 0; p < model->GetNumberOfPoints(); ++p)
+  {
+    double x[3], y[3];
+    model->GetPoint(p, x);
+    deform->GetOutput()->GetPoint(p, y);
+    EXPECT_NEAR(y[0], x[0] + 0.3, 1e-12);
+    EXPECT_NEAR(y[1], x[1] - 1.2, 1e-12);
+    EXPECT_NEAR(y[2], x[2] + 0.5, 1e-12);
+  }
+  deform->SetDeformedCageData(moved_cube(2.0, 0.0, 0.0, 0.0));
+  ASSERT_EQ(RunPipeline(deform), 1) << errors->AllErrors();
+  double x[3], y[3];
+  model->GetPoint(1, x);
+  deform->GetOutput()->GetPoint(1, y);
+  EXPECT_GT(std::abs(y[0] - 2.0 * x[0]) + std::abs(y[1] - 2.0 * x[1]), 1e-3)
+    << "BBW have no linear precision: scaling the cage does not scale interior points exactly";
+}
+} // namespace
