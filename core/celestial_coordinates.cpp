@@ -1,0 +1,1261 @@
+#include "celestial_coordinates.h"
+
+#include "error.h"
+
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Surface_mesh.h>
+#include <CGAL/convex_hull_2.h>
+#include <CGAL/convex_hull_3.h>
+
+#include <Eigen/Cholesky>
+#include <Eigen/Geometry>
+
+#include <algorithm>
+#include <array>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <iterator>
+#include <limits>
+#include <map>
+#include <numeric>
+#include <sstream>
+#include <string>
+#include <utility>
+
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
+// Notation: p the query point, v_i the controls, d_i = |v_i - p|, q_i = (v_i - p) / d_i.
+//
+// Both schemes solve F(x) = sum_i beta_i(x . q_i) q_i = 0 for x in R^dim with an increasing,
+// positive beta(a); then alpha_i = (beta_i / d_i) / sum_j (beta_j / d_j) (Eq. 3).
+//  - TCC (Eq. 8/9): beta(a) = s_i + exp(a), x = psi. F is the gradient of the strictly convex
+//    Phi(psi) = sum_i exp(psi . q_i) + psi . sum_i s_i q_i; J = sum_i exp(a_i) q_i q_i^T is the
+//    Jacobian of Appendix A (A.1), symmetric, so the paper's (J^-1)^T = J^-1.
+//  - SCC (Eq. 11/15/18): mu_i = q_i . c + sqrt((q_i . c)^2 + K), K = lambda^2 + 2 lambda |c|.
+//    Dividing by sqrt(K) gives mu_i = sqrt(K) m(q_i . y), y = c / sqrt(K), m(a) = a + sqrt(a^2+1)
+//    (= exp(asinh a)). c -> y is a bijection of R^dim (|y| increases with |c| from 0 to
+//    infinity) with inverse c = lambda m(|y|) y, because K = lambda^2 m(|y|)^2. So Eq. (11) is
+//    sum_i m(q_i . y)^2 q_i = 0 with beta_i = m_i^2 up to the common factor K, which cancels in
+//    Eq. (3): lambda has no effect on the coordinates. In y, F is the gradient of the strictly
+//    convex Phi(y) = sum_i (m_i^3 / 6 + m_i / 2) (d/da of m^3/6 + m/2 is m^2: m' = m / r with
+//    r = sqrt(a^2 + 1)), and J = sum_i (2 m_i^2 / r_i) q_i q_i^T. In c (the paper's Sect. 5.3)
+//    the Jacobian has the extra term (2 lambda sum_i mu_i / S_i q_i) (c / |c|)^T: it is not
+//    symmetric, not defined at c = 0, and Newton in c with a residual line search failed in our
+//    prototype on points 1e-2 of the diameter from a face of a cube; in y it converges there.
+//    m(a) for a < 0 is evaluated as 1 / (r - a), which does not cancel.
+// Newton is safeguarded by Armijo backtracking on Phi; Phi's decrease is below its rounding
+// once the residual is ~1e-8 of sum beta, so a step is also accepted when the relative residual
+// is below 1e-6 and the residual norm decreases.
+
+namespace bary
+{
+namespace
+{
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+constexpr double kRoundoff = std::numeric_limits<double>::epsilon() / 2; // u = 2^-53
+constexpr Index kChunk = 256;      // points per warm-start chunk (independent of the threads)
+constexpr int kMaxBacktracks = 50; // halvings of the Newton step before giving up
+constexpr double kArmijo = 1e-4;
+constexpr double kResidualSwitch = 1e-6; // below: also accept residual-norm decrease
+
+std::string fmt(double v)
+{
+  std::ostringstream s;
+  s.precision(3);
+  s << v;
+  return s.str();
+}
+
+std::string fmt_point(const Eigen::MatrixXd& V, Index i)
+{
+  std::ostringstream s;
+  s << "(";
+  for (Index k = 0; k < V.cols(); ++k)
+    s << (k ? ", " : "") << V(i, k);
+  s << ")";
+  return s.str();
+}
+
+/// m(a) = a + sqrt(a^2 + 1) without cancellation; r = sqrt(a^2 + 1).
+inline double m_of(double a, double r)
+{
+  return a >= 0.0 ? a + r : 1.0 / (r - a);
+}
+
+// ------------------------------------------------------------------------------------------
+// Newton for one point, fixed dimension D. q is stored as D arrays of n (structure of arrays).
+
+/// Solves the symmetric positive definite D x D system A x = b (NaN if it is singular).
+template<int D>
+Eigen::Matrix<double, D, 1> solve_spd(
+  const Eigen::Matrix<double, D, D>& A, const Eigen::Matrix<double, D, 1>& b)
+{
+  if constexpr (D == 1)
+    return Eigen::Matrix<double, 1, 1>(b[0] / A(0, 0));
+  else
+    return A.ldlt().solve(b);
+}
+
+struct SolveStats
+{
+  int iterations = 0;
+  double residual = kNaN;
+  bool converged = false;
+};
+
+template<int D>
+class Newton
+{
+public:
+  using Vec = Eigen::Matrix<double, D, 1>;
+  using Mat = Eigen::Matrix<double, D, D>;
+
+  /// @param q D * n doubles, q[k * n + i] = component k of q_i; @param s n user weights or
+  /// nullptr (TCC only).
+  Newton(CelestialScheme scheme, const double* q, const double* s, Index n)
+    : scheme_(scheme)
+    , q_(q)
+    , s_(s)
+    , n_(n)
+  {
+    rs_.setZero();
+    if (scheme_ == CelestialScheme::T && s_ != nullptr)
+      for (Index i = 0; i < n_; ++i)
+        rs_ += s_[i] * qi(i);
+  }
+
+  /// TCC: the linearised system of Sect. 4.2, sum_i (s_i + 1 + psi . q_i) q_i = 0.
+  /// SCC: c0 = -l, l = the centre of mass of the segments cut by the sphere of radius lambda
+  /// around p (Sect. 5.3): l = (lambda / 2n) sum_i q_i; returned as y0 = c0 / sqrt(K(c0)).
+  Vec cold_start(double lambda) const
+  {
+    Vec sum = Vec::Zero();
+    for (Index i = 0; i < n_; ++i)
+      sum += qi(i);
+    if (scheme_ == CelestialScheme::T)
+    {
+      Mat A = Mat::Zero();
+      for (Index i = 0; i < n_; ++i)
+        A.noalias() += qi(i) * qi(i).transpose();
+      const Vec x = solve_spd<D>(A, -(sum + rs_));
+      return x.allFinite() ? x : Vec::Zero();
+    }
+    const Vec c0 = -(lambda / (2.0 * static_cast<double>(n_))) * sum;
+    return c0 / std::sqrt(lambda * lambda + 2.0 * lambda * c0.norm());
+  }
+
+  SolveStats solve(Vec& x, double tol, int max_iterations) const
+  {
+    SolveStats stats;
+    State cur, next;
+    eval(x, cur);
+    if (!cur.finite)
+      return stats;
+    for (;;)
+    {
+      const double fnorm = cur.F.norm();
+      stats.residual = fnorm / cur.sb;
+      // The rounding floor: a_i = x . q_i carries an error ~ u |x|_1, which moves beta_i by
+      // ~ 2 u |x|_1 beta_i (both schemes), so F by 2 u |x|_1 sum beta, plus the n-term sums.
+      // It exceeds the default tolerance only where |x| is large: within ~1e-9 of the hull.
+      const double floor = 4.0 * kRoundoff * (x.template lpNorm<1>() + static_cast<double>(n_));
+      if (stats.residual <= std::max(tol, floor))
+      {
+        stats.converged = true;
+        return stats;
+      }
+      if (stats.iterations >= max_iterations)
+        return stats;
+      const Vec d = -solve_spd<D>(cur.J, cur.F);
+      if (!d.allFinite())
+        return stats;
+      const double slope = cur.F.dot(d);
+      double t = 1.0;
+      bool accepted = false;
+      Vec xn;
+      for (int k = 0; k < kMaxBacktracks && !accepted; ++k, t *= 0.5)
+      {
+        xn = x + t * d;
+        eval(xn, next);
+        if (!next.finite)
+          continue;
+        accepted = next.phi <= cur.phi + kArmijo * t * slope ||
+          (stats.residual < kResidualSwitch && next.F.norm() <= (1.0 - kArmijo * t) * fnorm);
+      }
+      if (!accepted)
+        return stats; // stagnation: no step reduces the merit functions
+      x = xn;
+      std::swap(cur, next);
+      ++stats.iterations;
+    }
+  }
+
+  /// beta_i at x (SCC: up to the common factor K, which cancels in Eq. 3).
+  void betas(const Vec& x, double* beta) const
+  {
+    for (Index i = 0; i < n_; ++i)
+    {
+      const double a = x.dot(qi(i));
+      if (scheme_ == CelestialScheme::T)
+        beta[i] = (s_ ? s_[i] : 0.0) + std::exp(a);
+      else
+      {
+        const double m = m_of(a, std::sqrt(a * a + 1.0));
+        beta[i] = m * m;
+      }
+    }
+  }
+
+private:
+  struct State
+  {
+    Vec F;
+    Mat J;
+    double phi = 0.0, sb = 0.0;
+    bool finite = false;
+  };
+
+  Vec qi(Index i) const
+  {
+    Vec v;
+    for (int k = 0; k < D; ++k)
+      v[k] = q_[k * n_ + i];
+    return v;
+  }
+
+  void eval(const Vec& x, State& st) const
+  {
+    Vec F = Vec::Zero();
+    Mat J = Mat::Zero();
+    double phi = 0.0, sb = 0.0;
+    if (scheme_ == CelestialScheme::T)
+    {
+      for (Index i = 0; i < n_; ++i)
+      {
+        const Vec q = qi(i);
+        const double e = std::exp(x.dot(q));
+        phi += e;
+        sb += e;
+        F += e * q;
+        J.noalias() += e * q * q.transpose();
+      }
+      if (s_ != nullptr)
+        for (Index i = 0; i < n_; ++i)
+          sb += s_[i];
+      F += rs_;
+      phi += x.dot(rs_);
+    }
+    else
+    {
+      for (Index i = 0; i < n_; ++i)
+      {
+        const Vec q = qi(i);
+        const double a = x.dot(q);
+        const double r = std::sqrt(a * a + 1.0);
+        const double m = m_of(a, r);
+        const double b = m * m;
+        phi += m * (b * (1.0 / 6.0) + 0.5);
+        sb += b;
+        F += b * q;
+        J.noalias() += (2.0 * b / r) * q * q.transpose();
+      }
+    }
+    st.F = F;
+    st.J = J;
+    st.phi = phi;
+    st.sb = sb;
+    st.finite = std::isfinite(phi) && std::isfinite(sb) && F.allFinite() && J.allFinite();
+  }
+
+  CelestialScheme scheme_;
+  const double* q_;
+  const double* s_;
+  Index n_;
+  Vec rs_; // sum_i s_i q_i (TCC)
+};
+
+// ------------------------------------------------------------------------------------------
+// Hilbert curve order (Skilling, "Programming the Hilbert curve", AIP Conf. Proc. 707, 2004).
+
+template<int D>
+std::uint64_t hilbert_key(std::array<std::uint32_t, D> X, int bits)
+{
+  const std::uint32_t M = 1u << (bits - 1);
+  for (std::uint32_t Q = M; Q > 1; Q >>= 1)
+  {
+    const std::uint32_t P = Q - 1;
+    for (int i = 0; i < D; ++i)
+      if (X[i] & Q)
+        X[0] ^= P;
+      else
+      {
+        const std::uint32_t t = (X[0] ^ X[i]) & P;
+        X[0] ^= t;
+        X[i] ^= t;
+      }
+  }
+  for (int i = 1; i < D; ++i)
+    X[i] ^= X[i - 1];
+  std::uint32_t t = 0;
+  for (std::uint32_t Q = M; Q > 1; Q >>= 1)
+    if (X[D - 1] & Q)
+      t ^= Q - 1;
+  for (int i = 0; i < D; ++i)
+    X[i] ^= t;
+  std::uint64_t key = 0;
+  for (int b = bits - 1; b >= 0; --b)
+    for (int i = 0; i < D; ++i)
+      key = (key << 1) | ((X[i] >> b) & 1u);
+  return key;
+}
+
+/// Indices 0..#P-1 sorted along a Hilbert curve through the bounding box of X (ties by index).
+std::vector<Index> hilbert_order(const Eigen::MatrixXd& X, int threads)
+{
+  const Index np = X.rows();
+  const int dim = static_cast<int>(X.cols());
+  const int bits = dim == 2 ? 32 : 21;
+  const Eigen::RowVectorXd lo = X.colwise().minCoeff(), hi = X.colwise().maxCoeff();
+  const double cells = std::ldexp(1.0, bits) - 1.0;
+  std::vector<std::pair<std::uint64_t, Index>> keys(static_cast<std::size_t>(np));
+#pragma omp parallel for schedule(static) num_threads(threads)
+  for (Index p = 0; p < np; ++p)
+  {
+    std::array<std::uint32_t, 3> c{ 0, 0, 0 };
+    for (int k = 0; k < dim; ++k)
+    {
+      const double ext = hi[k] - lo[k];
+      const double u = ext > 0.0 ? (X(p, k) - lo[k]) / ext : 0.0;
+      c[static_cast<std::size_t>(k)] =
+        static_cast<std::uint32_t>(std::clamp(u * cells, 0.0, cells));
+    }
+    const std::uint64_t key = dim == 2
+      ? hilbert_key<2>({ c[0], c[1] }, bits)
+      : hilbert_key<3>({ c[0], c[1], c[2] }, bits);
+    keys[static_cast<std::size_t>(p)] = { key, p };
+  }
+  std::sort(keys.begin(), keys.end());
+  std::vector<Index> order(static_cast<std::size_t>(np));
+  for (Index p = 0; p < np; ++p)
+    order[static_cast<std::size_t>(p)] = keys[static_cast<std::size_t>(p)].second;
+  return order;
+}
+
+// ------------------------------------------------------------------------------------------
+// Convex hull, recursively: a node is a face of the hull (the hull itself, a facet, an edge of
+// a facet, a vertex) in its own orthonormal coordinates, with the planes bounding it there and
+// the node of the face on each plane.
+
+using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
+
+struct HullNode
+{
+  int dim = 0;
+  std::vector<Index> ids;   // controls on this face (global ids)
+  Eigen::VectorXd origin;   // global coordinates of the local origin
+  Eigen::MatrixXd basis;    // global dim x dim, orthonormal columns
+  Eigen::MatrixXd local;    // dim x #ids, the controls in local coordinates
+  Eigen::MatrixXd normals;  // dim x #planes, outward unit normals (local coordinates)
+  Eigen::VectorXd offsets;  // #planes: x is inside plane k iff normals.col(k) . x <= offsets[k]
+  std::vector<int> children; // node of the face on each plane
+};
+
+} // namespace
+
+struct CelestialCoordinates::Impl
+{
+  Points V;
+  CelestialOptions options;
+  int dim = 0;
+  double diameter = 0.0;
+  double tol = 0.0; // absolute boundary tolerance
+  std::vector<HullNode> nodes; // nodes[0] is the hull
+  std::vector<double> s;       // TCC user weights (empty: zero)
+
+  void validate();
+  void build_hull();
+  int add_node(int dim, std::vector<Index> ids, const Eigen::VectorXd& origin,
+    const Eigen::MatrixXd& basis);
+  void build_planes(int node);
+
+  Eigen::VectorXd to_local(const HullNode& node, const double* p) const
+  {
+    Eigen::VectorXd x(node.dim);
+    const Eigen::Map<const Eigen::VectorXd> pg(p, dim);
+    x.noalias() = node.basis.transpose() * (pg - node.origin);
+    return x;
+  }
+  /// max_k (normals_k . x - offsets_k) and its argmax.
+  static double max_plane_distance(const HullNode& node, const Eigen::VectorXd& x, int* arg)
+  {
+    double best = -std::numeric_limits<double>::infinity();
+    *arg = -1;
+    for (Index k = 0; k < node.normals.cols(); ++k)
+    {
+      const double s = node.normals.col(k).dot(x) - node.offsets[k];
+      if (s > best)
+      {
+        best = s;
+        *arg = static_cast<int>(k);
+      }
+    }
+    return best;
+  }
+
+  CelestialLocation classify(const double* p) const;
+  SolveStats solve_on_face(int node, const double* p, double* w) const;
+};
+
+namespace
+{
+
+/// Orthonormal basis (columns) of the orthogonal complement of the unit vector n in R^3.
+Eigen::Matrix<double, 3, 2> complement_basis(const Eigen::Vector3d& n)
+{
+  Eigen::Index k;
+  n.cwiseAbs().minCoeff(&k);
+  Eigen::Vector3d e = Eigen::Vector3d::Zero();
+  e[k] = 1.0;
+  const Eigen::Vector3d u = n.cross(e).normalized();
+  Eigen::Matrix<double, 3, 2> B;
+  B.col(0) = u;
+  B.col(1) = n.cross(u);
+  return B;
+}
+
+} // namespace
+
+int CelestialCoordinates::Impl::add_node(int node_dim, std::vector<Index> ids,
+  const Eigen::VectorXd& origin, const Eigen::MatrixXd& basis)
+{
+  HullNode node;
+  node.dim = node_dim;
+  node.ids = std::move(ids);
+  node.origin = origin;
+  node.basis = basis;
+  node.local.resize(node_dim, static_cast<Index>(node.ids.size()));
+  for (std::size_t j = 0; j < node.ids.size(); ++j)
+    node.local.col(static_cast<Index>(j)) =
+      basis.transpose() * (V.row(node.ids[j]).transpose() - origin);
+  nodes.push_back(std::move(node));
+  const int index = static_cast<int>(nodes.size()) - 1;
+  build_planes(index);
+  return index;
+}
+
+// The planes of a node and, recursively, their faces. The combinatorial hull comes from CGAL
+// (exact predicates); each face's control set is every control within tol of its plane, and
+// the plane is refitted through the best-conditioned triple of that set, so slivers of nearly
+// coplanar controls neither give inaccurate normals nor duplicate faces.
+void CelestialCoordinates::Impl::build_planes(int index)
+{
+  const int k = nodes[static_cast<std::size_t>(index)].dim;
+  if (k == 0)
+    return;
+  const Eigen::MatrixXd L = nodes[static_cast<std::size_t>(index)].local; // copy: nodes grows
+  const std::vector<Index> ids = nodes[static_cast<std::size_t>(index)].ids;
+  const Eigen::VectorXd origin = nodes[static_cast<std::size_t>(index)].origin;
+  const Eigen::MatrixXd basis = nodes[static_cast<std::size_t>(index)].basis;
+  const Index m = L.cols();
+
+  std::vector<Eigen::VectorXd> normals;
+  std::vector<double> offsets;
+  std::vector<std::vector<Index>> face_ids; // positions into ids
+  auto on_plane = [&](const Eigen::VectorXd& n, double o) {
+    std::vector<Index> on;
+    for (Index j = 0; j < m; ++j)
+      if (std::abs(n.dot(L.col(j)) - o) <= tol)
+        on.push_back(j);
+    return on;
+  };
+  auto add_plane = [&](Eigen::VectorXd n, double o, std::vector<Index> on) {
+    for (const auto& f : face_ids)
+      if (f == on)
+        return;
+    normals.push_back(std::move(n));
+    offsets.push_back(o);
+    face_ids.push_back(std::move(on));
+  };
+
+  if (k == 1)
+  {
+    Index lo = 0, hi = 0;
+    for (Index j = 1; j < m; ++j)
+    {
+      if (L(0, j) < L(0, lo))
+        lo = j;
+      if (L(0, j) > L(0, hi))
+        hi = j;
+    }
+    add_plane(Eigen::VectorXd::Constant(1, 1.0), L(0, hi), { hi });
+    add_plane(Eigen::VectorXd::Constant(1, -1.0), -L(0, lo), { lo });
+  }
+  else if (k == 2)
+  {
+    using P2 = Kernel::Point_2;
+    std::vector<P2> pts;
+    std::map<std::pair<double, double>, Index> where;
+    for (Index j = 0; j < m; ++j)
+    {
+      pts.emplace_back(L(0, j), L(1, j));
+      where.emplace(std::make_pair(L(0, j), L(1, j)), j);
+    }
+    std::vector<P2> hull;
+    CGAL::convex_hull_2(pts.begin(), pts.end(), std::back_inserter(hull)); // counterclockwise
+    for (std::size_t e = 0; e < hull.size(); ++e)
+    {
+      const P2& a = hull[e];
+      const P2& b = hull[(e + 1) % hull.size()];
+      Eigen::VectorXd n(2);
+      n << b.y() - a.y(), a.x() - b.x(); // outward for a counterclockwise polygon
+      n.normalize();
+      const double o = n[0] * a.x() + n[1] * a.y();
+      add_plane(n, o, on_plane(n, o));
+    }
+  }
+  else
+  {
+    using P3 = Kernel::Point_3;
+    std::vector<P3> pts;
+    std::map<std::array<double, 3>, Index> where;
+    for (Index j = 0; j < m; ++j)
+    {
+      pts.emplace_back(L(0, j), L(1, j), L(2, j));
+      where.emplace(std::array<double, 3>{ L(0, j), L(1, j), L(2, j) }, j);
+    }
+    CGAL::Surface_mesh<P3> hull;
+    CGAL::convex_hull_3(pts.begin(), pts.end(), hull);
+    const Eigen::Vector3d centroid = L.rowwise().mean();
+    for (auto f : hull.faces())
+    {
+      std::array<Index, 3> t{};
+      int c = 0;
+      for (auto v : CGAL::vertices_around_face(hull.halfedge(f), hull))
+      {
+        const P3& pt = hull.point(v);
+        if (c < 3)
+          t[static_cast<std::size_t>(c)] = where.at({ pt.x(), pt.y(), pt.z() });
+        ++c;
+      }
+      const Eigen::Vector3d a = L.col(t[0]), b = L.col(t[1]), cc = L.col(t[2]);
+      Eigen::Vector3d n = (b - a).cross(cc - a).normalized();
+      std::vector<Index> on = on_plane(n, n.dot(a));
+      // refit: the farthest pair of the set, then the point farthest from their line
+      Index i0 = on.front(), i1 = on.front(), i2 = on.front();
+      double best = -1.0;
+      for (Index j : on)
+        if ((L.col(j) - L.col(i0)).squaredNorm() > best)
+        {
+          best = (L.col(j) - L.col(i0)).squaredNorm();
+          i1 = j;
+        }
+      const Eigen::Vector3d u = (L.col(i1) - L.col(i0)).normalized();
+      best = -1.0;
+      for (Index j : on)
+      {
+        const Eigen::Vector3d w = L.col(j) - L.col(i0);
+        const double dist2 = (w - w.dot(u) * u).squaredNorm();
+        if (dist2 > best)
+        {
+          best = dist2;
+          i2 = j;
+        }
+      }
+      const Eigen::Vector3d p0 = L.col(i0), p1 = L.col(i1), p2 = L.col(i2);
+      Eigen::Vector3d nf = (p1 - p0).cross(p2 - p0).normalized();
+      if (nf.dot(centroid - p0) > 0.0)
+        nf = -nf;
+      const double o = nf.dot(p0);
+      add_plane(Eigen::VectorXd(nf), o, on_plane(nf, o));
+    }
+  }
+
+  // Faces: one node each, coordinates orthonormal within the plane.
+  std::vector<int> children;
+  for (std::size_t f = 0; f < normals.size(); ++f)
+  {
+    std::vector<Index> child_ids;
+    for (Index j : face_ids[f])
+      child_ids.push_back(ids[static_cast<std::size_t>(j)]);
+    const Eigen::VectorXd x0 = L.col(face_ids[f].front());
+    const Eigen::VectorXd child_origin = origin + basis * x0;
+    Eigen::MatrixXd local_basis(k, k - 1); // within this node's coordinates
+    if (k == 2)
+      local_basis << -normals[f][1], normals[f][0];
+    else if (k == 3)
+      local_basis = complement_basis(Eigen::Vector3d(normals[f]));
+    children.push_back(add_node(k - 1, std::move(child_ids), child_origin, basis * local_basis));
+  }
+  HullNode& node = nodes[static_cast<std::size_t>(index)];
+  node.normals.resize(k, static_cast<Index>(normals.size()));
+  node.offsets.resize(static_cast<Index>(normals.size()));
+  for (std::size_t f = 0; f < normals.size(); ++f)
+  {
+    node.normals.col(static_cast<Index>(f)) = normals[f];
+    node.offsets[static_cast<Index>(f)] = offsets[f];
+  }
+  node.children = std::move(children);
+}
+
+void CelestialCoordinates::Impl::validate()
+{
+  const CelestialOptions& o = options;
+  auto bad = [](const std::string& what) { throw Error(ErrorCode::InvalidArgument, what); };
+  if (!(o.lambda > 1.0 && o.lambda <= 1e6))
+    bad("lambda must lie in (1, 1e6] (the wrapping sphere must contain the unit sphere, "
+        "Sect. 5), got " + fmt(o.lambda));
+  if (!(o.tolerance >= 1e-15 && o.tolerance <= 1e-3))
+    bad("tolerance must lie in [1e-15, 1e-3], got " + fmt(o.tolerance));
+  if (o.max_iterations < 1 || o.max_iterations > 10000)
+    bad("max_iterations must lie in [1, 10000], got " + std::to_string(o.max_iterations));
+  if (!(o.boundary_tolerance >= 1e-15 && o.boundary_tolerance <= 1e-6))
+    bad("boundary_tolerance must lie in [1e-15, 1e-6], got " + fmt(o.boundary_tolerance));
+  if (o.threads < 0)
+    bad("threads must be >= 0 (0 = OpenMP's default), got " + std::to_string(o.threads));
+
+  const Index n = V.rows();
+  if (n == 0)
+    throw Error(ErrorCode::EmptyInput, "there are no control points");
+  if (V.cols() != 2 && V.cols() != 3)
+    throw Error(ErrorCode::SizeMismatch,
+      "control points must have 2 or 3 coordinates, got " + std::to_string(V.cols()));
+  dim = static_cast<int>(V.cols());
+  for (Index i = 0; i < n; ++i)
+    if (!V.row(i).allFinite())
+      throw Error(ErrorCode::NonFinite,
+        "control point " + std::to_string(i) + " has a non-finite coordinate " + fmt_point(V, i));
+
+  if (o.user_weights.size() != 0)
+  {
+    if (o.scheme != CelestialScheme::T)
+      bad("user_weights are the s_i of the T scheme (Eq. 8); the S scheme has none: leave "
+          "user_weights empty or choose CelestialScheme::T");
+    if (o.user_weights.size() != n)
+      throw Error(ErrorCode::SizeMismatch,
+        "user_weights has " + std::to_string(o.user_weights.size()) +
+          " entries but there are " + std::to_string(n) + " control points (one each)");
+    for (Index i = 0; i < n; ++i)
+      if (!std::isfinite(o.user_weights[i]))
+        throw Error(ErrorCode::NonFinite,
+          "user weight " + std::to_string(i) + " is not finite");
+      else if (o.user_weights[i] < 0.0)
+        bad("user weight " + std::to_string(i) + " is " + fmt(o.user_weights[i]) +
+          "; the s_i of Eq. (8) must be >= 0");
+    if (o.user_weights.cwiseAbs().maxCoeff() > 0.0)
+      s.assign(o.user_weights.data(), o.user_weights.data() + n);
+  }
+
+  if (n < dim + 1)
+    bad(std::to_string(dim) + "D celestial coordinates need at least " +
+      std::to_string(dim + 1) + " control points, got " + std::to_string(n) +
+      " (their convex hull must have an interior)");
+
+  diameter = (V.colwise().maxCoeff() - V.colwise().minCoeff()).norm();
+  tol = o.boundary_tolerance * diameter;
+
+  // Coincident controls: sweep in x, report the lexicographically smallest pair.
+  {
+    std::vector<Index> by_x(static_cast<std::size_t>(n));
+    std::iota(by_x.begin(), by_x.end(), Index(0));
+    std::sort(by_x.begin(), by_x.end(), [&](Index a, Index b) {
+      return V(a, 0) < V(b, 0) || (V(a, 0) == V(b, 0) && a < b);
+    });
+    std::pair<Index, Index> first{ -1, -1 };
+    for (std::size_t a = 0; a < by_x.size(); ++a)
+      for (std::size_t b = a + 1; b < by_x.size() && V(by_x[b], 0) - V(by_x[a], 0) <= tol; ++b)
+        if ((V.row(by_x[a]) - V.row(by_x[b])).norm() <= tol)
+        {
+          const std::pair<Index, Index> pr{ std::min(by_x[a], by_x[b]), std::max(by_x[a], by_x[b]) };
+          if (first.first < 0 || pr < first)
+            first = pr;
+        }
+    if (first.first >= 0)
+      bad("control points " + std::to_string(first.first) + " and " +
+        std::to_string(first.second) + " coincide at " + fmt_point(V, first.first) +
+        " (distance " + fmt((V.row(first.first) - V.row(first.second)).norm()) +
+        " <= boundary_tolerance * diagonal = " + fmt(tol) + "); remove one of them");
+  }
+
+  // Affine rank: control 0, the farthest from it, the farthest from their line (and from
+  // their plane in 3D).
+  {
+    Index i1 = 0;
+    (V.rowwise() - V.row(0)).rowwise().squaredNorm().maxCoeff(&i1);
+    const Eigen::VectorXd u = (V.row(i1) - V.row(0)).transpose().normalized();
+    Index i2 = 0;
+    double d2 = -1.0;
+    for (Index i = 0; i < n; ++i)
+    {
+      const Eigen::VectorXd w = (V.row(i) - V.row(0)).transpose();
+      const double d = (w - w.dot(u) * u).norm();
+      if (d > d2)
+      {
+        d2 = d;
+        i2 = i;
+      }
+    }
+    if (d2 <= tol)
+      bad("the control points are collinear (all within " + fmt(d2) +
+        " of the line through control points 0 and " + std::to_string(i1) +
+        "): their convex hull has no interior; add a control point off that line");
+    if (dim == 3)
+    {
+      const Eigen::Vector3d a = V.row(0), b = V.row(i1), c = V.row(i2);
+      const Eigen::Vector3d nrm = (b - a).cross(c - a).normalized();
+      double d3 = 0.0;
+      for (Index i = 0; i < n; ++i)
+        d3 = std::max(d3, std::abs(nrm.dot(Eigen::Vector3d(V.row(i)) - a)));
+      if (d3 <= tol)
+        bad("the control points are coplanar (all within " + fmt(d3) +
+          " of the plane through control points 0, " + std::to_string(i1) + " and " +
+          std::to_string(i2) + "): their convex hull has no interior; add a control point off "
+          "that plane");
+    }
+  }
+}
+
+void CelestialCoordinates::Impl::build_hull()
+{
+  std::vector<Index> ids(static_cast<std::size_t>(V.rows()));
+  std::iota(ids.begin(), ids.end(), Index(0));
+  // local origin at the bounding-box centre: plane offsets stay small, distances accurate
+  const Eigen::VectorXd centre = 0.5 * (V.colwise().maxCoeff() + V.colwise().minCoeff()).transpose();
+  add_node(dim, std::move(ids), centre, Eigen::MatrixXd::Identity(dim, dim));
+}
+
+CelestialLocation CelestialCoordinates::Impl::classify(const double* p) const
+{
+  const Index n = V.rows();
+  const double tol2 = tol * tol;
+  for (Index i = 0; i < n; ++i)
+  {
+    double d2 = 0.0;
+    for (int k = 0; k < dim; ++k)
+    {
+      const double e = V(i, k) - p[k];
+      d2 += e * e;
+    }
+    if (d2 <= tol2)
+      return CelestialLocation::AtControl;
+  }
+  const HullNode& root = nodes.front();
+  int arg;
+  const double s = max_plane_distance(root, to_local(root, p), &arg);
+  if (s > tol)
+    return CelestialLocation::Outside;
+  return s >= -tol ? CelestialLocation::Boundary : CelestialLocation::Inside;
+}
+
+// The coordinates of a point within tol of the boundary of node `index`'s face, or in it:
+// descend to the face p lies on (preferring one whose own bounds contain p's projection), then
+// solve the same scheme with that face's controls in its own coordinates. Writes the weights
+// of the face's controls into w (the others are left untouched: the caller zeroes the row).
+SolveStats CelestialCoordinates::Impl::solve_on_face(int index, const double* p, double* w) const
+{
+  const HullNode* node = &nodes[static_cast<std::size_t>(index)];
+  Eigen::VectorXd x = to_local(*node, p);
+  for (;;)
+  {
+    if (node->dim == 0)
+    {
+      w[node->ids.front()] = 1.0;
+      return { 0, 0.0, true };
+    }
+    for (std::size_t j = 0; j < node->ids.size(); ++j)
+      if ((node->local.col(static_cast<Index>(j)) - x).norm() <= tol)
+      {
+        w[node->ids[j]] = 1.0;
+        return { 0, 0.0, true };
+      }
+    int arg;
+    const double smax = max_plane_distance(*node, x, &arg);
+    if (smax < -tol)
+      break; // interior of this face
+    int next = node->children[static_cast<std::size_t>(arg)];
+    for (Index k = 0; k < node->normals.cols(); ++k)
+    {
+      if (node->normals.col(k).dot(x) - node->offsets[k] < -tol)
+        continue;
+      const HullNode& child = nodes[static_cast<std::size_t>(node->children[static_cast<std::size_t>(k)])];
+      int a2;
+      if (child.dim == 0 || max_plane_distance(child, to_local(child, p), &a2) <= tol)
+      {
+        next = node->children[static_cast<std::size_t>(k)];
+        break;
+      }
+    }
+    node = &nodes[static_cast<std::size_t>(next)];
+    x = to_local(*node, p);
+  }
+
+  // Solve in the face.
+  const int k = node->dim;
+  const Index m = static_cast<Index>(node->ids.size());
+  std::vector<double> q(static_cast<std::size_t>(k * m)), inv_d(static_cast<std::size_t>(m)),
+    sf, beta(static_cast<std::size_t>(m));
+  for (Index j = 0; j < m; ++j)
+  {
+    const Eigen::VectorXd e = node->local.col(j) - x;
+    const double d = e.norm();
+    inv_d[static_cast<std::size_t>(j)] = 1.0 / d;
+    for (int c = 0; c < k; ++c)
+      q[static_cast<std::size_t>(c * m + j)] = e[c] / d;
+  }
+  if (!s.empty())
+    for (Index id : node->ids)
+      sf.push_back(s[static_cast<std::size_t>(id)]);
+  const double* sp = sf.empty() ? nullptr : sf.data();
+  SolveStats stats;
+  auto run = [&](auto tag) {
+    constexpr int K = decltype(tag)::value;
+    Newton<K> newton(options.scheme, q.data(), sp, m);
+    typename Newton<K>::Vec y = newton.cold_start(options.lambda);
+    stats = newton.solve(y, options.tolerance, options.max_iterations);
+    newton.betas(y, beta.data());
+  };
+  if (k == 1)
+    run(std::integral_constant<int, 1>{});
+  else if (k == 2)
+    run(std::integral_constant<int, 2>{});
+  else
+    run(std::integral_constant<int, 3>{});
+  double sum = 0.0;
+  for (Index j = 0; j < m; ++j)
+    sum += beta[static_cast<std::size_t>(j)] * inv_d[static_cast<std::size_t>(j)];
+  for (Index j = 0; j < m; ++j)
+    w[node->ids[static_cast<std::size_t>(j)]] =
+      beta[static_cast<std::size_t>(j)] * inv_d[static_cast<std::size_t>(j)] / sum;
+  return stats;
+}
+
+// ------------------------------------------------------------------------------------------
+
+CelestialCoordinates::CelestialCoordinates(Points controls, const CelestialOptions& options)
+  : impl_(std::make_unique<Impl>())
+{
+  impl_->V = std::move(controls);
+  impl_->options = options;
+  impl_->validate();
+  impl_->build_hull();
+}
+
+CelestialCoordinates::~CelestialCoordinates() = default;
+CelestialCoordinates::CelestialCoordinates(CelestialCoordinates&&) noexcept = default;
+CelestialCoordinates& CelestialCoordinates::operator=(CelestialCoordinates&&) noexcept = default;
+
+Index CelestialCoordinates::num_controls() const noexcept { return impl_->V.rows(); }
+int CelestialCoordinates::dimension() const noexcept { return impl_->dim; }
+const Points& CelestialCoordinates::controls() const noexcept { return impl_->V; }
+const CelestialOptions& CelestialCoordinates::options() const noexcept { return impl_->options; }
+Index CelestialCoordinates::num_hull_facets() const noexcept
+{
+  return impl_->nodes.front().normals.cols();
+}
+
+namespace
+{
+
+/// The solve of the Inside points of one chunk, for a fixed dimension.
+template<int D>
+struct ChunkSolver
+{
+  using Vec = typename Newton<D>::Vec;
+  const Points& V;
+  const CelestialOptions& options;
+  const double* s; // user weights or nullptr
+  const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>& X;
+  std::vector<double> q, inv_d, beta;
+
+  ChunkSolver(const Points& V_, const CelestialOptions& options_, const double* s_,
+    const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>& X_)
+    : V(V_)
+    , options(options_)
+    , s(s_)
+    , X(X_)
+    , q(static_cast<std::size_t>(D * V_.rows()))
+    , inv_d(static_cast<std::size_t>(V_.rows()))
+    , beta(static_cast<std::size_t>(V_.rows()))
+  {
+  }
+
+  /// Solves point p from *warm (or cold if null); on success writes W's row, the solution and
+  /// y (the Newton unknown). Returns stats; total counts every iteration.
+  SolveStats solve(Index p, const Vec* warm, Vec& y, double* w, long long& total, bool& restarted)
+  {
+    const Index n = V.rows();
+    const double* x = X.row(p).data();
+    for (Index i = 0; i < n; ++i)
+    {
+      double e[D], d2 = 0.0;
+      for (int k = 0; k < D; ++k)
+      {
+        e[k] = V(i, k) - x[k];
+        d2 += e[k] * e[k];
+      }
+      const double id = 1.0 / std::sqrt(d2);
+      inv_d[static_cast<std::size_t>(i)] = id;
+      for (int k = 0; k < D; ++k)
+        q[static_cast<std::size_t>(k * n + i)] = e[k] * id;
+    }
+    Newton<D> newton(options.scheme, q.data(), s, n);
+    restarted = false;
+    SolveStats stats;
+    if (warm != nullptr)
+    {
+      y = *warm;
+      stats = newton.solve(y, options.tolerance, options.max_iterations);
+      total += stats.iterations;
+      if (!stats.converged)
+        restarted = true;
+    }
+    if (warm == nullptr || restarted)
+    {
+      y = newton.cold_start(options.lambda);
+      stats = newton.solve(y, options.tolerance, options.max_iterations);
+      total += stats.iterations;
+    }
+    if (!stats.converged)
+      return stats;
+    newton.betas(y, beta.data());
+    double sum = 0.0;
+    for (Index i = 0; i < n; ++i)
+      sum += beta[static_cast<std::size_t>(i)] * inv_d[static_cast<std::size_t>(i)];
+    const double inv = 1.0 / sum;
+    for (Index i = 0; i < n; ++i)
+      w[i] = beta[static_cast<std::size_t>(i)] * inv_d[static_cast<std::size_t>(i)] * inv;
+    return stats;
+  }
+};
+
+} // namespace
+
+CelestialResult CelestialCoordinates::compute(const Points& X, const ProgressCallback& progress) const
+{
+  return compute(X, Eigen::MatrixXi(0, 2), progress);
+}
+
+CelestialResult CelestialCoordinates::compute(
+  const Points& Xin, const Eigen::MatrixXi& edges, const ProgressCallback& progress) const
+{
+  const auto start = std::chrono::steady_clock::now();
+  const Impl& im = *impl_;
+  const CelestialOptions& opt = im.options;
+  const int dim = im.dim;
+  const Index np = Xin.rows(), nc = im.V.rows();
+  if (Xin.cols() != dim)
+    throw Error(ErrorCode::SizeMismatch,
+      "the points have " + std::to_string(Xin.cols()) + " coordinates but the control points " +
+        std::to_string(dim));
+  for (Index p = 0; p < np; ++p)
+    if (!Xin.row(p).allFinite())
+      throw Error(ErrorCode::NonFinite,
+        "point " + std::to_string(p) + " has a non-finite coordinate " + fmt_point(Xin, p));
+  if (edges.size() != 0)
+  {
+    if (edges.cols() != 2)
+      throw Error(ErrorCode::SizeMismatch,
+        "edges must be #E by 2 (vertex pairs), got " + std::to_string(edges.cols()) + " columns");
+    for (Index e = 0; e < edges.rows(); ++e)
+      for (int k = 0; k < 2; ++k)
+        if (edges(e, k) < 0 || edges(e, k) >= np)
+          throw Error(ErrorCode::InvalidArgument,
+            "edge " + std::to_string(e) + " refers to point " + std::to_string(edges(e, k)) +
+              " but there are " + std::to_string(np) + " points");
+  }
+
+  CelestialResult result;
+  result.W.setConstant(np, nc, 0.0);
+  result.location.assign(static_cast<std::size_t>(np), CelestialLocation::Inside);
+  result.iterations.setZero(np);
+  result.residual.setConstant(np, kNaN);
+  result.solution.setConstant(np, dim, kNaN);
+  if (np == 0)
+  {
+    result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return result;
+  }
+  const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> X = Xin;
+
+#ifdef _OPENMP
+  const int threads = opt.threads > 0 ? opt.threads : omp_get_max_threads();
+#else
+  const int threads = 1;
+#endif
+
+  // 1. Where each point lies (cheap; before any solve so that an outside point fails fast).
+#pragma omp parallel for schedule(static) num_threads(threads)
+  for (Index p = 0; p < np; ++p)
+    result.location[static_cast<std::size_t>(p)] = im.classify(X.row(p).data());
+  for (Index p = 0; p < np; ++p)
+    if (result.location[static_cast<std::size_t>(p)] == CelestialLocation::Outside)
+      result.outside.push_back(p);
+  if (!result.outside.empty() && opt.outside == CelestialOutsidePolicy::Error)
+  {
+    std::string ids;
+    for (std::size_t k = 0; k < std::min<std::size_t>(10, result.outside.size()); ++k)
+      ids += (k ? ", " : "") + std::to_string(result.outside[k]);
+    if (result.outside.size() > 10)
+      ids += ", ...";
+    int arg;
+    const double dist = Impl::max_plane_distance(
+      im.nodes.front(), im.to_local(im.nodes.front(), X.row(result.outside.front()).data()), &arg);
+    throw Error(ErrorCode::InvalidArgument,
+      std::to_string(result.outside.size()) + " of " + std::to_string(np) +
+        " points lie outside the convex hull of the " + std::to_string(nc) +
+        " control points (points " + ids + "; point " + std::to_string(result.outside.front()) +
+        " is " + fmt(dist) + " outside): celestial coordinates are defined only inside the "
+        "hull. Add control points around the model (the paper adds the corners of a box), or "
+        "set outside = CelestialOutsidePolicy::Flag to get NaN rows for them");
+  }
+
+  // 2. The order of the warm starts.
+  std::vector<Index> order;
+  std::vector<Index> position; // position[p] = place of p in order (edges only)
+  std::vector<Index> adj_start, adj;
+  const bool use_edges = opt.warm_start && edges.rows() > 0;
+  if (opt.warm_start)
+    order = hilbert_order(Xin, threads);
+  else
+  {
+    order.resize(static_cast<std::size_t>(np));
+    std::iota(order.begin(), order.end(), Index(0));
+  }
+  if (use_edges)
+  {
+    adj_start.assign(static_cast<std::size_t>(np + 1), 0);
+    for (Index e = 0; e < edges.rows(); ++e)
+      if (edges(e, 0) != edges(e, 1))
+      {
+        ++adj_start[static_cast<std::size_t>(edges(e, 0)) + 1];
+        ++adj_start[static_cast<std::size_t>(edges(e, 1)) + 1];
+      }
+    std::partial_sum(adj_start.begin(), adj_start.end(), adj_start.begin());
+    adj.resize(static_cast<std::size_t>(adj_start.back()));
+    std::vector<Index> fill(adj_start.begin(), adj_start.end() - 1);
+    for (Index e = 0; e < edges.rows(); ++e)
+      if (edges(e, 0) != edges(e, 1))
+      {
+        adj[static_cast<std::size_t>(fill[static_cast<std::size_t>(edges(e, 0))]++)] = edges(e, 1);
+        adj[static_cast<std::size_t>(fill[static_cast<std::size_t>(edges(e, 1))]++)] = edges(e, 0);
+      }
+    // breadth first, neighbours nearest first (Sect. 4.2); seeds in Hilbert order
+    std::vector<char> seen(static_cast<std::size_t>(np), 0);
+    std::vector<Index> bfs;
+    bfs.reserve(static_cast<std::size_t>(np));
+    std::vector<std::pair<double, Index>> next;
+    for (Index seed : order)
+    {
+      if (seen[static_cast<std::size_t>(seed)])
+        continue;
+      seen[static_cast<std::size_t>(seed)] = 1;
+      std::size_t head = bfs.size();
+      bfs.push_back(seed);
+      while (head < bfs.size())
+      {
+        const Index u = bfs[head++];
+        next.clear();
+        for (Index a = adj_start[static_cast<std::size_t>(u)]; a < adj_start[static_cast<std::size_t>(u) + 1]; ++a)
+        {
+          const Index v = adj[static_cast<std::size_t>(a)];
+          if (!seen[static_cast<std::size_t>(v)])
+          {
+            seen[static_cast<std::size_t>(v)] = 1;
+            next.emplace_back((X.row(v) - X.row(u)).squaredNorm(), v);
+          }
+        }
+        std::sort(next.begin(), next.end());
+        for (const auto& [dist, v] : next)
+          bfs.push_back(v);
+      }
+    }
+    order = std::move(bfs);
+    position.resize(static_cast<std::size_t>(np));
+    for (Index k = 0; k < np; ++k)
+      position[static_cast<std::size_t>(order[static_cast<std::size_t>(k)])] = k;
+  }
+
+  // 3. Solve, chunk by chunk. Within a chunk the points are solved in order, each Inside point
+  // warm-started from the nearest solved neighbour (edges) or the last solved point (Hilbert)
+  // of the same chunk; chunks are independent, so nothing depends on the threads.
+  const Index chunks = (np + kChunk - 1) / kChunk;
+  ProgressReporter reporter(progress, np);
+  std::atomic<bool> stop{ false };
+  std::atomic<Index> done{ 0 };
+  long long total_iterations = 0;
+  Index warm_starts = 0, cold_restarts = 0;
+  const double* s = im.s.empty() ? nullptr : im.s.data();
+
+  auto run = [&](auto tag) {
+    constexpr int D = decltype(tag)::value;
+    using Vec = typename Newton<D>::Vec;
+#pragma omp parallel num_threads(threads)
+    {
+      long long my_iterations = 0;
+      Index my_warm = 0, my_restarts = 0;
+#ifdef _OPENMP
+      const bool reporting_thread = omp_get_thread_num() == 0;
+#else
+      const bool reporting_thread = true;
+#endif
+      Index reported = 0;
+      ChunkSolver<D> solver(im.V, opt, s, X);
+      std::vector<Vec> ys(static_cast<std::size_t>(kChunk));
+      std::vector<char> solved(static_cast<std::size_t>(kChunk));
+#pragma omp for schedule(dynamic, 1)
+      for (Index c = 0; c < chunks; ++c)
+      {
+        if (stop.load(std::memory_order_relaxed))
+          continue;
+        const Index begin = c * kChunk, end = std::min(np, begin + kChunk);
+        std::fill(solved.begin(), solved.end(), 0);
+        Index last = -1; // last solved position in this chunk
+        for (Index k = begin; k < end; ++k)
+        {
+          const Index p = order[static_cast<std::size_t>(k)];
+          double* w = result.W.row(p).data();
+          const CelestialLocation loc = result.location[static_cast<std::size_t>(p)];
+          if (loc == CelestialLocation::Outside)
+          {
+            std::fill(w, w + nc, kNaN);
+            continue;
+          }
+          if (loc != CelestialLocation::Inside)
+          {
+            const SolveStats st = im.solve_on_face(0, X.row(p).data(), w);
+            my_iterations += st.iterations;
+            result.iterations[p] = st.iterations;
+            result.residual[p] = st.residual;
+            if (!st.converged)
+              std::fill(w, w + nc, kNaN);
+            continue;
+          }
+          const Vec* warm = nullptr;
+          if (opt.warm_start)
+          {
+            Index from = last;
+            if (use_edges)
+            {
+              double best = std::numeric_limits<double>::infinity();
+              for (Index a = adj_start[static_cast<std::size_t>(p)]; a < adj_start[static_cast<std::size_t>(p) + 1]; ++a)
+              {
+                const Index v = adj[static_cast<std::size_t>(a)];
+                const Index pos = position[static_cast<std::size_t>(v)];
+                if (pos < begin || pos >= k || !solved[static_cast<std::size_t>(pos - begin)])
+                  continue;
+                const double d2 = (X.row(v) - X.row(p)).squaredNorm();
+                if (d2 < best || (d2 == best && pos < from))
+                {
+                  best = d2;
+                  from = pos;
+                }
+              }
+            }
+            if (from >= 0)
+            {
+              warm = &ys[static_cast<std::size_t>(from - begin)];
+              ++my_warm;
+            }
+          }
+          Vec& y = ys[static_cast<std::size_t>(k - begin)];
+          bool restarted = false;
+          const SolveStats st = solver.solve(p, warm, y, w, my_iterations, restarted);
+          my_restarts += restarted ? 1 : 0;
+          result.iterations[p] = st.iterations;
+          result.residual[p] = st.residual;
+          if (!st.converged)
+          {
+            std::fill(w, w + nc, kNaN);
+            continue;
+          }
+          solved[static_cast<std::size_t>(k - begin)] = 1;
+          last = k;
+          if (opt.scheme == CelestialScheme::T)
+            for (int d = 0; d < D; ++d)
+              result.solution(p, d) = y[d];
+          else
+          {
+            // c = lambda m(|y|) y
+            const double ny = y.norm();
+            const double f = opt.lambda * m_of(ny, std::sqrt(ny * ny + 1.0));
+            for (int d = 0; d < D; ++d)
+              result.solution(p, d) = f * y[d];
+          }
+        }
+        const Index now = done.fetch_add(end - begin, std::memory_order_relaxed) + end - begin;
+        if (reporting_thread)
+        {
+          if (!reporter.step(now - reported))
+            stop = true;
+          reported = now;
+        }
+      }
+#pragma omp critical(celestial_counts)
+      {
+        total_iterations += my_iterations;
+        warm_starts += my_warm;
+        cold_restarts += my_restarts;
+      }
+    }
+  };
+  if (dim == 2)
+    run(std::integral_constant<int, 2>{});
+  else
+    run(std::integral_constant<int, 3>{});
+  if (stop)
+    reporter.throw_if_cancelled("celestial coordinates");
+  reporter.finish();
+  reporter.throw_if_cancelled("celestial coordinates");
+
+  for (Index p = 0; p < np; ++p)
+  {
+    const CelestialLocation loc = result.location[static_cast<std::size_t>(p)];
+    switch (loc)
+    {
+      case CelestialLocation::Inside: ++result.inside; break;
+      case CelestialLocation::Boundary: ++result.boundary; break;
+      case CelestialLocation::AtControl:
+        ++result.at_control;
+        result.residual[p] = 0.0;
+        break;
+      case CelestialLocation::Outside: break;
+    }
+    if (loc != CelestialLocation::Outside && std::isnan(result.W(p, 0)))
+      result.not_converged.push_back(p);
+  }
+  result.total_iterations = total_iterations;
+  result.warm_starts = warm_starts;
+  result.cold_restarts = cold_restarts;
+
+  if (!result.not_converged.empty() && opt.require_convergence)
+  {
+    std::string list;
+    for (std::size_t k = 0; k < std::min<std::size_t>(10, result.not_converged.size()); ++k)
+    {
+      const Index p = result.not_converged[k];
+      list += (k ? ", " : "") + std::to_string(p) + " (residual " + fmt(result.residual[p]) + ")";
+    }
+    if (result.not_converged.size() > 10)
+      list += ", ...";
+    throw Error(ErrorCode::NotConverged,
+      std::to_string(result.not_converged.size()) + " of " + std::to_string(np) +
+        " points did not converge in " + std::to_string(opt.max_iterations) +
+        " Newton iterations to the tolerance " + fmt(opt.tolerance) + ": points " + list +
+        ". Raise max_iterations or tolerance, or set require_convergence = false to get NaN "
+        "rows and the list in CelestialResult::not_converged");
+  }
+  result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return result;
+}
+
+CelestialResult celestial_coordinates(const Points& controls, const Points& X,
+  const CelestialOptions& options, const ProgressCallback& progress)
+{
+  return CelestialCoordinates(controls, options).compute(X, progress);
+}
+
+} // namespace bary
