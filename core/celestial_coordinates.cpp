@@ -95,10 +95,32 @@ template<int D>
 Eigen::Matrix<double, D, 1> solve_spd(
   const Eigen::Matrix<double, D, D>& A, const Eigen::Matrix<double, D, 1>& b)
 {
+  // Cholesky A = L L^T by hand (a quarter of Eigen's pivoting LDLT in the profile); a
+  // non-positive pivot gives NaN, which the caller treats as a failed step.
+  Eigen::Matrix<double, D, 1> x;
   if constexpr (D == 1)
-    return Eigen::Matrix<double, 1, 1>(b[0] / A(0, 0));
+    x[0] = b[0] / A(0, 0);
+  else if constexpr (D == 2)
+  {
+    const double l00 = std::sqrt(A(0, 0)), l10 = A(1, 0) / l00;
+    const double l11 = std::sqrt(A(1, 1) - l10 * l10);
+    const double y0 = b[0] / l00, y1 = (b[1] - l10 * y0) / l11;
+    x[1] = y1 / l11;
+    x[0] = (y0 - l10 * x[1]) / l00;
+  }
   else
-    return A.ldlt().solve(b);
+  {
+    const double l00 = std::sqrt(A(0, 0)), l10 = A(1, 0) / l00, l20 = A(2, 0) / l00;
+    const double l11 = std::sqrt(A(1, 1) - l10 * l10);
+    const double l21 = (A(2, 1) - l20 * l10) / l11;
+    const double l22 = std::sqrt(A(2, 2) - l20 * l20 - l21 * l21);
+    const double y0 = b[0] / l00, y1 = (b[1] - l10 * y0) / l11,
+                 y2 = (b[2] - l20 * y0 - l21 * y1) / l22;
+    x[2] = y2 / l22;
+    x[1] = (y1 - l21 * x[2]) / l11;
+    x[0] = (y0 - l10 * x[1] - l20 * x[2]) / l00;
+  }
+  return x;
 }
 
 struct SolveStats
@@ -116,17 +138,26 @@ public:
   using Mat = Eigen::Matrix<double, D, D>;
 
   /// @param q D * n doubles, q[k * n + i] = component k of q_i; @param s n user weights or
-  /// nullptr (TCC only).
-  Newton(CelestialScheme scheme, const double* q, const double* s, Index n)
+  /// nullptr (TCC only); @param scratch 4 n doubles (the betas of the current and the trial
+  /// iterate, and two work arrays). Not thread-safe: one per thread.
+  Newton(CelestialScheme scheme, const double* q, const double* s, Index n, double* scratch)
     : scheme_(scheme)
     , q_(q)
     , s_(s)
     , n_(n)
+    , a_(scratch + 2 * n)
+    , t_(scratch + 3 * n)
   {
+    cur_.beta = scratch;
+    next_.beta = scratch + n;
     rs_.setZero();
+    s_sum_ = 0.0;
     if (scheme_ == CelestialScheme::T && s_ != nullptr)
       for (Index i = 0; i < n_; ++i)
+      {
         rs_ += s_[i] * qi(i);
+        s_sum_ += s_[i];
+      }
   }
 
   /// TCC: the linearised system of Sect. 4.2, sum_i (s_i + 1 + psi . q_i) q_i = 0.
@@ -149,17 +180,17 @@ public:
     return c0 / std::sqrt(lambda * lambda + 2.0 * lambda * c0.norm());
   }
 
-  SolveStats solve(Vec& x, double tol, int max_iterations) const
+  /// Newton from x (updated in place). After it, beta() holds the betas at x.
+  SolveStats solve(Vec& x, double tol, int max_iterations)
   {
     SolveStats stats;
-    State cur, next;
-    eval(x, cur);
-    if (!cur.finite)
+    eval(x, cur_);
+    if (!cur_.finite)
       return stats;
     for (;;)
     {
-      const double fnorm = cur.F.norm();
-      stats.residual = fnorm / cur.sb;
+      const double fnorm = cur_.F.norm();
+      stats.residual = fnorm / cur_.sb;
       // The rounding floor: a_i = x . q_i carries an error ~ u |x|_1, which moves beta_i by
       // ~ 2 u |x|_1 beta_i (both schemes), so F by 2 u |x|_1 sum beta, plus the n-term sums.
       // It exceeds the default tolerance only where |x| is large: within ~1e-9 of the hull.
@@ -171,45 +202,36 @@ public:
       }
       if (stats.iterations >= max_iterations)
         return stats;
-      const Vec d = -solve_spd<D>(cur.J, cur.F);
+      const Vec d = -solve_spd<D>(cur_.J, cur_.F);
       if (!d.allFinite())
         return stats;
-      const double slope = cur.F.dot(d);
+      const double slope = cur_.F.dot(d);
       double t = 1.0;
       bool accepted = false;
       Vec xn;
       for (int k = 0; k < kMaxBacktracks && !accepted; ++k, t *= 0.5)
       {
         xn = x + t * d;
-        eval(xn, next);
-        if (!next.finite)
+        eval(xn, next_);
+        if (!next_.finite)
           continue;
-        accepted = next.phi <= cur.phi + kArmijo * t * slope ||
-          (stats.residual < kResidualSwitch && next.F.norm() <= (1.0 - kArmijo * t) * fnorm);
+        accepted = next_.phi <= cur_.phi + kArmijo * t * slope ||
+          (stats.residual < kResidualSwitch && next_.F.norm() <= (1.0 - kArmijo * t) * fnorm);
       }
       if (!accepted)
-        return stats; // stagnation: no step reduces the merit functions
+      {
+        eval(x, cur_); // restore the betas of x
+        return stats;  // stagnation: no step reduces the merit functions
+      }
       x = xn;
-      std::swap(cur, next);
+      std::swap(cur_, next_);
       ++stats.iterations;
     }
   }
 
-  /// beta_i at x (SCC: up to the common factor K, which cancels in Eq. 3).
-  void betas(const Vec& x, double* beta) const
-  {
-    for (Index i = 0; i < n_; ++i)
-    {
-      const double a = x.dot(qi(i));
-      if (scheme_ == CelestialScheme::T)
-        beta[i] = (s_ ? s_[i] : 0.0) + std::exp(a);
-      else
-      {
-        const double m = m_of(a, std::sqrt(a * a + 1.0));
-        beta[i] = m * m;
-      }
-    }
-  }
+  /// beta_i at the last x solve() was given or returned (SCC: up to the common factor K,
+  /// which cancels in Eq. 3).
+  const double* beta() const { return cur_.beta; }
 
 private:
   struct State
@@ -218,6 +240,7 @@ private:
     Mat J;
     double phi = 0.0, sb = 0.0;
     bool finite = false;
+    double* beta = nullptr; // n
   };
 
   Vec qi(Index i) const
@@ -228,55 +251,128 @@ private:
     return v;
   }
 
+  // F, J, Phi and sum beta at x, and the betas into st.beta. First a_i = x . q_i and the
+  // transcendental part (exp or sqrt) as Eigen array expressions, which vectorize (std::sqrt
+  // and std::exp in a loop do not: errno, no SIMD exp in libm), then one loop of products and
+  // sums with scalar accumulators, vectorized by omp simd. Results do not depend on threads.
   void eval(const Vec& x, State& st) const
   {
-    Vec F = Vec::Zero();
-    Mat J = Mat::Zero();
-    double phi = 0.0, sb = 0.0;
+    const Index n = n_;
+    const double* q0 = q_;
+    const double* q1 = q_ + (D > 1 ? n : 0);
+    const double* q2 = q_ + (D > 2 ? 2 * n : 0);
+    using Array = Eigen::Array<double, Eigen::Dynamic, 1>;
+    Eigen::Map<Array> a(a_, n), t(t_, n);
+    if constexpr (D == 1)
+      a = x[0] * Eigen::Map<const Array>(q0, n);
+    else if constexpr (D == 2)
+      a = x[0] * Eigen::Map<const Array>(q0, n) + x[1] * Eigen::Map<const Array>(q1, n);
+    else
+      a = x[0] * Eigen::Map<const Array>(q0, n) + x[1] * Eigen::Map<const Array>(q1, n) +
+        x[2] * Eigen::Map<const Array>(q2, n);
+    const double* ap = a_;
+    const double* tp = t_;
+    double* beta = st.beta;
+    double f0 = 0, f1 = 0, f2 = 0, j00 = 0, j01 = 0, j02 = 0, j11 = 0, j12 = 0, j22 = 0;
+    double phi = 0, sb = 0;
     if (scheme_ == CelestialScheme::T)
     {
-      for (Index i = 0; i < n_; ++i)
+      t = a.exp(); // e_i
+      const double* s = s_;
+#pragma omp simd reduction(+ : f0, f1, f2, j00, j01, j02, j11, j12, j22, phi)
+      for (Index i = 0; i < n; ++i)
       {
-        const Vec q = qi(i);
-        const double e = std::exp(x.dot(q));
+        const double e = tp[i];
+        beta[i] = s ? s[i] + e : e;
         phi += e;
-        sb += e;
-        F += e * q;
-        J.noalias() += e * q * q.transpose();
+        const double w0 = e * q0[i];
+        f0 += w0;
+        j00 += w0 * q0[i];
+        if constexpr (D > 1)
+        {
+          const double w1 = e * q1[i];
+          f1 += w1;
+          j01 += w0 * q1[i];
+          j11 += w1 * q1[i];
+          if constexpr (D > 2)
+          {
+            const double w2 = e * q2[i];
+            f2 += w2;
+            j02 += w0 * q2[i];
+            j12 += w1 * q2[i];
+            j22 += w2 * q2[i];
+          }
+        }
       }
-      if (s_ != nullptr)
-        for (Index i = 0; i < n_; ++i)
-          sb += s_[i];
-      F += rs_;
+      sb = phi + s_sum_;
       phi += x.dot(rs_);
+      f0 += rs_[0];
+      if constexpr (D > 1)
+        f1 += rs_[1];
+      if constexpr (D > 2)
+        f2 += rs_[2];
     }
     else
     {
-      for (Index i = 0; i < n_; ++i)
+      t = (a.square() + 1.0).sqrt(); // r_i
+#pragma omp simd reduction(+ : f0, f1, f2, j00, j01, j02, j11, j12, j22, phi, sb)
+      for (Index i = 0; i < n; ++i)
       {
-        const Vec q = qi(i);
-        const double a = x.dot(q);
-        const double r = std::sqrt(a * a + 1.0);
-        const double m = m_of(a, r);
+        const double ai = ap[i], r = tp[i];
+        const double m = ai >= 0.0 ? ai + r : 1.0 / (r - ai);
         const double b = m * m;
+        const double w = 2.0 * b / r;
+        beta[i] = b;
         phi += m * (b * (1.0 / 6.0) + 0.5);
         sb += b;
-        F += b * q;
-        J.noalias() += (2.0 * b / r) * q * q.transpose();
+        f0 += b * q0[i];
+        const double w0 = w * q0[i];
+        j00 += w0 * q0[i];
+        if constexpr (D > 1)
+        {
+          f1 += b * q1[i];
+          const double w1 = w * q1[i];
+          j01 += w0 * q1[i];
+          j11 += w1 * q1[i];
+          if constexpr (D > 2)
+          {
+            f2 += b * q2[i];
+            j02 += w0 * q2[i];
+            j12 += w1 * q2[i];
+            j22 += w * q2[i] * q2[i];
+          }
+        }
       }
     }
-    st.F = F;
-    st.J = J;
+    st.F[0] = f0;
+    st.J(0, 0) = j00;
+    if constexpr (D > 1)
+    {
+      st.F[1] = f1;
+      st.J(0, 1) = st.J(1, 0) = j01;
+      st.J(1, 1) = j11;
+    }
+    if constexpr (D > 2)
+    {
+      st.F[2] = f2;
+      st.J(0, 2) = st.J(2, 0) = j02;
+      st.J(1, 2) = st.J(2, 1) = j12;
+      st.J(2, 2) = j22;
+    }
     st.phi = phi;
     st.sb = sb;
-    st.finite = std::isfinite(phi) && std::isfinite(sb) && F.allFinite() && J.allFinite();
+    st.finite = std::isfinite(phi) && std::isfinite(sb) && st.F.allFinite() && st.J.allFinite();
   }
 
   CelestialScheme scheme_;
   const double* q_;
   const double* s_;
   Index n_;
-  Vec rs_; // sum_i s_i q_i (TCC)
+  double* a_;          // n: a_i = x . q_i
+  double* t_;          // n: exp(a_i) (TCC) or sqrt(a_i^2 + 1) (SCC)
+  Vec rs_;             // sum_i s_i q_i (TCC)
+  double s_sum_ = 0.0; // sum_i s_i (TCC)
+  State cur_, next_;
 };
 
 // ------------------------------------------------------------------------------------------
@@ -323,7 +419,7 @@ std::vector<Index> hilbert_order(const Eigen::MatrixXd& X, int threads)
   const Eigen::RowVectorXd lo = X.colwise().minCoeff(), hi = X.colwise().maxCoeff();
   const double cells = std::ldexp(1.0, bits) - 1.0;
   std::vector<std::pair<std::uint64_t, Index>> keys(static_cast<std::size_t>(np));
-#pragma omp parallel for schedule(static) num_threads(threads)
+#pragma omp parallel for schedule(static) num_threads(threads) if (np >= 4096)
   for (Index p = 0; p < np; ++p)
   {
     std::array<std::uint32_t, 3> c{ 0, 0, 0 };
@@ -743,9 +839,20 @@ CelestialLocation CelestialCoordinates::Impl::classify(const double* p) const
     if (d2 <= tol2)
       return CelestialLocation::AtControl;
   }
+  // the root's basis is the identity: local coordinates are p - origin
   const HullNode& root = nodes.front();
-  int arg;
-  const double s = max_plane_distance(root, to_local(root, p), &arg);
+  double x[3] = { 0.0, 0.0, 0.0 };
+  for (int k = 0; k < dim; ++k)
+    x[k] = p[k] - root.origin[k];
+  double s = -std::numeric_limits<double>::infinity();
+  const double* nrm = root.normals.data();
+  for (Index f = 0, nf = root.normals.cols(); f < nf; ++f, nrm += dim)
+  {
+    double d = -root.offsets[f];
+    for (int k = 0; k < dim; ++k)
+      d += nrm[k] * x[k];
+    s = std::max(s, d);
+  }
   if (s > tol)
     return CelestialLocation::Outside;
   return s >= -tol ? CelestialLocation::Boundary : CelestialLocation::Inside;
@@ -797,7 +904,7 @@ SolveStats CelestialCoordinates::Impl::solve_on_face(int index, const double* p,
   const int k = node->dim;
   const Index m = static_cast<Index>(node->ids.size());
   std::vector<double> q(static_cast<std::size_t>(k * m)), inv_d(static_cast<std::size_t>(m)),
-    sf, beta(static_cast<std::size_t>(m));
+    sf, beta(static_cast<std::size_t>(m)), scratch(static_cast<std::size_t>(4 * m));
   for (Index j = 0; j < m; ++j)
   {
     const Eigen::VectorXd e = node->local.col(j) - x;
@@ -813,10 +920,10 @@ SolveStats CelestialCoordinates::Impl::solve_on_face(int index, const double* p,
   SolveStats stats;
   auto run = [&](auto tag) {
     constexpr int K = decltype(tag)::value;
-    Newton<K> newton(options.scheme, q.data(), sp, m);
+    Newton<K> newton(options.scheme, q.data(), sp, m, scratch.data());
     typename Newton<K>::Vec y = newton.cold_start(options.lambda);
     stats = newton.solve(y, options.tolerance, options.max_iterations);
-    newton.betas(y, beta.data());
+    std::copy(newton.beta(), newton.beta() + m, beta.begin());
   };
   if (k == 1)
     run(std::integral_constant<int, 1>{});
@@ -869,7 +976,7 @@ struct ChunkSolver
   const CelestialOptions& options;
   const double* s; // user weights or nullptr
   const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>& X;
-  std::vector<double> q, inv_d, beta;
+  std::vector<double> q, inv_d, scratch;
 
   ChunkSolver(const Points& V_, const CelestialOptions& options_, const double* s_,
     const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>& X_)
@@ -879,30 +986,35 @@ struct ChunkSolver
     , X(X_)
     , q(static_cast<std::size_t>(D * V_.rows()))
     , inv_d(static_cast<std::size_t>(V_.rows()))
-    , beta(static_cast<std::size_t>(V_.rows()))
+    , scratch(static_cast<std::size_t>(4 * V_.rows()))
   {
   }
 
-  /// Solves point p from *warm (or cold if null); on success writes W's row, the solution and
-  /// y (the Newton unknown). Returns stats; total counts every iteration.
+  /// Solves point p from *warm (or cold if null); writes W's row on success, and y (the
+  /// Newton unknown). Returns the stats of the last attempt; total counts every iteration.
   SolveStats solve(Index p, const Vec* warm, Vec& y, double* w, long long& total, bool& restarted)
   {
     const Index n = V.rows();
     const double* x = X.row(p).data();
+    double* qd = q.data();
+    double* id = inv_d.data();
+    const double* v[3] = { V.col(0).data(), V.col(D > 1 ? 1 : 0).data(),
+      V.col(D > 2 ? 2 : 0).data() };
+#pragma omp simd
     for (Index i = 0; i < n; ++i)
     {
       double e[D], d2 = 0.0;
       for (int k = 0; k < D; ++k)
       {
-        e[k] = V(i, k) - x[k];
+        e[k] = v[k][i] - x[k];
         d2 += e[k] * e[k];
       }
-      const double id = 1.0 / std::sqrt(d2);
-      inv_d[static_cast<std::size_t>(i)] = id;
+      const double inv = 1.0 / std::sqrt(d2);
+      id[i] = inv;
       for (int k = 0; k < D; ++k)
-        q[static_cast<std::size_t>(k * n + i)] = e[k] * id;
+        qd[k * n + i] = e[k] * inv;
     }
-    Newton<D> newton(options.scheme, q.data(), s, n);
+    Newton<D> newton(options.scheme, qd, s, n, scratch.data());
     restarted = false;
     SolveStats stats;
     if (warm != nullptr)
@@ -910,8 +1022,7 @@ struct ChunkSolver
       y = *warm;
       stats = newton.solve(y, options.tolerance, options.max_iterations);
       total += stats.iterations;
-      if (!stats.converged)
-        restarted = true;
+      restarted = !stats.converged;
     }
     if (warm == nullptr || restarted)
     {
@@ -921,13 +1032,13 @@ struct ChunkSolver
     }
     if (!stats.converged)
       return stats;
-    newton.betas(y, beta.data());
+    const double* beta = newton.beta();
     double sum = 0.0;
     for (Index i = 0; i < n; ++i)
-      sum += beta[static_cast<std::size_t>(i)] * inv_d[static_cast<std::size_t>(i)];
+      sum += beta[i] * id[i];
     const double inv = 1.0 / sum;
     for (Index i = 0; i < n; ++i)
-      w[i] = beta[static_cast<std::size_t>(i)] * inv_d[static_cast<std::size_t>(i)] * inv;
+      w[i] = beta[i] * id[i] * inv;
     return stats;
   }
 };
@@ -988,7 +1099,7 @@ CelestialResult CelestialCoordinates::compute(
 #endif
 
   // 1. Where each point lies (cheap; before any solve so that an outside point fails fast).
-#pragma omp parallel for schedule(static) num_threads(threads)
+#pragma omp parallel for schedule(static) num_threads(threads) if (np >= 4096)
   for (Index p = 0; p < np; ++p)
     result.location[static_cast<std::size_t>(p)] = im.classify(X.row(p).data());
   for (Index p = 0; p < np; ++p)
@@ -1093,7 +1204,7 @@ CelestialResult CelestialCoordinates::compute(
   auto run = [&](auto tag) {
     constexpr int D = decltype(tag)::value;
     using Vec = typename Newton<D>::Vec;
-#pragma omp parallel num_threads(threads)
+#pragma omp parallel num_threads(static_cast<int>(std::min<Index>(threads, chunks)))
     {
       long long my_iterations = 0;
       Index my_warm = 0, my_restarts = 0;

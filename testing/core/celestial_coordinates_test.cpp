@@ -647,8 +647,11 @@ TEST_P(CelestialBoundary, RandomPointsOnTheHull)
   {
     const Points V = random_controls(dim, 25, 41 + static_cast<unsigned>(dim), false);
     const CelestialCoordinates cc(V, options_for(GetParam()));
-    // points on segments between pairs of controls, pushed out onto the hull by moving along
-    // the segment until the point leaves (bisection): ends up within ~1e-16 of the boundary
+    CelestialOptions probe_options = options_for(GetParam());
+    probe_options.outside = CelestialOutsidePolicy::Flag;
+    const CelestialCoordinates probe(V, probe_options);
+    // points on rays from the centroid, pushed out onto the hull by bisection on the location
+    // (Outside or not): they end up within ~1e-16 of the boundary
     std::mt19937_64 rng(5);
     std::uniform_int_distribution<int> pick(0, static_cast<int>(V.rows()) - 1);
     const Eigen::RowVectorXd centre = V.colwise().mean();
@@ -662,9 +665,7 @@ TEST_P(CelestialBoundary, RandomPointsOnTheHull)
         const double mid = 0.5 * (lo + hi);
         Points one(1, dim);
         one.row(0) = centre + mid * dir;
-        CelestialOptions probe = options_for(GetParam());
-        probe.outside = CelestialOutsidePolicy::Flag;
-        const CelestialResult r = CelestialCoordinates(V, probe).compute(one);
+        const CelestialResult r = probe.compute(one);
         (r.location[0] == CelestialLocation::Outside ? hi : lo) = mid;
         if (hi - lo < 1e-15)
           break;
