@@ -1080,7 +1080,7 @@ CelestialResult CelestialCoordinates::compute(
   }
 
   CelestialResult result;
-  result.W.setConstant(np, nc, 0.0);
+  result.W.resize(np, nc); // every row is written below (a zero fill is a pass over #P x #C)
   result.location.assign(static_cast<std::size_t>(np), CelestialLocation::Inside);
   result.iterations.setZero(np);
   result.residual.setConstant(np, kNaN);
@@ -1237,6 +1237,7 @@ CelestialResult CelestialCoordinates::compute(
           }
           if (loc != CelestialLocation::Inside)
           {
+            std::fill(w, w + nc, 0.0);
             const SolveStats st = im.solve_on_face(0, X.row(p).data(), w);
             my_iterations += st.iterations;
             result.iterations[p] = st.iterations;
