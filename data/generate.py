@@ -716,6 +716,98 @@ def kidney_straight(p):
     return (a * x, b * y, c * z)
 
 
+# 3D organ for celestial coordinates: a heart-like closed surface, free control points around it
+# (14 active ones + 8 fixed hull points), and a scripted heartbeat of the active ones.
+HEART_FRAMES = 20                 # frames per beat
+HEART_VENTRICLE_SQUEEZE = 0.18    # radial contraction of the ventricle ring and apex (systole)
+HEART_ATRIUM_SQUEEZE = 0.12       # radial contraction of the atrium ring, half a beat later
+HEART_APEX_LIFT = 0.10            # the apex moves up towards the base in systole
+HEART_HULL = (1.3, 1.2, 1.25)     # half-extents of the box whose corners are the hull points
+
+
+def heart_shape(p):
+    """Unit-sphere point -> heart-like surface: wide base at +z, narrower apex at -z tilted
+    to -x. Each z-slice is scaled (positive factor) and sheared, z is scaled: injective."""
+    x, y, z = p
+    w = 0.72 + 0.28 * z
+    tilt = -0.18 * ((1.0 - z) / 2.0) ** 2
+    return (0.62 * w * x + tilt, 0.52 * w * y, 0.78 * z)
+
+
+def heart_model():
+    S, F = icosphere(MODEL3D_SUBDIVISIONS)
+    return [heart_shape(p) for p in S], F
+
+
+def heart_controls():
+    """14 active controls (6 on an atrium ring, 6 on a ventricle ring, apex, top), then the 8
+    hull points (box corners), which the heartbeat leaves in place."""
+    C = []
+    for k in range(6):
+        a = 2.0 * math.pi * k / 6.0
+        C.append((0.95 * math.cos(a), 0.80 * math.sin(a), 0.55))
+    for k in range(6):
+        a = 2.0 * math.pi * (k + 0.5) / 6.0
+        C.append((-0.05 + 0.80 * math.cos(a), 0.68 * math.sin(a), -0.20))
+    C.append((-0.22, 0.0, -0.95))   # apex
+    C.append((0.0, 0.0, 0.95))      # top of the base
+    hx, hy, hz = HEART_HULL
+    for sx in (-1, 1):
+        for sy in (-1, 1):
+            for sz in (-1, 1):
+                C.append((sx * hx, sy * hy, sz * hz))
+    return [tuple(rnd(v) for v in c) for c in C]
+
+
+def heartbeat_frame(C, t):
+    """Control points at beat phase t in [0, 1): ventricles squeeze first, atria half a beat
+    later; hull points fixed."""
+    sv = HEART_VENTRICLE_SQUEEZE * math.sin(math.pi * t) ** 2
+    sa = HEART_ATRIUM_SQUEEZE * math.sin(math.pi * (t + 0.5)) ** 2
+    Q = []
+    for i, (x, y, z) in enumerate(C):
+        if i < 6:
+            Q.append((x * (1 - sa), y * (1 - sa), z))
+        elif i < 12:
+            Q.append((-0.05 + (x + 0.05) * (1 - sv), y * (1 - sv), z))
+        elif i == 12:
+            Q.append((x * (1 - sv), y, z + HEART_APEX_LIFT * math.sin(math.pi * t) ** 2))
+        else:
+            Q.append((x, y, z))
+    return [tuple(rnd(v) for v in q) for q in Q]
+
+
+def hull_facets(P):
+    """Facets of the convex hull of a small 3D point set (brute force over triples): list of
+    (outward unit normal n, offset d) with n.x <= d inside."""
+    facets = []
+    n = len(P)
+    for i in range(n):
+        for j in range(i + 1, n):
+            for k in range(j + 1, n):
+                nrm = cross(sub(P[j], P[i]), sub(P[k], P[i]))
+                ln = norm(nrm)
+                if ln < 1e-12:
+                    continue
+                nrm = scale(nrm, 1.0 / ln)
+                d = dot(nrm, P[i])
+                side = [dot(nrm, P[m]) - d for m in range(n)]
+                if all(v <= 1e-12 for v in side):
+                    facets.append((nrm, d))
+                elif all(v >= -1e-12 for v in side):
+                    facets.append((scale(nrm, -1.0), -d))
+    return facets
+
+
+def check_inside_hull(V, C, name):
+    """Every point of V strictly inside the convex hull of C; returns the smallest margin."""
+    facets = hull_facets(C)
+    assert len(facets) >= 4, name + ": degenerate hull"
+    margin = min(d - dot(nrm, v) for v in V for nrm, d in facets)
+    assert margin > 0.05, "%s: a model vertex is within %.4f of the controls' hull" % (name, margin)
+    return margin
+
+
 def kidney_model():
     S, F = icosphere(MODEL3D_SUBDIVISIONS)
     V = [bend(kidney_straight(p)) for p in S]
@@ -960,11 +1052,30 @@ def main(argv):
     summary.append("cage3d_posed: %d vertices, %d triangles, volume %.4f, %d face pairs tested"
                    % (len(posed_V), len(posed_F), pvol, tested_p))
 
+    # Organ for celestial coordinates ---------------------------------------------
+    heart_V, heart_F = heart_model()
+    heart_V = [tuple(rnd(v) for v in p) for p in heart_V]
+    hvol = check_closed_surface(heart_V, heart_F, "heart")
+    tested_h = check_no_self_intersections(heart_V, heart_F, "heart")
+    controls = heart_controls()
+    assert len(set(controls)) == len(controls), "heart_controls: coincident control points"
+    hmargin = check_inside_hull(heart_V, controls, "heart")
+    files["heart.off"] = off_text(heart_V, heart_F)
+    files["heart_controls.obj"] = "".join("v %s %s %s\n" % tuple(fmt(v) for v in c) for c in controls)
+    for f in range(HEART_FRAMES):
+        frame = heartbeat_frame(controls, f / HEART_FRAMES)
+        files["heartbeat/frame_%02d.obj" % f] = "".join(
+            "v %s %s %s\n" % tuple(fmt(v) for v in c) for c in frame)
+    summary.append("heart: %d vertices, %d triangles, volume %.4f, %d face pairs tested; %d controls "
+                   "(14 active + 8 hull), min margin to their hull %.4f; %d heartbeat frames"
+                   % (len(heart_V), len(heart_F), hvol, tested_h, len(controls), hmargin, HEART_FRAMES))
+
     # Broken inputs -----------------------------------------------------------
     files.update(bad_files())
 
     # Write (only after every check passed) --------------------------------------
     os.makedirs(os.path.join(out_dir, "bad"), exist_ok=True)
+    os.makedirs(os.path.join(out_dir, "heartbeat"), exist_ok=True)
     for name in sorted(files):
         with open(os.path.join(out_dir, name), "w", encoding="ascii", newline="\n") as fh:
             fh.write(files[name])

@@ -41,6 +41,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -144,6 +145,11 @@ void add_method_options(CLI::App* cmd, WeightsParameters& p)
   mesh->add_option("--outside", p.outside, "points outside the cage/domain: error|nearest|nan")
     ->default_val(p.outside)
     ->check(CLI::IsMember({ "error", "nearest", "nan" }));
+  auto* celestial = cmd->add_option_group("celestial coordinates", "--method tcc|scc");
+  celestial->add_option("--lambda", p.lambda,
+       "scc: wrapping-sphere parameter (> 1; the coordinates do not depend on it)")
+    ->default_val(p.lambda)
+    ->check(CLI::Range(1.000001, 1e6));
   auto* bbw = cmd->add_option_group("bounded biharmonic weights", "--method bbw");
   bbw->add_flag("--fast", p.bbw_fast,
     "solve each handle alone, then normalize (the paper's fast mode); default: the coupled "
@@ -151,17 +157,28 @@ void add_method_options(CLI::App* cmd, WeightsParameters& p)
 }
 
 /// BBW inputs: --cage (cage handles) or --handles with --mesh (a skeleton in a domain).
+/// Celestial coordinates: --control-points (passed here as @p cage with @p controls set).
 void check_bbw_inputs(const std::string& method, const std::string& cage,
-  const std::string& handles, const std::string& mesh)
+  const std::string& handles, const std::string& mesh, bool controls = false)
 {
   if (method != "bbw")
   {
     if (!handles.empty() || !mesh.empty())
       throw UsageError("--handles and --mesh are for --method bbw");
+    const bool point_based = barylab::IsPointBasedMethod(method);
+    if (point_based && !controls)
+      throw UsageError("--method " + method + " takes free control points: --control-points "
+                       "FILE (not --cage)");
+    if (!point_based && controls)
+      throw UsageError("--control-points is for --method tcc|scc; --method " + method +
+        " takes --cage");
     if (cage.empty())
-      throw UsageError("--cage is required for --method " + method);
+      throw UsageError(std::string(point_based ? "--control-points" : "--cage") +
+        " is required for --method " + method);
     return;
   }
+  if (controls)
+    throw UsageError("--control-points is for --method tcc|scc");
   if (!cage.empty() && (!handles.empty() || !mesh.empty()))
     throw UsageError("--method bbw takes either --cage (cage handles) or --handles with --mesh "
                      "(points and bones in a domain), not both");
@@ -208,6 +225,9 @@ void print_summary(const json& s)
     std::cerr << s["handles"]["count"] << " handles (" << s["handles"]["point_handles"]
               << " points, " << s["handles"]["bones"] << " bones; " << s["handles"]["dimension"]
               << "D)";
+  else if (s["cage"].contains("free_points"))
+    std::cerr << s["cage"]["control_points"] << " free control points (" << s["cage"]["dimension"]
+              << "D)";
   else
     std::cerr << s["cage"]["control_points"] << " control points (" << s["cage"]["dimension"]
               << "D cage)";
@@ -221,7 +241,8 @@ void print_summary(const json& s)
     const json& v = s["solver"];
     std::cerr << "barylab: solver:";
     for (const char* key : { "mesh_vertices", "mesh_cells", "fast_iterations", "outer_iterations",
-           "max_kkt_residual", "max_bound_violation", "partition_error", "solve_seconds" })
+           "max_kkt_residual", "max_bound_violation", "partition_error", "mean_newton_iterations",
+           "max_newton_iterations", "max_residual", "not_converged", "solve_seconds" })
       if (v.contains(key))
         std::cerr << " " << key << " " << v[key].get<double>();
     std::cerr << "\n";
@@ -230,17 +251,59 @@ void print_summary(const json& s)
 
 // ---- subcommands ------------------------------------------------------------------------------
 
+/// tcc user weights: one number per control point (whitespace separated, '#' comments), or a
+/// libigl .dmat column.
+std::vector<double> read_user_weights(const std::string& path)
+{
+  if (path.empty())
+    return {};
+  if (vtkBaryDataIO::Extension(path) == ".dmat")
+  {
+    const Eigen::MatrixXd M = vtkBaryDataIO::ReadDMAT(path);
+    return std::vector<double>(M.data(), M.data() + M.size());
+  }
+  std::ifstream in(path);
+  if (!in)
+    throw bary::Error(bary::ErrorCode::Io, "cannot read '" + path + "': no such file or not readable");
+  std::vector<double> values;
+  std::string line;
+  for (int number = 1; std::getline(in, line); ++number)
+  {
+    std::istringstream fields(line.substr(0, line.find('#')));
+    std::string token;
+    while (fields >> token)
+    {
+      char* end = nullptr;
+      const double v = std::strtod(token.c_str(), &end);
+      if (end != token.c_str() + token.size())
+        throw bary::Error(bary::ErrorCode::Io,
+          "cannot read '" + path + "' line " + std::to_string(number) + ": '" + token +
+            "' is not a number");
+      values.push_back(v);
+    }
+  }
+  return values;
+}
+
 struct WeightsArgs
 {
   WeightsParameters parameters;
-  std::string cage, handles, mesh, points, output, json_path;
+  std::string cage, controls, handles, mesh, points, output, json_path, user_weights;
   bool quiet = false;
 };
 
-int run_weights(const WeightsArgs& a)
+int run_weights(WeightsArgs a)
 {
   barylab::MethodFromName(a.parameters.method);
-  check_bbw_inputs(a.parameters.method, a.cage, a.handles, a.mesh);
+  if (!a.controls.empty() && !a.cage.empty())
+    throw UsageError("give --cage or --control-points, not both");
+  check_bbw_inputs(a.parameters.method, a.controls.empty() ? a.cage : a.controls, a.handles,
+    a.mesh, !a.controls.empty());
+  if (!a.user_weights.empty() && a.parameters.method != "tcc")
+    throw UsageError("--user-weights is for --method tcc (Eq. 8's s_i)");
+  if (!a.controls.empty())
+    a.cage = a.controls;
+  a.parameters.user_weights = read_user_weights(a.user_weights);
   if (a.points.empty() && a.mesh.empty())
     throw UsageError("--points is required (the points to compute weights at)");
   check_output(a.output, OutputKind::Data);
@@ -256,6 +319,8 @@ int run_weights(const WeightsArgs& a)
     points, cage, a.parameters, callbacks(bar, a.quiet), &summary, domain);
   bar.done();
   summary[skeleton ? "handles" : "cage"]["file"] = skeleton ? a.handles : a.cage;
+  if (!a.user_weights.empty())
+    summary["user_weights"] = a.user_weights;
   if (domain)
     summary["domain"] = { { "file", a.mesh } };
   summary["points"]["file"] = a.points.empty() ? a.mesh : a.points;
@@ -279,7 +344,8 @@ int run_weights(const WeightsArgs& a)
 struct DeformArgs
 {
   WeightsParameters parameters;
-  std::string cage, posed, handles, mesh, transforms, posed_handles, pseudo_edges;
+  std::string cage, posed, controls, posed_controls, user_weights;
+  std::string handles, mesh, transforms, posed_handles, pseudo_edges;
   std::string points, weights, output, json_path;
   bool quiet = false;
 };
@@ -438,12 +504,29 @@ int run_deform_bbw(const DeformArgs& a)
   return 0;
 }
 
-int run_deform(const DeformArgs& a)
+int run_deform(DeformArgs a)
 {
   barylab::MethodFromName(a.parameters.method);
   if (a.parameters.method == "bbw" && !a.handles.empty())
     return run_deform_bbw(a);
-  check_bbw_inputs(a.parameters.method, a.cage, a.handles, a.mesh);
+  if (!a.controls.empty() && !a.cage.empty())
+    throw UsageError("give --cage or --control-points, not both");
+  if (!a.posed_controls.empty() && !a.posed.empty())
+    throw UsageError("give --deformed-cage or --deformed-control-points, not both");
+  check_bbw_inputs(a.parameters.method, a.controls.empty() ? a.cage : a.controls, a.handles,
+    a.mesh, !a.controls.empty());
+  if (!a.user_weights.empty() && a.parameters.method != "tcc")
+    throw UsageError("--user-weights is for --method tcc (Eq. 8's s_i)");
+  if (!a.controls.empty())
+  {
+    if (a.posed_controls.empty())
+      throw UsageError("--deformed-control-points is required with --control-points");
+    a.cage = a.controls;
+    a.posed = a.posed_controls;
+  }
+  else if (!a.posed_controls.empty())
+    throw UsageError("--deformed-control-points goes with --control-points");
+  a.parameters.user_weights = read_user_weights(a.user_weights);
   if (a.posed.empty())
     throw UsageError("--deformed-cage is required (or, for --method bbw, --handles with "
                      "--transforms / --deformed-handles)");
@@ -480,6 +563,60 @@ int run_deform(const DeformArgs& a)
               << (summary["weights_computed"].get<bool>() ? "weights computed"
                                                           : "weights from the input")
               << ")\n";
+  return 0;
+}
+
+struct AnimateArgs
+{
+  WeightsParameters parameters;
+  std::string cage, controls, points, output_dir, prefix = "animation", json_path, user_weights;
+  std::vector<std::string> frames;
+  double period = 1.0;
+  bool quiet = false;
+};
+
+int run_animate(AnimateArgs a)
+{
+  barylab::MethodFromName(a.parameters.method);
+  if (a.parameters.method == "bbw")
+    throw UsageError("animate moves cages or control points; for skeletons use 'deform --method bbw' per pose");
+  if (!a.controls.empty() && !a.cage.empty())
+    throw UsageError("give --cage or --control-points, not both");
+  check_bbw_inputs(a.parameters.method, a.controls.empty() ? a.cage : a.controls, "", "",
+    !a.controls.empty());
+  if (!a.controls.empty())
+    a.cage = a.controls;
+  if (!a.user_weights.empty() && a.parameters.method != "tcc")
+    throw UsageError("--user-weights is for --method tcc (Eq. 8's s_i)");
+  a.parameters.user_weights = read_user_weights(a.user_weights);
+  if (!a.json_path.empty())
+    check_output(a.json_path, OutputKind::Json);
+  auto cage = vtkBaryDataIO::ReadPolyData(a.cage);
+  std::vector<vtkSmartPointer<vtkPointSet>> frames;
+  for (const std::string& f : a.frames)
+  {
+    auto data = vtkBaryDataIO::Read(f);
+    vtkSmartPointer<vtkPointSet> set = vtkPointSet::SafeDownCast(data);
+    if (!set || set->GetNumberOfPoints() != cage->GetNumberOfPoints())
+      throw bary::Error(bary::ErrorCode::SizeMismatch,
+        "frame '" + f + "' must hold the " + std::to_string(cage->GetNumberOfPoints()) +
+          " points of '" + a.cage + "', moved (same order)");
+    frames.push_back(set);
+  }
+  auto model = vtkBaryDataIO::Read(a.points);
+  ProgressBar bar(!a.quiet, "weights");
+  json summary;
+  auto weighted = barylab::ComputeWeights(model, cage, a.parameters, callbacks(bar, a.quiet), &summary);
+  bar.done();
+  json animation;
+  const std::string pvd = barylab::WriteAnimation(vtkPointSet::SafeDownCast(weighted), cage, frames,
+    a.parameters, a.output_dir, a.prefix, a.period, &animation);
+  summary["animation"] = animation;
+  if (!a.json_path.empty())
+    barylab::WriteJson(summary, a.json_path);
+  if (!a.quiet)
+    std::cerr << "barylab: wrote " << frames.size() << " frames and " << pvd << " ("
+              << animation["seconds_per_frame"].get<double>() * 1e3 << " ms per frame)\n";
   return 0;
 }
 
@@ -551,21 +688,22 @@ int run_mesh(const MeshArgs& a)
 
 struct RenderArgs
 {
-  std::string input, cage, handles, output, title;
+  std::string input, cage, handles, controls, output, title;
   barylab::RenderOptions options;
 };
 
 int run_render(const RenderArgs& a)
 {
-  if (!a.cage.empty() && !a.handles.empty())
-    throw UsageError("give --cage or --handles, not both");
+  if ((!a.cage.empty()) + (!a.handles.empty()) + (!a.controls.empty()) > 1)
+    throw UsageError("give one of --cage, --handles, --control-points");
   check_output(a.output, OutputKind::Png);
   auto data = vtkBaryDataIO::Read(a.input);
-  const std::string& controls = a.handles.empty() ? a.cage : a.handles;
+  const std::string& controls = !a.handles.empty() ? a.handles : !a.controls.empty() ? a.controls : a.cage;
   vtkSmartPointer<vtkPolyData> cage = controls.empty() ? nullptr : vtkBaryDataIO::ReadPolyData(controls);
   barylab::RenderOptions options = a.options;
   options.title = a.title;
   options.skeleton = !a.handles.empty();
+  options.free_points = !a.controls.empty();
   auto window = barylab::WeightFieldWindow(data, cage, options);
   barylab::WritePNG(window, a.output);
   return 0;
@@ -740,6 +878,10 @@ int main(int argc, char** argv)
   WeightsArgs wa;
   auto* weights = app.add_subcommand("weights", "compute coordinates of points w.r.t. a cage");
   weights->add_option("--cage,-c", wa.cage, "cage: closed triangle surface (3D) or polygon (2D)");
+  weights->add_option("--control-points", wa.controls,
+    "tcc|scc: free control points (any point file; cells ignored; 2D if planar)");
+  weights->add_option("--user-weights", wa.user_weights,
+    "tcc: s_i of Eq. 8, one number per control point (text or .dmat)");
   weights->add_option("--handles", wa.handles,
     "bbw: skeleton (.tgf, or .vtp points + lines): bones and point handles");
   weights->add_option("--mesh", wa.mesh,
@@ -756,6 +898,10 @@ int main(int argc, char** argv)
   auto* deform = app.add_subcommand("deform", "deform a model by moving its cage or handles");
   deform->add_option("--cage,-c", da.cage, "rest cage");
   deform->add_option("--deformed-cage,-d", da.posed, "moved cage (same points, same order)");
+  deform->add_option("--control-points", da.controls, "tcc|scc: rest control points");
+  deform->add_option("--deformed-control-points", da.posed_controls,
+    "tcc|scc: the control points moved (same points, same order)");
+  deform->add_option("--user-weights", da.user_weights, "tcc: s_i of Eq. 8 (text or .dmat)");
   deform->add_option("--handles", da.handles, "bbw: skeleton (.tgf or .vtp points + lines)");
   deform->add_option("--mesh", da.mesh, "bbw: domain mesh or closed surface (see 'weights')");
   deform->add_option("--transforms", da.transforms,
@@ -773,6 +919,25 @@ int main(int argc, char** argv)
   deform->add_option("--json", da.json_path, "write a JSON summary");
   deform->add_flag("--quiet,-q", da.quiet, "no progress bar, summary or warnings (errors still)");
   add_method_options(deform, da.parameters);
+
+  AnimateArgs aa;
+  auto* animate = app.add_subcommand("animate",
+    "deform a model by a sequence of moved cages / control points: frames + a ParaView .pvd");
+  animate->add_option("--cage,-c", aa.cage, "rest cage");
+  animate->add_option("--control-points", aa.controls, "tcc|scc: rest control points");
+  animate->add_option("--frames", aa.frames, "moved cages / control points, one file per frame")
+    ->required()
+    ->expected(1, -1);
+  animate->add_option("--points,-p", aa.points, "model to deform")->required();
+  animate->add_option("--output-dir", aa.output_dir, "folder for the frames and the .pvd")->required();
+  animate->add_option("--prefix", aa.prefix, "file name prefix")->default_val(aa.prefix);
+  animate->add_option("--period", aa.period, "time of the whole sequence (the .pvd's time steps)")
+    ->default_val(1.0)
+    ->check(CLI::PositiveNumber);
+  animate->add_option("--user-weights", aa.user_weights, "tcc: s_i of Eq. 8 (text or .dmat)");
+  animate->add_option("--json", aa.json_path, "write a JSON summary");
+  animate->add_flag("--quiet,-q", aa.quiet, "no progress bar or summary");
+  add_method_options(animate, aa.parameters);
 
   StatsArgs sa;
   auto* stats = app.add_subcommand("stats", "property statistics of a weights file");
@@ -817,6 +982,7 @@ int main(int argc, char** argv)
   render->add_option("--input,-i", ra.input, "file with a weights point-data array")->required();
   render->add_option("--cage,-c", ra.cage, "the cage (drawn as wireframe)");
   render->add_option("--handles", ra.handles, "BBW skeleton handles (bones and points) to draw");
+  render->add_option("--control-points", ra.controls, "free control points (tcc|scc) to draw");
   render->add_option("--output,-o", ra.output, "PNG file")->required();
   render->add_option("--control", ra.options.component,
        "control point / handle whose weight is shown")
@@ -851,6 +1017,8 @@ int main(int argc, char** argv)
       return run_deform(da);
     if (*stats)
       return run_stats(sa);
+    if (*animate)
+      return run_animate(aa);
     if (*mesh)
       return run_mesh(mea);
     if (*render)

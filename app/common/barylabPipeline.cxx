@@ -5,6 +5,7 @@
 #include "vtkBaryConversion.h"
 #include "vtkBaryCoordinates.h"
 #include "vtkBaryErrorObserver.h"
+#include "vtkBaryDataIO.h"
 #include "vtkBaryLinearBlendSkinning.h"
 
 #include "core/weight_statistics.h"
@@ -22,7 +23,9 @@
 
 #include <chrono>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
+#include <sstream>
 
 namespace barylab
 {
@@ -70,6 +73,11 @@ void RunAlgorithm(vtkAlgorithm* algorithm, const RunCallbacks& callbacks, bary::
     throw bary::Error(bary::ErrorCode::Cancelled, "the computation was cancelled");
 }
 
+bool IsPointBasedMethod(const std::string& method)
+{
+  return method == "tcc" || method == "scc";
+}
+
 int MethodFromName(const std::string& name)
 {
   const int m = vtkBaryCoordinates::GetMethodFromName(name.c_str());
@@ -113,6 +121,18 @@ void Configure(Filter* filter, const WeightsParameters& p)
   filter->SetInsertPointsIntoMesh(p.insert_points);
   filter->SetOutsidePolicy(OutsidePolicyFromName(p.outside));
   filter->SetBBWMode(p.bbw_fast ? vtkBaryCoordinates::BBW_FAST : vtkBaryCoordinates::BBW_COUPLED);
+  filter->SetLambda(p.lambda);
+  if (p.user_weights.empty())
+    filter->SetUserWeights(nullptr);
+  else
+  {
+    vtkNew<vtkDoubleArray> s;
+    s->SetName("UserWeights");
+    s->SetNumberOfTuples(static_cast<vtkIdType>(p.user_weights.size()));
+    for (std::size_t i = 0; i < p.user_weights.size(); ++i)
+      s->SetValue(static_cast<vtkIdType>(i), p.user_weights[i]);
+    filter->SetUserWeights(s);
+  }
 }
 } // namespace
 
@@ -172,6 +192,12 @@ vtkSmartPointer<vtkDataSet> ComputeWeights(vtkDataSet* points, vtkPolyData* cage
       const bary::Skeleton s = vtkBaryConversion::ToSkeleton(cage, dim);
       (*summary)["handles"] = { { "dimension", dim }, { "count", s.handle_count() },
         { "point_handles", s.P.size() }, { "bones", s.BE.rows() }, { "joints", s.C.rows() } };
+    }
+    else if (IsPointBasedMethod(parameters.method))
+    {
+      const vtkBaryCage c = vtkBaryConversion::ToControlPoints(cage, parameters.cage_dimension);
+      (*summary)["cage"] = { { "dimension", c.Cage.dimension() },
+        { "control_points", c.Cage.num_controls() }, { "faces", 0 }, { "free_points", true } };
     }
     else
     {
@@ -251,6 +277,51 @@ vtkSmartPointer<vtkPointSet> Skin(vtkPointSet* weighted, const std::vector<Eigen
   return filter->GetOutput();
 }
 
+std::string WriteAnimation(vtkPointSet* weighted, vtkPolyData* rest_cage,
+  const std::vector<vtkSmartPointer<vtkPointSet>>& frames, const WeightsParameters& parameters,
+  const std::string& output_dir, const std::string& prefix, double period, nlohmann::json* summary)
+{
+  if (frames.empty())
+    throw bary::Error(bary::ErrorCode::EmptyInput, "no frames to animate");
+  namespace fs = std::filesystem;
+  fs::create_directories(output_dir);
+  std::ostringstream pvd;
+  pvd << "<?xml version=\"1.0\"?>\n"
+      << "<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
+      << "  <Collection>\n";
+  std::vector<std::string> files;
+  const auto t0 = std::chrono::steady_clock::now();
+  for (std::size_t f = 0; f < frames.size(); ++f)
+  {
+    char name[64];
+    std::snprintf(name, sizeof(name), "_%03zu.vtp", f);
+    const std::string file = prefix + name;
+    auto deformed = Deform(weighted, rest_cage, frames[f], parameters);
+    vtkBaryDataIO::Write(deformed, (fs::path(output_dir) / file).string());
+    pvd << "    <DataSet timestep=\"" << period * static_cast<double>(f) / static_cast<double>(frames.size())
+        << "\" group=\"\" part=\"0\" file=\"" << file << "\"/>\n";
+    files.push_back(file);
+  }
+  pvd << "  </Collection>\n</VTKFile>\n";
+  const std::string path = (fs::path(output_dir) / (prefix + ".pvd")).string();
+  const std::string tmp = path + ".tmp";
+  {
+    std::ofstream out(tmp);
+    out << pvd.str();
+    if (!out)
+      throw bary::Error(bary::ErrorCode::Io, "cannot write '" + path + "'");
+  }
+  if (std::rename(tmp.c_str(), path.c_str()) != 0)
+    throw bary::Error(bary::ErrorCode::Io, "cannot write '" + path + "'");
+  if (summary)
+  {
+    (*summary)["frames"] = files.size();
+    (*summary)["pvd"] = path;
+    (*summary)["seconds_per_frame"] = seconds_since(t0) / static_cast<double>(files.size());
+  }
+  return path;
+}
+
 nlohmann::json WeightStatisticsJson(vtkDataSet* data, const std::string& array_name,
   vtkPolyData* cage, double threshold, int cage_dimension)
 {
@@ -273,7 +344,10 @@ nlohmann::json WeightStatisticsJson(vtkDataSet* data, const std::string& array_n
   bary::WeightStatistics s;
   if (cage)
   {
-    const vtkBaryCage c = vtkBaryConversion::ToCage(cage, cage_dimension);
+    // bare points (free control points, or a 2D cage as `v` lines): component i = point i
+    const bool bare = cage->GetNumberOfPolys() == 0 && cage->GetNumberOfLines() == 0;
+    const vtkBaryCage c = bare ? vtkBaryConversion::ToControlPoints(cage, cage_dimension)
+                               : vtkBaryConversion::ToCage(cage, cage_dimension);
     if (c.Cage.num_controls() != nc)
       throw bary::Error(bary::ErrorCode::SizeMismatch,
         "the weights array '" + array_name + "' has " + std::to_string(nc) +

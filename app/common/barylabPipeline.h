@@ -54,7 +54,13 @@ struct WeightsParameters
   std::string outside = "error";     ///< points outside the cage: error | nearest | nan
   // bounded biharmonic weights
   bool bbw_fast = false;             ///< fast mode (per handle, then normalized) vs coupled
+  // celestial coordinates
+  double lambda = 2.0;               ///< SCC wrapping-sphere parameter (> 1)
+  std::vector<double> user_weights;  ///< TCC s_i, one per control point (empty: none)
 };
+
+/// True for methods whose controls are free points (tcc, scc): they take --control-points.
+bool IsPointBasedMethod(const std::string& method);
 
 /// Parameters of `barylab mesh` / vtkBaryCageMesher.
 struct MeshParameters
@@ -96,6 +102,16 @@ vtkSmartPointer<vtkPointSet> Skin(vtkPointSet* weighted, const std::vector<Eigen
 vtkSmartPointer<vtkPointSet> Deform(vtkPointSet* model, vtkPolyData* rest_cage,
   vtkPointSet* posed_cage, const WeightsParameters& parameters,
   const RunCallbacks& callbacks = {}, nlohmann::json* summary = nullptr);
+
+/// A time series: @p weighted (a model carrying the weights array) deformed by each of
+/// @p frames (moved control points / cages, same points as @p rest_cage), written as
+/// <prefix>_NNN.vtp files in @p output_dir plus <prefix>.pvd (ParaView's collection of the frames,
+/// time = frame / #frames * @p period). Weights are computed once (by the caller) and reused.
+/// Returns the .pvd path; fills @p summary with the frames written and the time per frame.
+std::string WriteAnimation(vtkPointSet* weighted, vtkPolyData* rest_cage,
+  const std::vector<vtkSmartPointer<vtkPointSet>>& frames, const WeightsParameters& parameters,
+  const std::string& output_dir, const std::string& prefix, double period = 1.0,
+  nlohmann::json* summary = nullptr);
 
 /// Property statistics of the weights array @p array_name of @p data (partition of unity,
 /// min/max, negative entries, significant weights per point above @p threshold, where a

@@ -147,33 +147,38 @@ void add_weight_actors(vtkRenderer* renderer, vtkPolyData* surface, const double
 void add_cage_actors(vtkRenderer* renderer, vtkPolyData* rest_cage, vtkPointSet* posed,
   const RenderOptions& options)
 {
-  const vtkBaryCage cage = vtkBaryConversion::ToCage(rest_cage, options.cage_dimension);
+  const vtkBaryCage cage = options.free_points
+    ? vtkBaryConversion::ToControlPoints(rest_cage, options.cage_dimension)
+    : vtkBaryConversion::ToCage(rest_cage, options.cage_dimension);
   vtkPoints* points = posed ? posed->GetPoints() : rest_cage->GetPoints();
-  vtkNew<vtkPolyData> wire;
-  wire->SetPoints(points);
-  if (cage.Cage.dimension() == 2)
+  if (!options.free_points)
   {
-    vtkNew<vtkCellArray> loop;
-    const vtkIdType n = static_cast<vtkIdType>(cage.ControlPointIds.size());
-    loop->InsertNextCell(n + 1);
-    for (vtkIdType k = 0; k <= n; ++k)
-      loop->InsertCellPoint(cage.ControlPointIds[static_cast<std::size_t>(k % n)]);
-    wire->SetLines(loop);
+    vtkNew<vtkPolyData> wire;
+    wire->SetPoints(points);
+    if (cage.Cage.dimension() == 2)
+    {
+      vtkNew<vtkCellArray> loop;
+      const vtkIdType n = static_cast<vtkIdType>(cage.ControlPointIds.size());
+      loop->InsertNextCell(n + 1);
+      for (vtkIdType k = 0; k <= n; ++k)
+        loop->InsertCellPoint(cage.ControlPointIds[static_cast<std::size_t>(k % n)]);
+      wire->SetLines(loop);
+    }
+    else
+      wire->SetPolys(rest_cage->GetPolys());
+    vtkNew<vtkExtractEdges> edges;
+    edges->SetInputData(wire);
+    vtkNew<vtkPolyDataMapper> wm;
+    wm->SetInputConnection(cage.Cage.dimension() == 2 ? nullptr : edges->GetOutputPort());
+    if (cage.Cage.dimension() == 2)
+      wm->SetInputData(wire);
+    wm->ScalarVisibilityOff();
+    vtkNew<vtkActor> wa;
+    wa->SetMapper(wm);
+    wa->GetProperty()->SetColor(0.25, 0.25, 0.3);
+    wa->GetProperty()->SetLineWidth(2.0);
+    renderer->AddActor(wa);
   }
-  else
-    wire->SetPolys(rest_cage->GetPolys());
-  vtkNew<vtkExtractEdges> edges;
-  edges->SetInputData(wire);
-  vtkNew<vtkPolyDataMapper> wm;
-  wm->SetInputConnection(cage.Cage.dimension() == 2 ? nullptr : edges->GetOutputPort());
-  if (cage.Cage.dimension() == 2)
-    wm->SetInputData(wire);
-  wm->ScalarVisibilityOff();
-  vtkNew<vtkActor> wa;
-  wa->SetMapper(wm);
-  wa->GetProperty()->SetColor(0.25, 0.25, 0.3);
-  wa->GetProperty()->SetLineWidth(2.0);
-  renderer->AddActor(wa);
 
   const double radius = 0.012 * cage.Cage.diameter();
   vtkNew<vtkPolyData> verts;
@@ -394,7 +399,9 @@ vtkSmartPointer<vtkRenderWindow> WeightFieldWindow(
   }
   else if (cage)
   {
-    dimension = vtkBaryConversion::ToCage(cage, options.cage_dimension).Cage.dimension();
+    dimension = (options.free_points ? vtkBaryConversion::ToControlPoints(cage, options.cage_dimension)
+                                     : vtkBaryConversion::ToCage(cage, options.cage_dimension))
+                  .Cage.dimension();
     if (options.show_cage)
       add_cage_actors(renderer, cage, nullptr, options);
     if (options.component >= 0 && options.component < cage->GetNumberOfPoints())
@@ -424,6 +431,8 @@ vtkSmartPointer<vtkRenderWindow> DeformationWindow(vtkDataSet* rest, vtkPolyData
 {
   auto window = make_window(options);
   const int dimension = options.skeleton ? planar_dimension(rest)
+    : options.free_points && rest_cage
+    ? vtkBaryConversion::ToControlPoints(rest_cage, options.cage_dimension).Cage.dimension()
     : rest_cage ? vtkBaryConversion::ToCage(rest_cage, options.cage_dimension).Cage.dimension()
                 : 3;
   double handle_center[3];

@@ -34,6 +34,9 @@ struct RenderOptions
   /// vtkBaryConversion::ToSkeleton): bones are drawn as thick lines, joints as spheres, and
   /// the selected handle (options.component: point handles first, then bones) in red.
   bool skeleton = false;
+  /// The "cage" arguments are free control points (celestial coordinates): drawn as spheres
+  /// only, options.component in red.
+  bool free_points = false;
 };
 
 /// The weight of control point options.component over @p data (which carries the weights

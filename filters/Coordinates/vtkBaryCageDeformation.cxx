@@ -17,6 +17,7 @@
 #include "vtkPoints.h"
 #include "vtkPolyData.h"
 
+#include <algorithm>
 #include <cstdint>
 #include <cstring>
 
@@ -82,8 +83,19 @@ vtkBaryCageDeformation::vtkBaryCageDeformation()
   this->SetWeightsArrayName("Weights");
 }
 
+vtkCxxSetObjectMacro(vtkBaryCageDeformation, UserWeights, vtkDataArray);
+
+vtkMTimeType vtkBaryCageDeformation::GetMTime()
+{
+  vtkMTimeType t = this->Superclass::GetMTime();
+  if (this->UserWeights)
+    t = std::max(t, this->UserWeights->GetMTime());
+  return t;
+}
+
 vtkBaryCageDeformation::~vtkBaryCageDeformation()
 {
+  this->SetUserWeights(nullptr);
   this->SetWeightsArrayName(nullptr);
 }
 
@@ -152,7 +164,10 @@ int vtkBaryCageDeformation::RequestData(
 
   try
   {
-    const vtkBaryCage cage = vtkBaryConversion::ToCage(restCage, this->CageDimension);
+    const bool pointBased = vtkBaryMethod::IsPointBased(this->Method);
+    const vtkBaryCage cage = pointBased
+      ? vtkBaryConversion::ToControlPoints(restCage, this->CageDimension)
+      : vtkBaryConversion::ToCage(restCage, this->CageDimension);
     const int dim = cage.Cage.dimension();
     const vtkIdType nc = cage.Cage.num_controls();
     const Eigen::MatrixXd C = vtkBaryConversion::ControlPoints(deformedCage, cage);
@@ -189,6 +204,10 @@ int vtkBaryCageDeformation::RequestData(
       hasher.add(parameters.MaximumCellSize);
       hasher.add(parameters.InsertPointsIntoMesh);
       hasher.add(parameters.BBWMode);
+      hasher.add(parameters.Lambda);
+      hasher.add(parameters.UserWeights.size());
+      if (!parameters.UserWeights.empty())
+        hasher.add(parameters.UserWeights.data(), sizeof(double) * parameters.UserWeights.size());
       hasher.add(parameters.OutsidePolicy);
       if (!this->WeightCache->Valid || this->WeightCache->Key != hasher.h)
       {
@@ -199,7 +218,7 @@ int vtkBaryCageDeformation::RequestData(
             this->UpdateProgress(0.9 * f);
             return !this->GetAbortExecute();
           },
-          nullptr);
+          nullptr, pointBased ? vtkBaryConversion::CellEdges(input) : Eigen::MatrixXi());
         this->WeightCache->Key = hasher.h;
         this->WeightCache->Valid = true;
         ++this->NumberOfWeightComputations;

@@ -3,6 +3,8 @@
  * @brief   Deforms a point set by moving the control points of a cage.
  *
  * x'_p = sum_i w_i(x_p) c'_i, with w the generalized barycentric coordinates of the rest pose.
+ * Celestial methods (T_CELESTIAL, S_CELESTIAL) take free control points as the rest "cage" (any
+ * points, cells ignored) and the moved control points as the deformed one.
  * Method BBW (cage handles) has no linear precision, so it blends displacements instead:
  * x'_p = x_p + sum_i w_i(x_p) (c'_i - c_i) (linear blend skinning with the cage vertices'
  * translations, as Jacobson et al. 2011 deform with cages); the rest cage then reproduces the
@@ -36,6 +38,7 @@
 
 #include <memory> // for std::unique_ptr
 
+class vtkDataArray;
 class vtkPointSet;
 class vtkPolyData;
 
@@ -101,6 +104,10 @@ public:
   vtkGetMacro(OutsidePolicy, int);
   vtkSetClampMacro(BBWMode, int, vtkBaryCoordinates::BBW_FAST, vtkBaryCoordinates::BBW_COUPLED);
   vtkGetMacro(BBWMode, int);
+  vtkSetClampMacro(Lambda, double, 1.000001, 1e6);
+  vtkGetMacro(Lambda, double);
+  virtual void SetUserWeights(vtkDataArray* weights);
+  vtkGetObjectMacro(UserWeights, vtkDataArray);
   ///@}
 
   ///@{
@@ -121,6 +128,7 @@ public:
 protected:
   vtkBaryCageDeformation();
   ~vtkBaryCageDeformation() override;
+  vtkMTimeType GetMTime() override;
 
   int FillInputPortInformation(int port, vtkInformation* info) override;
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
@@ -138,6 +146,8 @@ protected:
   bool InsertPointsIntoMesh = false;
   int OutsidePolicy = vtkBaryCoordinates::OUTSIDE_ERROR;
   int BBWMode = vtkBaryCoordinates::BBW_COUPLED;
+  double Lambda = 2.0;
+  vtkDataArray* UserWeights = nullptr;
   vtkIdType NumberOfWeightComputations = 0;
 
 private:

@@ -2,6 +2,7 @@
 
 #include "core/error.h"
 
+#include "vtkCell.h"
 #include "vtkCellArray.h"
 #include "vtkDataSet.h"
 #include "vtkCellType.h"
@@ -312,6 +313,70 @@ bary::ErrorCode vtkBaryConversion::ErrorCodeOf(unsigned long vtkCode, bary::Erro
   const unsigned long last = first + static_cast<unsigned long>(bary::ErrorCode::Internal);
   return (vtkCode >= first && vtkCode <= last) ? static_cast<bary::ErrorCode>(vtkCode - first)
                                                : fallback;
+}
+
+vtkBaryCage vtkBaryConversion::ToControlPoints(vtkPolyData* data, int dimension)
+{
+  if (!data || !data->GetPoints() || data->GetNumberOfPoints() == 0)
+    throw Error(ErrorCode::EmptyInput, "the control points file has no points");
+  if (dimension != AUTOMATIC && dimension != CAGE_2D && dimension != CAGE_3D)
+    throw Error(ErrorCode::InvalidArgument, "the control points' dimension must be 0 (automatic), 2 or 3");
+  vtkPoints* points = data->GetPoints();
+  const vtkIdType n = points->GetNumberOfPoints();
+  for (vtkIdType i = 0; i < n; ++i)
+  {
+    double x[3];
+    points->GetPoint(i, x);
+    if (!std::isfinite(x[0]) || !std::isfinite(x[1]) || !std::isfinite(x[2]))
+      throw Error(ErrorCode::NonFinite,
+        "control point " + std::to_string(i) + " has a non-finite coordinate (NaN or inf)");
+  }
+  double bounds[6];
+  const bool flat = flat_in_z(points, bounds);
+  const int dim = dimension == AUTOMATIC ? (flat ? 2 : 3) : dimension;
+  if (dim == 2 && !flat)
+    throw Error(ErrorCode::InvalidArgument,
+      "2D control points must lie in a plane z = const, but their z ranges over [" +
+        std::to_string(bounds[4]) + ", " + std::to_string(bounds[5]) + "]");
+  vtkBaryCage controls;
+  controls.Cage.V = ToMatrix(points, dim);
+  controls.ControlPointIds.resize(static_cast<std::size_t>(n));
+  for (vtkIdType i = 0; i < n; ++i)
+    controls.ControlPointIds[static_cast<std::size_t>(i)] = i;
+  controls.PlaneZ = bounds[4];
+  return controls;
+}
+
+Eigen::MatrixXi vtkBaryConversion::CellEdges(vtkDataSet* data)
+{
+  std::vector<std::array<int, 2>> edges;
+  vtkNew<vtkIdList> ids;
+  for (vtkIdType c = 0; data && c < data->GetNumberOfCells(); ++c)
+  {
+    vtkCell* cell = data->GetCell(c);
+    const int ne = cell->GetNumberOfEdges();
+    if (ne == 0 && cell->GetNumberOfPoints() == 2)
+    {
+      const int a = static_cast<int>(cell->GetPointId(0)), b = static_cast<int>(cell->GetPointId(1));
+      edges.push_back({ std::min(a, b), std::max(a, b) });
+    }
+    for (int e = 0; e < ne; ++e)
+    {
+      vtkCell* edge = cell->GetEdge(e);
+      for (vtkIdType k = 0; k + 1 < edge->GetNumberOfPoints(); ++k)
+      {
+        const int a = static_cast<int>(edge->GetPointId(k)), b = static_cast<int>(edge->GetPointId(k + 1));
+        if (a != b)
+          edges.push_back({ std::min(a, b), std::max(a, b) });
+      }
+    }
+  }
+  std::sort(edges.begin(), edges.end());
+  edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
+  Eigen::MatrixXi E(static_cast<Eigen::Index>(edges.size()), 2);
+  for (std::size_t e = 0; e < edges.size(); ++e)
+    E.row(static_cast<Eigen::Index>(e)) << edges[e][0], edges[e][1];
+  return E;
 }
 
 bary::Skeleton vtkBaryConversion::ToSkeleton(vtkPolyData* data, int dimension)

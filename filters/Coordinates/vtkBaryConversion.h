@@ -138,6 +138,17 @@ public:
    */
   static void ToSimplices(vtkDataSet* data, int dimension, Eigen::MatrixXd& V, Eigen::MatrixXi& T);
 
+  /**
+   * Free control points (cage-free, point-based methods such as celestial coordinates): every
+   * point of @p points, in point order; cells are ignored. @p dimension AUTOMATIC gives 2 when
+   * the points lie in a plane z = const, else 3. Throws bary::Error for no points or NaN (named).
+   */
+  static vtkBaryCage ToControlPoints(vtkPolyData* points, int dimension = AUTOMATIC);
+
+  /// The distinct edges (#E by 2, smaller id first, sorted) of the cells of @p data: polygon
+  /// and polyline sides, tetrahedron edges, ... (for neighbour-ordered computations).
+  static Eigen::MatrixXi CellEdges(vtkDataSet* data);
+
   /// Dimension (2 or 3) of a BBW domain: a tetrahedral mesh -> 3, a triangle mesh in a plane
   /// z = const -> 2, a closed triangle surface (to be tetrahedralized) -> 3, one polygon or
   /// polyline, or bare points in a plane in polygon order (to be triangulated) -> 2. Throws

@@ -5,6 +5,7 @@
 
 #include "core/error.h"
 
+#include "vtkDataArray.h"
 #include "vtkDataSet.h"
 #include "vtkDoubleArray.h"
 #include "vtkInformation.h"
@@ -14,6 +15,7 @@
 #include "vtkPolyData.h"
 #include "vtkUnsignedCharArray.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 
@@ -21,7 +23,7 @@ vtkStandardNewMacro(vtkBaryCoordinates);
 
 namespace
 {
-const char* const kMethodNames[] = { "mvc", "harmonic", "bbw" };
+const char* const kMethodNames[] = { "mvc", "harmonic", "bbw", "tcc", "scc" };
 }
 
 vtkBaryCoordinates::vtkBaryCoordinates()
@@ -31,8 +33,19 @@ vtkBaryCoordinates::vtkBaryCoordinates()
   this->SetLocationArrayName("CageLocation");
 }
 
+vtkCxxSetObjectMacro(vtkBaryCoordinates, UserWeights, vtkDataArray);
+
+vtkMTimeType vtkBaryCoordinates::GetMTime()
+{
+  vtkMTimeType t = this->Superclass::GetMTime();
+  if (this->UserWeights)
+    t = std::max(t, this->UserWeights->GetMTime());
+  return t;
+}
+
 vtkBaryCoordinates::~vtkBaryCoordinates()
 {
+  this->SetUserWeights(nullptr);
   this->SetWeightsArrayName(nullptr);
   this->SetLocationArrayName(nullptr);
 }
@@ -166,7 +179,10 @@ int vtkBaryCoordinates::RequestData(
     }
     if (domain && this->Method != BBW)
       vtkWarningMacro(<< "The domain (input 2) is used by BBW with skeleton handles only; ignored.");
-    const vtkBaryCage cage = vtkBaryConversion::ToCage(cagePoly, this->CageDimension);
+    const bool pointBased = vtkBaryMethod::IsPointBased(this->Method);
+    const vtkBaryCage cage = pointBased
+      ? vtkBaryConversion::ToControlPoints(cagePoly, this->CageDimension)
+      : vtkBaryConversion::ToCage(cagePoly, this->CageDimension);
     const Eigen::MatrixXd points =
       vtkBaryConversion::PointsToMatrix(input, cage.Cage.dimension());
     if (cage.Cage.dimension() == 2)
@@ -180,8 +196,8 @@ int vtkBaryCoordinates::RequestData(
     const vtkBaryMethodParameters parameters = vtkBaryParametersOf(this);
     vtkBaryMethodReport report;
     this->UpdateProgress(0.0);
-    const bary::DenseWeights W =
-      vtkBaryMethod::Compute(cage, points, parameters, progress, &report);
+    const bary::DenseWeights W = vtkBaryMethod::Compute(cage, points, parameters, progress,
+      &report, pointBased ? vtkBaryConversion::CellEdges(input) : Eigen::MatrixXi());
     this->FinishOutput(output, W, cage, report);
   }
   catch (const bary::Error& e)
@@ -239,5 +255,7 @@ void vtkBaryCoordinates::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "MaximumCellSize: " << this->MaximumCellSize << "\n";
   os << indent << "InsertPointsIntoMesh: " << this->InsertPointsIntoMesh << "\n";
   os << indent << "OutsidePolicy: " << this->OutsidePolicy << "\n";
+  os << indent << "Lambda: " << this->Lambda << "\n";
+  os << indent << "UserWeights: " << (this->UserWeights ? "set" : "(none)") << "\n";
   os << indent << "BBWMode: " << (this->BBWMode == BBW_FAST ? "fast" : "coupled") << "\n";
 }

@@ -17,6 +17,10 @@
  *   tetrahedral mesh or a triangle mesh in a plane z = const (used as is: it must contain the
  *   joints and vertices along the bones, as libigl's .mesh files do), or a closed triangle
  *   surface / one planar polygon, which is meshed with the joints and bone samples inserted.
+ * Celestial coordinates (T_CELESTIAL, S_CELESTIAL) take free control points on input 1 (any
+ * points; cells ignored; 2D when they lie in a plane z = const): the domain is their convex hull,
+ * component i is control point i. When input 0 has cells, Newton's warm starts follow its edges.
+ *
  * BBW's solver figures (iterations, KKT residual, bound violation, partition error, times) are
  * available from GetStatistic() after an update.
  *
@@ -48,6 +52,7 @@
 #include "core/types.h" // for bary::DenseWeights
 #endif
 
+class vtkDataArray;
 class vtkDataSet;
 class vtkPolyData;
 
@@ -68,6 +73,8 @@ public:
     MEAN_VALUE = 0, ///< Hormann & Floater 2006 (2D), Ju et al. 2005 (3D); closed form, any point
     HARMONIC = 1,   ///< Joshi et al. 2007: finite elements on a mesh of the cage's interior
     BBW = 2,        ///< Jacobson et al. 2011: bounded biharmonic weights (cage or skeleton handles)
+    T_CELESTIAL = 3, ///< Cerveró et al.: T-celestial coordinates of free control points
+    S_CELESTIAL = 4, ///< Cerveró et al.: S-celestial coordinates of free control points
     NUMBER_OF_METHODS
   };
 
@@ -93,6 +100,22 @@ public:
   void SetMethodToMeanValue() { this->SetMethod(MEAN_VALUE); }
   void SetMethodToHarmonic() { this->SetMethod(HARMONIC); }
   void SetMethodToBBW() { this->SetMethod(BBW); }
+  void SetMethodToTCelestial() { this->SetMethod(T_CELESTIAL); }
+  void SetMethodToSCelestial() { this->SetMethod(S_CELESTIAL); }
+  ///@}
+
+  ///@{
+  /// Celestial coordinates: SCC's wrapping-sphere parameter lambda (> 1; the coordinates do not
+  /// depend on it). Default 2.
+  vtkSetClampMacro(Lambda, double, 1.000001, 1e6);
+  vtkGetMacro(Lambda, double);
+  ///@}
+
+  ///@{
+  /// T-celestial coordinates: the user weights s_i >= 0 of Eq. 8, one tuple per control point
+  /// (first component used). nullptr (default): none (Eq. 7).
+  virtual void SetUserWeights(vtkDataArray* weights);
+  vtkGetObjectMacro(UserWeights, vtkDataArray);
   ///@}
 
   ///@{
@@ -209,6 +232,7 @@ public:
 protected:
   vtkBaryCoordinates();
   ~vtkBaryCoordinates() override;
+  vtkMTimeType GetMTime() override;
 
   int FillInputPortInformation(int port, vtkInformation* info) override;
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
@@ -231,6 +255,8 @@ protected:
   bool InsertPointsIntoMesh = false;
   int OutsidePolicy = OUTSIDE_ERROR;
   int BBWMode = BBW_COUPLED;
+  double Lambda = 2.0;
+  vtkDataArray* UserWeights = nullptr;
 
   vtkIdType NumberOfInsidePoints = 0;
   vtkIdType NumberOfOutsidePoints = 0;

@@ -3,6 +3,7 @@
 #include "vtkBaryCoordinates.h"
 
 #include "core/bbw.h"
+#include "core/celestial_coordinates.h"
 #include "core/error.h"
 #include "core/harmonic_coordinates.h"
 #include "core/mean_value_coordinates.h"
@@ -166,9 +167,15 @@ bary::SurfaceMeshOptions vtkBaryMethod::SurfaceMeshOptions(
   return options;
 }
 
+bool vtkBaryMethod::IsPointBased(int method)
+{
+  return method == vtkBaryCoordinates::T_CELESTIAL || method == vtkBaryCoordinates::S_CELESTIAL;
+}
+
 bary::DenseWeights vtkBaryMethod::Compute(const vtkBaryCage& cage,
   const Eigen::MatrixXd& points, const vtkBaryMethodParameters& parameters,
-  const bary::ProgressCallback& progress, vtkBaryMethodReport* report)
+  const bary::ProgressCallback& progress, vtkBaryMethodReport* report,
+  const Eigen::MatrixXi& edges)
 {
   switch (parameters.Method)
   {
@@ -228,6 +235,73 @@ bary::DenseWeights vtkBaryMethod::Compute(const vtkBaryCage& cage,
       if (report)
         report->Statistics.emplace_back("mesh_seconds", seconds_since(start));
       return solve_bbw_and_interpolate(mesh.V, mesh.T, handles, points, parameters, progress, 0.1, report);
+    }
+    case vtkBaryCoordinates::T_CELESTIAL:
+    case vtkBaryCoordinates::S_CELESTIAL:
+    {
+      bary::CelestialOptions options;
+      options.scheme = parameters.Method == vtkBaryCoordinates::T_CELESTIAL
+        ? bary::CelestialScheme::T
+        : bary::CelestialScheme::S;
+      options.lambda = parameters.Lambda;
+      if (!parameters.UserWeights.empty())
+      {
+        if (options.scheme == bary::CelestialScheme::S)
+          throw bary::Error(bary::ErrorCode::InvalidArgument,
+            "user weights s_i belong to T-celestial coordinates (Eq. 8); S-celestial coordinates "
+            "take none");
+        options.user_weights = Eigen::Map<const Eigen::VectorXd>(
+          parameters.UserWeights.data(), static_cast<Eigen::Index>(parameters.UserWeights.size()));
+      }
+      if (parameters.OutsidePolicy == vtkBaryCoordinates::OUTSIDE_NEAREST)
+        throw bary::Error(bary::ErrorCode::InvalidArgument,
+          "celestial coordinates are defined inside the control points' convex hull only; the "
+          "outside policy must be 'error' or 'nan' (not 'nearest')");
+      options.outside = parameters.OutsidePolicy == vtkBaryCoordinates::OUTSIDE_NAN
+        ? bary::CelestialOutsidePolicy::Flag
+        : bary::CelestialOutsidePolicy::Error;
+      options.threads = parameters.NumberOfThreads;
+      const bary::CelestialCoordinates celestial(cage.Cage.V, options);
+      bary::CelestialResult result = edges.rows() > 0 ? celestial.compute(points, edges, progress)
+                                                      : celestial.compute(points, progress);
+      if (report)
+      {
+        const std::size_t np = result.location.size();
+        report->Location.resize(np);
+        report->Inside = report->Outside = report->Boundary = 0;
+        for (std::size_t p = 0; p < np; ++p)
+        {
+          const auto where = result.location[p];
+          const unsigned char code = where == bary::CelestialLocation::Inside ? 0
+            : where == bary::CelestialLocation::Outside                       ? 1
+                                                                               : 2;
+          report->Location[p] = code;
+          (code == 0 ? report->Inside : code == 1 ? report->Outside : report->Boundary)++;
+        }
+        report->Undefined.clear();
+        std::vector<bary::Index> undefined = result.outside;
+        undefined.insert(undefined.end(), result.not_converged.begin(), result.not_converged.end());
+        std::sort(undefined.begin(), undefined.end());
+        report->Undefined.assign(undefined.begin(), undefined.end());
+        auto& st = report->Statistics;
+        double max_residual = 0.0;
+        for (bary::Index p = 0; p < result.residual.size(); ++p)
+          if (std::isfinite(result.residual(p)))
+            max_residual = std::max(max_residual, result.residual(p));
+        st.emplace_back("hull_facets", static_cast<double>(celestial.num_hull_facets()));
+        st.emplace_back("newton_iterations", static_cast<double>(result.total_iterations));
+        st.emplace_back("mean_newton_iterations",
+          np > 0 ? static_cast<double>(result.total_iterations) / static_cast<double>(np) : 0.0);
+        st.emplace_back("max_newton_iterations",
+          result.iterations.size() > 0 ? result.iterations.maxCoeff() : 0);
+        st.emplace_back("warm_starts", static_cast<double>(result.warm_starts));
+        st.emplace_back("cold_restarts", static_cast<double>(result.cold_restarts));
+        st.emplace_back("max_residual", max_residual);
+        st.emplace_back("at_control", static_cast<double>(result.at_control));
+        st.emplace_back("not_converged", static_cast<double>(result.not_converged.size()));
+        st.emplace_back("solve_seconds", result.seconds);
+      }
+      return std::move(result.W);
     }
     default:
       throw bary::Error(bary::ErrorCode::InvalidArgument,

@@ -11,6 +11,7 @@
 
 #include "BaryLabFiltersModule.h"
 #include "vtkBaryConversion.h"
+#include "vtkDataArray.h"
 #include "vtkObject.h"
 
 #include "core/domain_mesh.h"
@@ -37,6 +38,9 @@ struct vtkBaryMethodParameters
   int OutsidePolicy = 0;            ///< vtkBaryCoordinates::OutsidePolicies
   // bounded biharmonic weights
   int BBWMode = 1;                  ///< vtkBaryCoordinates::BBWModes (default coupled)
+  // celestial coordinates
+  double Lambda = 2.0;              ///< SCC wrapping-sphere parameter (> 1)
+  std::vector<double> UserWeights;  ///< TCC s_i (one per control point); empty = none
 };
 
 /// The method parameters of a filter with the standard weights settings (vtkBaryCoordinates,
@@ -54,6 +58,10 @@ vtkBaryMethodParameters vtkBaryParametersOf(Filter* filter)
   p.InsertPointsIntoMesh = filter->GetInsertPointsIntoMesh();
   p.OutsidePolicy = filter->GetOutsidePolicy();
   p.BBWMode = filter->GetBBWMode();
+  p.Lambda = filter->GetLambda();
+  if (vtkDataArray* s = filter->GetUserWeights())
+    for (vtkIdType i = 0; i < s->GetNumberOfTuples(); ++i)
+      p.UserWeights.push_back(s->GetComponent(i, 0));
   return p;
 }
 
@@ -91,9 +99,14 @@ public:
   static bary::SurfaceMeshOptions SurfaceMeshOptions(
     const vtkBaryMethodParameters& parameters, const Eigen::MatrixXd& points);
 
+  /// @p edges (#E by 2 point ids, optional): the input's mesh edges, for methods that order
+  /// their work along neighbours (celestial coordinates' warm starts).
   static bary::DenseWeights Compute(const vtkBaryCage& cage, const Eigen::MatrixXd& points,
     const vtkBaryMethodParameters& parameters, const bary::ProgressCallback& progress,
-    vtkBaryMethodReport* report);
+    vtkBaryMethodReport* report, const Eigen::MatrixXi& edges = Eigen::MatrixXi());
+
+  /// True for methods whose controls are free points (no cage): celestial coordinates.
+  static bool IsPointBased(int method);
 
   /**
    * Bounded biharmonic weights of skeleton handles (points and bones, see
