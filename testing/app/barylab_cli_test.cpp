@@ -640,3 +640,89 @@ TEST_F(CLI, BBWPointHandlesRotateThroughPseudoEdges)
   ExpectError(run("deform" + inputs + " --pseudo-edges " + out("bad.txt") + " --output " + out("b.vtp")),
     "pseudo-edge 0 (0, 7)");
 }
+
+// ---- celestial coordinates ----------------------------------------------------------------------
+
+TEST_F(CLI, CelestialWeightsAndDeformationOfTheHeart)
+{
+  for (const std::string method : { "scc", "tcc" })
+  {
+    const CommandResult r = run("weights --method " + method + " --control-points " +
+      data("heart_controls.obj") + " --points " + data("heart.off") + " --output " +
+      out(method + ".vtp") + " --json " + out(method + ".json"));
+    ASSERT_EQ(r.code, 0) << r.output;
+    EXPECT_NE(r.output.find("22 free control points (3D)"), std::string::npos) << r.output;
+    const WeightCheck c = CheckWeights(out(method + ".vtp"));
+    EXPECT_EQ(c.components, 22);
+    EXPECT_LE(c.partition, 1e-12);
+    EXPECT_GT(c.min, 0.0) << "positive inside the hull";
+    std::ifstream in(out(method + ".json"));
+    const nlohmann::json s = nlohmann::json::parse(in);
+    EXPECT_EQ(s["cage"]["free_points"], true);
+    EXPECT_EQ(s["solver"]["not_converged"].get<double>(), 0.0);
+    EXPECT_LE(s["statistics"]["reproduction"]["max_error"].get<double>(), 1e-10);
+  }
+  // deformation by a heartbeat frame, with weights computed or reused
+  CommandResult a = run("deform --method scc --control-points " + data("heart_controls.obj") +
+    " --deformed-control-points " + data("heartbeat/frame_10.obj") + " --points " +
+    data("heart.off") + " --output " + out("a.vtp"));
+  ASSERT_EQ(a.code, 0) << a.output;
+  CommandResult b = run("deform --method scc --control-points " + data("heart_controls.obj") +
+    " --deformed-control-points " + data("heartbeat/frame_10.obj") + " --weights " +
+    out("scc.vtp") + " --output " + out("b.vtp"));
+  ASSERT_EQ(b.code, 0) << b.output;
+  EXPECT_LT(MaxPointDifference(out("a.vtp"), out("b.vtp")), 1e-12);
+  EXPECT_GT(MaxPointDifference(out("a.vtp"), data("heart.off")), 0.02) << "systole moves the heart";
+}
+
+TEST_F(CLI, AnimateWritesFramesAndAParaViewCollection)
+{
+  // the rest control points first (the heartbeat's frame 0 already has the atria contracted)
+  const std::string frames = " " + data("heart_controls.obj") + " " + data("heartbeat/frame_05.obj") +
+    " " + data("heartbeat/frame_10.obj");
+  const CommandResult r = run("animate --method scc --control-points " + data("heart_controls.obj") +
+    " --frames" + frames + " --points " + data("heart.off") + " --output-dir " + out("anim") +
+    " --prefix beat --period 0.9 --json " + out("anim.json") + " -q");
+  ASSERT_EQ(r.code, 0) << r.output;
+  // the .pvd lists the three frames with their times, and each frame file reads back
+  std::ifstream pvd(out("anim/beat.pvd"));
+  const std::string text((std::istreambuf_iterator<char>(pvd)), std::istreambuf_iterator<char>());
+  EXPECT_NE(text.find("type=\"Collection\""), std::string::npos) << text;
+  for (const char* entry : { "timestep=\"0\" group=\"\" part=\"0\" file=\"beat_000.vtp\"",
+         "timestep=\"0.3\" group=\"\" part=\"0\" file=\"beat_001.vtp\"",
+         "timestep=\"0.6\" group=\"\" part=\"0\" file=\"beat_002.vtp\"" })
+    EXPECT_NE(text.find(entry), std::string::npos) << entry << " in\n" << text;
+  // frame 0 is the rest pose: the heart is reproduced (linear precision of celestial coordinates)
+  EXPECT_LT(MaxPointDifference(out("anim/beat_000.vtp"), data("heart.off")), 1e-5);
+  EXPECT_GT(MaxPointDifference(out("anim/beat_002.vtp"), data("heart.off")), 0.02);
+  // a frame with the wrong number of points
+  const CommandResult bad = run("animate --method scc --control-points " + data("heart_controls.obj") +
+    " --frames " + data("cage3d.obj") + " --points " + data("heart.off") + " --output-dir " + out("bad"));
+  ExpectError(bad, "must hold the 22 points");
+}
+
+TEST_F(CLI, CelestialUsageAndInputErrors)
+{
+  for (const std::string& args :
+    { "weights --method scc --cage " + data("heart_controls.obj") + " --points " + data("heart.off") +
+        " --output " + out("w.vtp"),
+      "weights --method mvc --control-points " + data("heart_controls.obj") + " --points " +
+        data("heart.off") + " --output " + out("w.vtp"),
+      "weights --method scc --control-points " + data("heart_controls.obj") + " --user-weights " +
+        data("heart_controls.obj") + " --points " + data("heart.off") + " --output " + out("w.vtp") })
+  {
+    const CommandResult r = run(args);
+    EXPECT_EQ(r.code, 2) << args << "\n" << r.output;
+  }
+  // points outside the hull: an error by default, NaN rows with --outside nan
+  ExpectError(run("weights --method scc --control-points " + data("cage2d.obj") + " --points " +
+                data("model3d.off") + " --output " + out("w.vtp")),
+    "outside");
+  {
+    std::ofstream(out("s.txt")) << "# s_i\n1 0 0\n0 0 0 0\n";
+    const CommandResult r = run("weights --method tcc --control-points " + data("heart_controls.obj") +
+      " --user-weights " + out("s.txt") + " --points " + data("heart.off") + " --output " + out("w.vtp"));
+    ExpectError(r, "user");
+  }
+  EXPECT_FALSE(fs::exists(out("w.vtp")));
+}

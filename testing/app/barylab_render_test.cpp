@@ -189,6 +189,27 @@ TEST(RenderImages, BBWSkinningLibiglHand3D)
     "bbw_skinning_hand_3d");
 }
 
+TEST(RenderImages, HeartbeatSystoleSCC3D)
+{
+  // The organ workflow: S-celestial weights of the bundled heart w.r.t. its free control points,
+  // deformed by the heartbeat's peak-systole frame.
+  auto controls = vtkBaryDataIO::ReadPolyData(data("heart_controls.obj"));
+  auto frame = vtkBaryDataIO::Read(data("heartbeat/frame_10.obj"));
+  barylab::WeightsParameters p;
+  p.method = "scc";
+  auto weighted = barylab::ComputeWeights(vtkBaryDataIO::Read(data("heart.off")), controls, p);
+  auto deformed = barylab::Deform(vtkPointSet::SafeDownCast(weighted), controls,
+    vtkPointSet::SafeDownCast(frame), p);
+  barylab::RenderOptions options;
+  options.free_points = true;
+  options.component = 7;
+  options.width = 1000;
+  options.height = 500;
+  ExpectMatchesBaseline(barylab::DeformationWindow(weighted, controls, deformed,
+                          vtkPointSet::SafeDownCast(frame), options),
+    "heartbeat_systole_scc_3d");
+}
+
 TEST(RenderImages, NoDisplayIsAClearError)
 {
   // Without DISPLAY, rendering must fail with a message, not crash (VTK aborts without X).
