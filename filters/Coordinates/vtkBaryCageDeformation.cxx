@@ -1,6 +1,7 @@
 #include "vtkBaryCageDeformation.h"
 
 #include "vtkBaryConversion.h"
+#include "vtkBaryFilterErrors.h"
 #include "vtkBaryMethod.h"
 
 #include "core/cage_deformation.h"
@@ -242,19 +243,7 @@ int vtkBaryCageDeformation::RequestData(
         vtkBaryConversion::ToArray(*W, cage, this->WeightsArrayName));
     this->UpdateProgress(1.0);
   }
-  catch (const bary::Error& e)
-  {
-    // keep the kind of problem for callers (vtkBaryConversion::ErrorCodeOf)
-    this->SetErrorCode(vtkBaryConversion::ToVTKErrorCode(e.code()));
-    vtkErrorMacro(<< e.what());
-    return 0;
-  }
-  catch (const std::exception& e)
-  {
-    this->SetErrorCode(vtkBaryConversion::ToVTKErrorCode(bary::ErrorCode::Internal));
-    vtkErrorMacro(<< "Unexpected failure: " << e.what());
-    return 0;
-  }
+  VTKBARY_CATCH_ERRORS
   return 1;
 }
 

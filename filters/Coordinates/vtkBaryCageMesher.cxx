@@ -1,6 +1,7 @@
 #include "vtkBaryCageMesher.h"
 
 #include "vtkBaryConversion.h"
+#include "vtkBaryFilterErrors.h"
 
 #include "core/domain_mesh.h"
 #include "core/error.h"
@@ -97,18 +98,7 @@ int vtkBaryCageMesher::RequestData(
                       << " point(s) to insert lie outside the cage (or on it) and were skipped.");
     output->ShallowCopy(vtkBaryConversion::ToUnstructuredGrid(mesh, cage));
   }
-  catch (const bary::Error& e)
-  {
-    this->SetErrorCode(vtkBaryConversion::ToVTKErrorCode(e.code()));
-    vtkErrorMacro(<< e.what());
-    return 0;
-  }
-  catch (const std::exception& e)
-  {
-    this->SetErrorCode(vtkBaryConversion::ToVTKErrorCode(bary::ErrorCode::Internal));
-    vtkErrorMacro(<< "Unexpected failure: " << e.what());
-    return 0;
-  }
+  VTKBARY_CATCH_ERRORS
   return 1;
 }
 

@@ -37,7 +37,9 @@ using bary::ErrorCode;
   throw Error(ErrorCode::InvalidCage, "invalid cage: " + message);
 }
 
-void check_finite(vtkPoints* points)
+/// Throws Error(NonFinite) naming the first point with a NaN / infinite coordinate, called
+/// "<what> <id>".
+void check_finite(vtkPoints* points, const char* what = "cage point")
 {
   for (vtkIdType i = 0; i < points->GetNumberOfPoints(); ++i)
   {
@@ -45,7 +47,7 @@ void check_finite(vtkPoints* points)
     points->GetPoint(i, x);
     if (!std::isfinite(x[0]) || !std::isfinite(x[1]) || !std::isfinite(x[2]))
       throw Error(ErrorCode::NonFinite,
-        "cage point " + std::to_string(i) + " has a non-finite coordinate (NaN or inf)");
+        std::string(what) + " " + std::to_string(i) + " has a non-finite coordinate (NaN or inf)");
   }
 }
 
@@ -323,14 +325,7 @@ vtkBaryCage vtkBaryConversion::ToControlPoints(vtkPolyData* data, int dimension)
     throw Error(ErrorCode::InvalidArgument, "the control points' dimension must be 0 (automatic), 2 or 3");
   vtkPoints* points = data->GetPoints();
   const vtkIdType n = points->GetNumberOfPoints();
-  for (vtkIdType i = 0; i < n; ++i)
-  {
-    double x[3];
-    points->GetPoint(i, x);
-    if (!std::isfinite(x[0]) || !std::isfinite(x[1]) || !std::isfinite(x[2]))
-      throw Error(ErrorCode::NonFinite,
-        "control point " + std::to_string(i) + " has a non-finite coordinate (NaN or inf)");
-  }
+  check_finite(points, "control point");
   double bounds[6];
   const bool flat = flat_in_z(points, bounds);
   const int dim = dimension == AUTOMATIC ? (flat ? 2 : 3) : dimension;
@@ -391,14 +386,7 @@ bary::Skeleton vtkBaryConversion::ToSkeleton(vtkPolyData* data, int dimension)
       "a closed surface or polygon is a cage (give it as cage handles, without a domain)");
   vtkPoints* points = data->GetPoints();
   const vtkIdType n = points->GetNumberOfPoints();
-  for (vtkIdType i = 0; i < n; ++i)
-  {
-    double x[3];
-    points->GetPoint(i, x);
-    if (!std::isfinite(x[0]) || !std::isfinite(x[1]) || !std::isfinite(x[2]))
-      throw Error(ErrorCode::NonFinite,
-        "handle point " + std::to_string(i) + " has a non-finite coordinate (NaN or inf)");
-  }
+  check_finite(points, "handle point");
   if (dimension == CAGE_2D)
   {
     double bounds[6];

@@ -1,6 +1,7 @@
 #include "vtkBaryCoordinates.h"
 
 #include "vtkBaryConversion.h"
+#include "vtkBaryFilterErrors.h"
 #include "vtkBaryMethod.h"
 
 #include "core/error.h"
@@ -200,19 +201,7 @@ int vtkBaryCoordinates::RequestData(
       &report, pointBased ? vtkBaryConversion::CellEdges(input) : Eigen::MatrixXi());
     this->FinishOutput(output, W, cage, report);
   }
-  catch (const bary::Error& e)
-  {
-    // keep the kind of problem for callers (vtkBaryConversion::ErrorCodeOf)
-    this->SetErrorCode(vtkBaryConversion::ToVTKErrorCode(e.code()));
-    vtkErrorMacro(<< e.what());
-    return 0;
-  }
-  catch (const std::exception& e)
-  {
-    this->SetErrorCode(vtkBaryConversion::ToVTKErrorCode(bary::ErrorCode::Internal));
-    vtkErrorMacro(<< "Unexpected failure: " << e.what());
-    return 0;
-  }
+  VTKBARY_CATCH_ERRORS
   return 1;
 }
 

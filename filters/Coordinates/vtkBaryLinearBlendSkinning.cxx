@@ -1,6 +1,7 @@
 #include "vtkBaryLinearBlendSkinning.h"
 
 #include "vtkBaryConversion.h"
+#include "vtkBaryFilterErrors.h"
 
 #include "core/error.h"
 #include "core/linear_blend_skinning.h"
@@ -100,18 +101,7 @@ int vtkBaryLinearBlendSkinning::RequestData(
       points->SetPoint(p, Y(p, 0), Y(p, 1), Y(p, 2));
     output->SetPoints(points);
   }
-  catch (const bary::Error& e)
-  {
-    this->SetErrorCode(vtkBaryConversion::ToVTKErrorCode(e.code()));
-    vtkErrorMacro(<< e.what());
-    return 0;
-  }
-  catch (const std::exception& e)
-  {
-    this->SetErrorCode(vtkBaryConversion::ToVTKErrorCode(bary::ErrorCode::Internal));
-    vtkErrorMacro(<< "Unexpected failure: " << e.what());
-    return 0;
-  }
+  VTKBARY_CATCH_ERRORS
   return 1;
 }
 
