@@ -90,11 +90,13 @@ struct CelestialOptions
   /// piecewise-linear interpolant); points on the boundary get the TCC of the face with the
   /// face's s_i, which is then not the limit from inside. Must be empty for the S scheme.
   Eigen::VectorXd user_weights;
-  /// Newton stops when |sum_i beta_i q_i| <= tolerance * sum_i beta_i (the relative residual,
-  /// reported in CelestialResult::residual). The reproduction error |sum_i alpha_i v_i - p|
-  /// is then at most tolerance * max_i d_i <= tolerance * (hull diameter). The paper uses an
-  /// absolute 1e-6. Range [1e-15, 1e-3]; below ~1e-14 the rounding of the sum can prevent
-  /// convergence.
+  /// Newton stops when the relative residual rho = |sum_i beta_i q_i| / sum_i beta_i
+  /// (CelestialResult::residual) is <= max(tolerance, 4 u (|x|_1 + #C)), u = 2^-53, x the
+  /// unknown (psi, or y for SCC). The reproduction error |sum_i alpha_i v_i - p| is at most
+  /// rho * max_i d_i <= rho * (hull diameter). The second term is the rounding floor of
+  /// evaluating the sum at x; it exceeds 1e-12 only within ~1e-9 of the hull's diameter from its
+  /// boundary, where |x| grows (SCC: |y| ~ distance^-1/2; TCC with s != 0: |psi| ~ 1 /
+  /// distance). The paper stops at an absolute 1e-6. Range [1e-15, 1e-3].
   double tolerance = 1e-12;
   /// Cap on Newton iterations per point (and per face solve). Range [1, 10000]. A cold start
   /// needs 3-8 iterations inside, up to ~35 within 1e-12 of the boundary.
@@ -134,8 +136,8 @@ struct CelestialResult
   std::vector<Index> not_converged;
   /// #P, Newton iterations per point (of the last attempt; 0 at a control and outside).
   Eigen::VectorXi iterations;
-  /// #P, final relative residual |sum beta_i q_i| / sum beta_i per point (0 at a control,
-  /// NaN outside).
+  /// #P, final relative residual |sum beta_i q_i| / sum beta_i per point (of the face solve
+  /// for Boundary points; 0 at a control, NaN outside). See CelestialOptions::tolerance.
   Eigen::VectorXd residual;
   /// #P by dim, the paper's unknown for Inside points: psi (TCC) or the centre c of the
   /// wrapping sphere relative to p, in the units of the celestial sphere (SCC). NaN rows for
