@@ -1128,7 +1128,7 @@ CelestialResult CelestialCoordinates::compute(
     for (std::size_t k = 0; k < std::min<std::size_t>(10, result.outside.size()); ++k)
       ids += (k ? ", " : "") + std::to_string(result.outside[k]);
     if (result.outside.size() > 10)
-      ids += ", ...";
+      ids += " and " + std::to_string(result.outside.size() - 10) + " more";
     int arg;
     const double dist = Impl::max_plane_distance(
       im.nodes.front(), im.to_local(im.nodes.front(), X.row(result.outside.front()).data()), &arg);
@@ -1369,7 +1369,7 @@ CelestialResult CelestialCoordinates::compute(
       list += (k ? ", " : "") + std::to_string(p) + " (residual " + fmt(result.residual[p]) + ")";
     }
     if (result.not_converged.size() > 10)
-      list += ", ...";
+      list += " and " + std::to_string(result.not_converged.size() - 10) + " more";
     throw Error(ErrorCode::NotConverged,
       std::to_string(result.not_converged.size()) + " of " + std::to_string(np) +
         " points did not converge in " + std::to_string(opt.max_iterations) +

@@ -1,9 +1,11 @@
 #pragma once
 /// @file celestial_coordinates.h
 /// T-Celestial and S-Celestial coordinates: Cerveró, Vinacua & Brunet, "3D Model Deformations
-/// With Arbitrary Control Points" (Computers & Graphics, 2016). Cage-free generalized barycentric
-/// coordinates w.r.t. free control points v_1..v_n (no connectivity), defined on their convex
-/// hull, in 2D and 3D (the paper is 3D; the 2D scheme is the same equations with 2-vectors).
+/// With Arbitrary Control Points" (shared/papers/celestial-coordinates-cervero.md). Cage-free
+/// generalized barycentric coordinates w.r.t. free control points v_1..v_n (no connectivity),
+/// defined on their convex hull, in 2D and 3D (the paper is 3D; the 2D scheme is the same
+/// equations with 2-vectors). Documentation with measured accuracy and speed:
+/// docs/celestial-coordinates.md.
 ///
 /// For a point p, with d_i = |v_i - p| and the unit vectors q_i = (v_i - p) / d_i (the
 /// controls projected on the "celestial sphere" of p, Sect. 3), both schemes find positive
@@ -23,10 +25,18 @@
 ///   sum_i exp(psi . q_i) - r . psi. For SCC, mu_i = lambda m(|y|) m(q_i . y) with
 ///   y = c / sqrt(lambda^2 + 2 lambda |c|) and m(a) = a + sqrt(a^2 + 1), so Eq. (11) reads
 ///   sum_i m(q_i . y)^2 q_i = 0, the gradient of sum_i (m_i^3 / 6 + m_i / 2). BaryLab runs
-///   Newton in y (smooth; Eq. 15 in c has a kink at c = 0 and a non-symmetric Jacobian) and
-///   reports c = lambda m(|y|) y.
-/// - Newton is safeguarded by a backtracking (Armijo) line search on that potential (on the
-///   residual norm once the residual is below 1e-6) and capped by max_iterations.
+///   Newton in y and reports c = lambda m(|y|) y. (In c the Jacobian is not symmetric, has a
+///   kink at c = 0 and is singular where |F(c)| has minima that are not solutions: Newton in c
+///   stalled on 19.5% of random interior points in our measurement; in y on none.)
+/// - Newton is safeguarded by a backtracking (Armijo) line search on that potential (also on
+///   the residual norm once the residual is below 1e-6) and capped by max_iterations.
+/// - Points are solved in neighbour order (Hilbert curve, or breadth-first over mesh edges)
+///   with warm starts, in fixed chunks of 256 points run in parallel: bitwise independent of
+///   the number of threads.
+///
+/// Measured (docs/celestial-coordinates.md; AMD EPYC, 2 shared cores, SSE2): 1e6 points with
+/// 30 controls in 3D, SCC: 1.7 s, 3.4 Newton iterations per point (6.3 cold); partition of
+/// unity <= 3e-15, reproduction <= 5e-13 of the diameter with the default tolerance.
 ///
 /// Properties (measured values in docs/celestial-coordinates.md): inside the convex hull the
 /// weights are positive, sum to 1, reproduce p up to tolerance times the hull's diameter, are
@@ -36,8 +46,9 @@
 /// does not hold — but not under affine maps. SCC does not depend on lambda (mu_i is
 /// homogeneous of degree 1 in (c, lambda)). On the hull boundary the weights of the controls
 /// off the face containing p vanish; for TCC with s = 0 and for SCC the coordinates there are
-/// the same scheme in the face (the limit from inside); for TCC with s != 0 there is no such
-/// limit (see CelestialOptions::user_weights).
+/// the same scheme in the face (the limit from inside: TCC approaches it like O(h), SCC like
+/// O(sqrt(h)) at distance h); for TCC with s != 0 there is no such limit (see
+/// CelestialOptions::user_weights).
 
 #include "progress.h"
 #include "types.h"
