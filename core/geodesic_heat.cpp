@@ -1,0 +1,289 @@
+#include "geodesic_heat.h"
+
+#include "error.h"
+#include "fem_operators.h"
+
+#include <omp.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <numeric>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace bary
+{
+namespace
+{
+
+double seconds_since(std::chrono::steady_clock::time_point t0)
+{
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+/// Connected component of every vertex (union-find over the elements); ids 0 .. #components-1
+/// in order of each component's smallest vertex.
+Eigen::VectorXi connected_components(Index n, const Eigen::MatrixXi& T)
+{
+  std::vector<int> parent(static_cast<std::size_t>(n));
+  std::iota(parent.begin(), parent.end(), 0);
+  auto find = [&parent](int v) {
+    while (parent[static_cast<std::size_t>(v)] != v)
+    {
+      parent[static_cast<std::size_t>(v)] =
+        parent[static_cast<std::size_t>(parent[static_cast<std::size_t>(v)])];
+      v = parent[static_cast<std::size_t>(v)];
+    }
+    return v;
+  };
+  for (Index t = 0; t < T.rows(); ++t)
+    for (Index k = 1; k < T.cols(); ++k)
+    {
+      const int a = find(T(t, 0)), b = find(T(t, k));
+      if (a != b)
+        parent[static_cast<std::size_t>(std::max(a, b))] = std::min(a, b);
+    }
+  Eigen::VectorXi component(n);
+  std::vector<int> id(static_cast<std::size_t>(n), -1);
+  int next = 0;
+  for (Index v = 0; v < n; ++v)
+  {
+    const int root = find(static_cast<int>(v));
+    if (id[static_cast<std::size_t>(root)] < 0)
+      id[static_cast<std::size_t>(root)] = next++;
+    component(v) = id[static_cast<std::size_t>(root)];
+  }
+  return component;
+}
+
+/// Mean length of the mesh's edges, each edge counted once.
+double average_edge_length(const Eigen::MatrixXd& V, const Eigen::MatrixXi& T)
+{
+  std::vector<std::pair<int, int>> edges;
+  edges.reserve(static_cast<std::size_t>(T.rows() * T.cols() * (T.cols() - 1) / 2));
+  for (Index t = 0; t < T.rows(); ++t)
+    for (Index a = 0; a < T.cols(); ++a)
+      for (Index b = a + 1; b < T.cols(); ++b)
+        edges.emplace_back(std::min(T(t, a), T(t, b)), std::max(T(t, a), T(t, b)));
+  std::sort(edges.begin(), edges.end());
+  edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
+  double sum = 0.0;
+  for (const auto& [a, b] : edges)
+    sum += (V.row(a) - V.row(b)).norm();
+  return edges.empty() ? 0.0 : sum / static_cast<double>(edges.size());
+}
+
+void check_cancel(const ProgressCallback& progress, double fraction)
+{
+  if (progress && !progress(fraction))
+    throw Error(ErrorCode::Cancelled, "the heat-method geodesic distances were cancelled");
+}
+
+} // namespace
+
+GeodesicHeat::GeodesicHeat(
+  const Eigen::MatrixXd& V, const Eigen::MatrixXi& T, const GeodesicHeatOptions& options)
+  : options_(options)
+  , V_(V)
+  , T_(T)
+{
+  if (!(options.time_factor > 0.0 && options.time_factor <= 1e6))
+    throw Error(ErrorCode::InvalidArgument,
+      "GeodesicHeatOptions::time_factor must be in (0, 1e6], got " +
+        std::to_string(options.time_factor));
+  if (options.threads < 0)
+    throw Error(ErrorCode::InvalidArgument,
+      "GeodesicHeatOptions::threads must be >= 0 (0 = OpenMP's default), got " +
+        std::to_string(options.threads));
+
+  const auto t0 = std::chrono::steady_clock::now();
+  // stiffness_matrix validates the mesh (shapes, indices, degenerate elements, finiteness).
+  const Eigen::SparseMatrix<double> K = stiffness_matrix(V, T);
+  const Eigen::SparseMatrix<double> M = mass_matrix(V, T, MassMatrixType::Barycentric);
+  G_ = gradient_operator(V, T);
+  volume_ = simplex_volumes(V, T);
+  const Index n = V.rows();
+  {
+    std::vector<char> used(static_cast<std::size_t>(n), 0);
+    for (Index t = 0; t < T.rows(); ++t)
+      for (Index k = 0; k < T.cols(); ++k)
+        used[static_cast<std::size_t>(T(t, k))] = 1;
+    for (Index v = 0; v < n; ++v)
+      if (!used[static_cast<std::size_t>(v)])
+        throw Error(ErrorCode::InvalidArgument,
+          "mesh vertex " + std::to_string(v) +
+            " belongs to no element: remove unreferenced vertices before computing distances");
+  }
+  h_ = average_edge_length(V, T);
+  t_ = options.time_factor * h_ * h_;
+
+  // I. heat flow matrix, Neumann boundary.
+  heat_ = SparseCholesky(options.backend);
+  heat_.compute(Eigen::SparseMatrix<double>(M + t_ * K));
+
+  // III. Poisson matrix with the first vertex of every connected component pinned to 0.
+  component_ = connected_components(n, T);
+  const int components = component_.size() ? component_.maxCoeff() + 1 : 0;
+  std::vector<char> pinned_component(static_cast<std::size_t>(components), 0);
+  pinned_index_.resize(n);
+  std::vector<int> free_ids;
+  free_ids.reserve(static_cast<std::size_t>(n));
+  for (Index v = 0; v < n; ++v)
+  {
+    char& pinned = pinned_component[static_cast<std::size_t>(component_(v))];
+    if (!pinned)
+    {
+      pinned = 1;
+      pinned_index_(v) = -1;
+    }
+    else
+    {
+      pinned_index_(v) = static_cast<int>(free_ids.size());
+      free_ids.push_back(static_cast<int>(v));
+    }
+  }
+  poisson_ = SparseCholesky(options.backend);
+  if (!free_ids.empty())
+  {
+    std::vector<Eigen::Triplet<double>> triplets;
+    triplets.reserve(static_cast<std::size_t>(K.nonZeros()));
+    for (Index j = 0; j < K.outerSize(); ++j)
+      for (Eigen::SparseMatrix<double>::InnerIterator it(K, j); it; ++it)
+      {
+        const int r = pinned_index_(it.row()), c = pinned_index_(it.col());
+        if (r >= 0 && c >= 0)
+          triplets.emplace_back(r, c, it.value());
+      }
+    Eigen::SparseMatrix<double> Kf(
+      static_cast<Index>(free_ids.size()), static_cast<Index>(free_ids.size()));
+    Kf.setFromTriplets(triplets.begin(), triplets.end());
+    poisson_.compute(Kf, Eigen::Map<const Eigen::VectorXi>(
+                           free_ids.data(), static_cast<Index>(free_ids.size())));
+  }
+  factor_seconds_ = seconds_since(t0);
+}
+
+Eigen::MatrixXd GeodesicHeat::potential(
+  const Eigen::MatrixXd& U, const ProgressCallback& progress, Index* zero_gradient_elements) const
+{
+  const Index n = V_.rows(), k = U.cols(), cells = T_.rows();
+  const Index dim = V_.cols();
+  // II. X = -grad u / |grad u| per element, times the element's volume: G^T (A X) is then the
+  // integrated divergence (weak form).
+  Eigen::MatrixXd X = G_ * U;
+  Index zero = 0;
+  const int threads = options_.threads > 0 ? options_.threads : omp_get_max_threads();
+#pragma omp parallel for num_threads(threads) schedule(static) reduction(+ : zero)
+  for (Index t = 0; t < cells; ++t)
+    for (Index j = 0; j < k; ++j)
+    {
+      auto g = X.col(j).segment(t * dim, dim);
+      const double norm = g.norm();
+      if (norm > 0.0 && std::isfinite(norm))
+        g *= -volume_(t) / norm;
+      else
+      {
+        g.setZero();
+        ++zero;
+      }
+    }
+  if (zero_gradient_elements)
+    *zero_gradient_elements = zero;
+  check_cancel(progress, 0.7);
+  const Eigen::MatrixXd B = G_.transpose() * X;
+
+  // III. K phi = B on the free vertices, 0 at the pinned ones.
+  Eigen::MatrixXd phi = Eigen::MatrixXd::Zero(n, k);
+  if (poisson_.computed())
+  {
+    Eigen::MatrixXd Bf(poisson_.rows(), k);
+    for (Index v = 0; v < n; ++v)
+      if (pinned_index_(v) >= 0)
+        Bf.row(pinned_index_(v)) = B.row(v);
+    const Eigen::MatrixXd Pf = poisson_.solve(Bf);
+    for (Index v = 0; v < n; ++v)
+      if (pinned_index_(v) >= 0)
+        phi.row(v) = Pf.row(pinned_index_(v));
+  }
+  return phi;
+}
+
+void GeodesicHeat::check_sources(const int* sources, Index count) const
+{
+  const Index n = V_.rows();
+  for (Index j = 0; j < count; ++j)
+    if (sources[j] < 0 || sources[j] >= n)
+      throw Error(ErrorCode::InvalidArgument,
+        "source " + std::to_string(j) + " is vertex " + std::to_string(sources[j]) +
+          ", outside [0, " + std::to_string(n) + ")");
+}
+
+Eigen::MatrixXd GeodesicHeat::distances(
+  const Eigen::VectorXi& sources, const ProgressCallback& progress, Index* zero_gradient_elements) const
+{
+  const Index n = V_.rows();
+  check_sources(sources.data(), sources.size());
+  if (zero_gradient_elements)
+    *zero_gradient_elements = 0;
+  if (sources.size() == 0)
+    return Eigen::MatrixXd(n, 0);
+  check_cancel(progress, 0.0);
+  Eigen::MatrixXd delta = Eigen::MatrixXd::Zero(n, sources.size());
+  for (Index j = 0; j < sources.size(); ++j)
+    delta(sources(j), j) = 1.0;
+  const Eigen::MatrixXd U = heat_.solve(delta);
+  check_cancel(progress, 0.4);
+  Eigen::MatrixXd phi = potential(U, progress, zero_gradient_elements);
+  // Shift: 0 at the source; +infinity outside the source's component.
+  const double inf = std::numeric_limits<double>::infinity();
+  for (Index j = 0; j < sources.size(); ++j)
+  {
+    const double shift = phi(sources(j), j);
+    const int c = component_(sources(j));
+    for (Index v = 0; v < n; ++v)
+      phi(v, j) = component_(v) == c ? phi(v, j) - shift : inf;
+  }
+  check_cancel(progress, 1.0);
+  return phi;
+}
+
+Eigen::VectorXd GeodesicHeat::distance_to_set(const std::vector<int>& sources) const
+{
+  const Index n = V_.rows();
+  if (sources.empty())
+    throw Error(ErrorCode::InvalidArgument, "distance_to_set needs at least one source vertex");
+  check_sources(sources.data(), static_cast<Index>(sources.size()));
+  Eigen::VectorXd delta = Eigen::VectorXd::Zero(n);
+  for (int s : sources)
+    delta(s) = 1.0;
+  const Eigen::MatrixXd U = heat_.solve(delta);
+  Eigen::VectorXd phi = potential(U, {}, nullptr).col(0);
+  // Per component: shift so that the smallest value over its sources is 0; +infinity in
+  // components without a source.
+  const double inf = std::numeric_limits<double>::infinity();
+  const int components = component_.maxCoeff() + 1;
+  std::vector<double> shift(static_cast<std::size_t>(components), inf);
+  for (int s : sources)
+  {
+    double& m = shift[static_cast<std::size_t>(component_(s))];
+    m = std::min(m, phi(s));
+  }
+  for (Index v = 0; v < n; ++v)
+  {
+    const double m = shift[static_cast<std::size_t>(component_(v))];
+    phi(v) = m < inf ? phi(v) - m : inf;
+  }
+  return phi;
+}
+
+Eigen::MatrixXd heat_geodesic_distances(const Eigen::MatrixXd& V, const Eigen::MatrixXi& T,
+  const Eigen::VectorXi& sources, const GeodesicHeatOptions& options,
+  const ProgressCallback& progress)
+{
+  return GeodesicHeat(V, T, options).distances(sources, progress);
+}
+
+} // namespace bary
