@@ -1,0 +1,115 @@
+// barylab-viewer: look at, compare and use generalized barycentric coordinates.
+//
+//   barylab-viewer [CONTROLS MODEL [DOMAIN]] [--example NAME] [--method M] [--compare M]
+//                  [--control I] [--pose FILE] [--session FILE] [--screenshot PNG]
+//
+// With --screenshot the viewer computes synchronously, writes the window to PNG and exits
+// (0 on success, 1 with a message on stderr on any error).
+
+#include "barylabViewerParameters.h"
+#include "barylabViewerWindow.h"
+
+#include <QApplication>
+#include <QCommandLineParser>
+#include <QSurfaceFormat>
+#include <QTimer>
+
+#include <QVTKOpenGLNativeWidget.h>
+
+#include <iostream>
+
+int main(int argc, char* argv[])
+{
+  QSurfaceFormat::setDefaultFormat(QVTKOpenGLNativeWidget::defaultFormat());
+  QApplication app(argc, argv);
+  QApplication::setApplicationName("barylab-viewer");
+  QApplication::setApplicationVersion("0.1");
+
+  QString methods;
+  for (const std::string& m : barylab::viewer::MethodNames())
+    methods += (methods.isEmpty() ? "" : "|") + QString::fromStdString(m);
+  QCommandLineParser parser;
+  parser.setApplicationDescription(
+    "BaryLab viewer: weight fields, level sets and deformations of generalized barycentric "
+    "coordinates.");
+  parser.addHelpOption();
+  parser.addVersionOption();
+  parser.addPositionalArgument("files", "CONTROLS MODEL [DOMAIN]: a cage, skeleton (.tgf) or "
+                                        "control points; the model; for a skeleton the domain",
+    "[CONTROLS MODEL [DOMAIN]]");
+  QCommandLineOption example("example",
+    "open a bundled example: " + barylab::viewer::ViewerWindow::ExampleNames().join(", "), "NAME");
+  QCommandLineOption method("method", "coordinate method: " + methods, "M");
+  QCommandLineOption compare("compare", "second method, side by side", "M");
+  QCommandLineOption control("control", "control (weights component) to show", "I");
+  QCommandLineOption pose("pose", "pose to apply after computing (posed cage / control points / "
+                                  "BBW transforms); 'example' for the example's pose",
+    "FILE");
+  QCommandLineOption session("session", "load a saved session", "FILE");
+  QCommandLineOption field("field", "weight | gradient", "F");
+  QCommandLineOption logScale("log", "logarithmic colour scale");
+  QCommandLineOption clip("clip", "clip 3D models by a plane normal to x");
+  QCommandLineOption screenshot("screenshot", "compute, write the window to PNG and quit", "PNG");
+  parser.addOptions({ example, method, compare, control, pose, session, field, logScale, clip,
+    screenshot });
+  parser.process(app);
+
+  const bool batch = parser.isSet(screenshot);
+  barylab::viewer::ViewerWindow window;
+  window.setInteractive(!batch);
+  window.setSynchronous(batch);
+  QStringList errors;
+  QObject::connect(&window, &barylab::viewer::ViewerWindow::errorReported,
+    [&errors](const QString& message) { errors << message; });
+  window.show();
+
+  const auto fail = [&](const QString& message) {
+    std::cerr << "barylab-viewer: error: " << message.toStdString() << "\n";
+    return 1;
+  };
+  // Batch runs need a mapped window: let Qt process the show before computing.
+  QApplication::processEvents();
+
+  const QStringList files = parser.positionalArguments();
+  if (parser.isSet(session))
+    window.loadSession(parser.value(session));
+  else if (parser.isSet(example))
+  {
+    window.loadExample(parser.value(example));
+  }
+  else if (!files.isEmpty())
+    window.openFiles(files);
+  if (batch && !errors.isEmpty())
+    return fail(errors.join("; "));
+
+  const bool reconfigure = parser.isSet(method) || parser.isSet(compare);
+  if (parser.isSet(method))
+    window.setMethod(parser.value(method));
+  if (parser.isSet(compare))
+    window.setCompareMethod(parser.value(compare));
+  if ((reconfigure || (!files.isEmpty() && !parser.isSet(session) && !parser.isSet(example))) &&
+    window.controls())
+    window.compute();
+  if (batch && !window.waitForComputation(600000))
+    return fail("the computation did not finish");
+  if (parser.isSet(control))
+    window.selectControl(parser.value(control).toInt());
+  if (parser.isSet(pose))
+    parser.value(pose) == "example" ? window.applyExamplePose() : window.loadPose(parser.value(pose));
+  if (parser.isSet(field))
+    parser.value(field).startsWith("grad") ? window.showGradientNorm() : window.showWeight();
+  if (parser.isSet(logScale))
+    window.setLogScale(true);
+  if (parser.isSet(clip))
+    window.setClipping(true);
+
+  if (!batch)
+    return QApplication::exec();
+  if (!errors.isEmpty())
+    return fail(errors.join("; "));
+  if (!window.hasWeights())
+    return fail("nothing was computed: give CONTROLS MODEL, --example or --session");
+  if (!window.saveScreenshot(parser.value(screenshot)))
+    return fail(errors.join("; "));
+  return 0;
+}

@@ -1,0 +1,417 @@
+#include "barylabViewerScene.h"
+
+#include "vtkBaryConversion.h"
+
+#include "core/error.h"
+#include "core/skeleton.h"
+
+#include "vtkActor.h"
+#include "vtkCamera.h"
+#include "vtkCellArray.h"
+#include "vtkClipPolyData.h"
+#include "vtkColorTransferFunction.h"
+#include "vtkContourFilter.h"
+#include "vtkDataArray.h"
+#include "vtkDataSet.h"
+#include "vtkDataSetSurfaceFilter.h"
+#include "vtkDoubleArray.h"
+#include "vtkExtractEdges.h"
+#include "vtkGlyph3D.h"
+#include "vtkGradientFilter.h"
+#include "vtkIdTypeArray.h"
+#include "vtkLookupTable.h"
+#include "vtkMath.h"
+#include "vtkPlane.h"
+#include "vtkPointData.h"
+#include "vtkPoints.h"
+#include "vtkPolyData.h"
+#include "vtkPolyDataMapper.h"
+#include "vtkProperty.h"
+#include "vtkRenderer.h"
+#include "vtkScalarBarActor.h"
+#include "vtkSphereSource.h"
+#include "vtkTextActor.h"
+#include "vtkTextProperty.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace barylab
+{
+namespace viewer
+{
+namespace
+{
+using bary::Error;
+using bary::ErrorCode;
+
+/// Viridis as a 256-entry lookup table, linear or log10.
+vtkSmartPointer<vtkLookupTable> make_lut(double lo, double hi, bool log)
+{
+  static const double viridis[][3] = { { 0.267, 0.005, 0.329 }, { 0.283, 0.141, 0.458 },
+    { 0.254, 0.265, 0.530 }, { 0.207, 0.372, 0.553 }, { 0.164, 0.471, 0.558 },
+    { 0.128, 0.567, 0.551 }, { 0.135, 0.659, 0.518 }, { 0.267, 0.749, 0.441 },
+    { 0.478, 0.821, 0.318 }, { 0.741, 0.873, 0.150 }, { 0.993, 0.906, 0.144 } };
+  vtkNew<vtkColorTransferFunction> ctf;
+  for (int i = 0; i <= 10; ++i)
+    ctf->AddRGBPoint(i / 10.0, viridis[i][0], viridis[i][1], viridis[i][2]);
+  auto lut = vtkSmartPointer<vtkLookupTable>::New();
+  lut->SetNumberOfTableValues(256);
+  for (int i = 0; i < 256; ++i)
+  {
+    double rgb[3];
+    ctf->GetColor(i / 255.0, rgb);
+    lut->SetTableValue(i, rgb[0], rgb[1], rgb[2], 1.0);
+  }
+  if (log)
+  {
+    lut->SetScaleToLog10();
+    lut->UseBelowRangeColorOn();
+    lut->SetBelowRangeColor(0.55, 0.55, 0.55, 1.0);
+  }
+  lut->SetTableRange(lo, hi);
+  return lut;
+}
+
+/// The model's surface with "vtkOriginalPointIds" (so posed points can be mapped onto it).
+vtkSmartPointer<vtkPolyData> rest_surface(vtkDataSet* data)
+{
+  vtkNew<vtkDataSetSurfaceFilter> surface;
+  surface->SetInputData(data);
+  surface->PassThroughPointIdsOn();
+  surface->Update();
+  auto poly = vtkSmartPointer<vtkPolyData>::New();
+  poly->DeepCopy(surface->GetOutput());
+  return poly;
+}
+
+/// One component of @p weights on @p surface (through the original ids) as array "weight".
+vtkSmartPointer<vtkDoubleArray> component_array(vtkPolyData* surface, vtkDataArray* weights,
+  vtkIdTypeArray* ids, int component)
+{
+  auto w = vtkSmartPointer<vtkDoubleArray>::New();
+  w->SetName("weight");
+  w->SetNumberOfTuples(surface->GetNumberOfPoints());
+  for (vtkIdType i = 0; i < surface->GetNumberOfPoints(); ++i)
+    w->SetValue(i, weights->GetComponent(ids ? ids->GetValue(i) : i, component));
+  return w;
+}
+
+/// |grad w| of scalar array "weight" on @p surface (VTK's vtkGradientFilter).
+vtkSmartPointer<vtkDoubleArray> gradient_norm(vtkPolyData* surface)
+{
+  vtkNew<vtkGradientFilter> gradient;
+  gradient->SetInputData(surface);
+  gradient->SetInputScalars(vtkDataObject::FIELD_ASSOCIATION_POINTS, "weight");
+  gradient->SetResultArrayName("weight_gradient");
+  gradient->Update();
+  vtkDataArray* g =
+    vtkDataSet::SafeDownCast(gradient->GetOutput())->GetPointData()->GetArray("weight_gradient");
+  auto norm = vtkSmartPointer<vtkDoubleArray>::New();
+  norm->SetName("gradient_norm");
+  norm->SetNumberOfTuples(surface->GetNumberOfPoints());
+  for (vtkIdType i = 0; i < surface->GetNumberOfPoints(); ++i)
+  {
+    double v[3];
+    g->GetTuple(i, v);
+    norm->SetValue(i, vtkMath::Norm(v));
+  }
+  return norm;
+}
+
+void add_level_set(vtkRenderer* renderer, vtkPolyData* surface, const std::vector<double>& values,
+  const double rgb[3], double width)
+{
+  if (values.empty())
+    return;
+  vtkNew<vtkContourFilter> contour;
+  contour->SetInputData(surface);
+  for (std::size_t i = 0; i < values.size(); ++i)
+    contour->SetValue(static_cast<int>(i), values[i]);
+  vtkNew<vtkPolyDataMapper> mapper;
+  mapper->SetInputConnection(contour->GetOutputPort());
+  mapper->ScalarVisibilityOff();
+  vtkNew<vtkActor> actor;
+  actor->SetMapper(mapper);
+  actor->GetProperty()->SetColor(rgb[0], rgb[1], rgb[2]);
+  actor->GetProperty()->SetLineWidth(static_cast<float>(width));
+  // lift the lines a little towards the viewer so they are not hidden by the surface
+  mapper->SetResolveCoincidentTopologyToPolygonOffset();
+  renderer->AddActor(actor);
+}
+
+double diameter_of(vtkPoints* points)
+{
+  double b[6];
+  points->GetBounds(b);
+  return std::sqrt((b[1] - b[0]) * (b[1] - b[0]) + (b[3] - b[2]) * (b[3] - b[2]) +
+    (b[5] - b[4]) * (b[5] - b[4]));
+}
+
+void add_spheres(vtkRenderer* renderer, vtkPoints* points, double radius, const double rgb[3])
+{
+  vtkNew<vtkPolyData> verts;
+  verts->SetPoints(points);
+  vtkNew<vtkSphereSource> sphere;
+  sphere->SetRadius(radius);
+  sphere->SetThetaResolution(12);
+  sphere->SetPhiResolution(12);
+  vtkNew<vtkGlyph3D> glyphs;
+  glyphs->SetInputData(verts);
+  glyphs->SetSourceConnection(sphere->GetOutputPort());
+  glyphs->ScalingOff();
+  vtkNew<vtkPolyDataMapper> mapper;
+  mapper->SetInputConnection(glyphs->GetOutputPort());
+  mapper->ScalarVisibilityOff();
+  vtkNew<vtkActor> actor;
+  actor->SetMapper(mapper);
+  actor->GetProperty()->SetColor(rgb[0], rgb[1], rgb[2]);
+  renderer->AddActor(actor);
+}
+
+void add_lines(vtkRenderer* renderer, vtkPoints* points, vtkCellArray* lines, double width,
+  const double rgb[3])
+{
+  vtkNew<vtkPolyData> wire;
+  wire->SetPoints(points);
+  wire->SetLines(lines);
+  vtkNew<vtkPolyDataMapper> mapper;
+  mapper->SetInputData(wire);
+  mapper->ScalarVisibilityOff();
+  vtkNew<vtkActor> actor;
+  actor->SetMapper(mapper);
+  actor->GetProperty()->SetColor(rgb[0], rgb[1], rgb[2]);
+  actor->GetProperty()->SetLineWidth(static_cast<float>(width));
+  renderer->AddActor(actor);
+}
+
+void add_controls(vtkRenderer* renderer, vtkPolyData* controls, vtkPoints* posed,
+  const SceneOptions& options)
+{
+  vtkPoints* points = posed ? posed : controls->GetPoints();
+  const double grey[3] = { 0.25, 0.25, 0.3 }, blue[3] = { 0.2, 0.35, 0.8 },
+               red[3] = { 0.9, 0.15, 0.1 };
+  const double radius = 0.012 * std::max(diameter_of(controls->GetPoints()), 1e-12);
+  vtkNew<vtkPoints> selected;
+  if (options.controls == ControlKind::Cage)
+  {
+    vtkNew<vtkCellArray> lines;
+    if (controls->GetNumberOfPolys() > 0)
+    {
+      vtkNew<vtkPolyData> surface;
+      surface->SetPoints(points);
+      surface->SetPolys(controls->GetPolys());
+      vtkNew<vtkExtractEdges> edges;
+      edges->SetInputData(surface);
+      edges->Update();
+      lines->DeepCopy(edges->GetOutput()->GetLines());
+      add_lines(renderer, edges->GetOutput()->GetPoints(), lines, 2.0, grey);
+    }
+    else
+    {
+      const vtkBaryCage cage = vtkBaryConversion::ToCage(controls, 2);
+      const vtkIdType n = static_cast<vtkIdType>(cage.ControlPointIds.size());
+      lines->InsertNextCell(n + 1);
+      for (vtkIdType k = 0; k <= n; ++k)
+        lines->InsertCellPoint(cage.ControlPointIds[static_cast<std::size_t>(k % n)]);
+      add_lines(renderer, points, lines, 2.0, grey);
+    }
+    if (options.component >= 0 && options.component < points->GetNumberOfPoints())
+      selected->InsertNextPoint(points->GetPoint(options.component));
+  }
+  else if (options.controls == ControlKind::Skeleton)
+  {
+    const bary::Skeleton skeleton = vtkBaryConversion::ToSkeleton(controls, options.dimension);
+    vtkNew<vtkCellArray> bones, chosen;
+    for (Eigen::Index b = 0; b < skeleton.BE.rows(); ++b)
+    {
+      const vtkIdType ids[2] = { skeleton.BE(b, 0), skeleton.BE(b, 1) };
+      bones->InsertNextCell(2, ids);
+      if (options.component == skeleton.P.size() + b)
+      {
+        chosen->InsertNextCell(2, ids);
+        selected->InsertNextPoint(points->GetPoint(ids[0]));
+        selected->InsertNextPoint(points->GetPoint(ids[1]));
+      }
+    }
+    add_lines(renderer, points, bones, 4.0, grey);
+    if (chosen->GetNumberOfCells() > 0)
+      add_lines(renderer, points, chosen, 7.0, red);
+    if (options.component >= 0 && options.component < skeleton.P.size())
+      selected->InsertNextPoint(points->GetPoint(skeleton.P(options.component)));
+  }
+  else if (options.component >= 0 && options.component < points->GetNumberOfPoints())
+    selected->InsertNextPoint(points->GetPoint(options.component));
+  add_spheres(renderer, points, radius, blue);
+  if (selected->GetNumberOfPoints() > 0)
+    add_spheres(renderer, selected, 2.0 * radius, red);
+}
+} // namespace
+
+SceneInfo BuildScene(vtkRenderer* renderer, vtkDataSet* weighted, vtkPoints* posed_points,
+  vtkPolyData* controls, vtkPoints* posed_controls, const SceneOptions& options)
+{
+  renderer->RemoveAllViewProps();
+  renderer->SetBackground(1.0, 1.0, 1.0);
+  SceneInfo info;
+  if (!weighted)
+  {
+    if (controls && options.show_controls)
+      add_controls(renderer, controls, posed_controls, options);
+    return info;
+  }
+  vtkDataArray* weights = weighted->GetPointData()->GetArray(options.weights_name.c_str());
+  if (!weights)
+    throw Error(ErrorCode::InvalidArgument,
+      "the model has no weights array '" + options.weights_name + "'");
+  info.components = weights->GetNumberOfComponents();
+  if (options.component < 0 || options.component >= info.components)
+    throw Error(ErrorCode::InvalidArgument,
+      "control " + std::to_string(options.component) + " does not exist (the weights have " +
+        std::to_string(info.components) + " components)");
+  info.influence_level = 1e-3 / info.components;
+
+  vtkSmartPointer<vtkPolyData> surface = rest_surface(weighted);
+  auto* ids = vtkIdTypeArray::SafeDownCast(surface->GetPointData()->GetArray("vtkOriginalPointIds"));
+  auto w = component_array(surface, weights, ids, options.component);
+  surface->GetPointData()->AddArray(w);
+  surface->GetPointData()->SetActiveScalars("weight");
+  const bool gradient = options.field == SceneOptions::Field::GradientNorm;
+  if (gradient)
+  {
+    auto g = gradient_norm(surface); // on the rest geometry
+    surface->GetPointData()->AddArray(g);
+    surface->GetPointData()->SetActiveScalars("gradient_norm");
+  }
+  if (posed_points)
+  {
+    vtkNew<vtkPoints> moved;
+    moved->SetNumberOfPoints(surface->GetNumberOfPoints());
+    for (vtkIdType i = 0; i < surface->GetNumberOfPoints(); ++i)
+      moved->SetPoint(i, posed_points->GetPoint(ids ? ids->GetValue(i) : i));
+    surface->SetPoints(moved);
+  }
+
+  vtkSmartPointer<vtkPolyData> shown = surface;
+  if (options.clip && options.dimension == 3)
+  {
+    double b[6];
+    surface->GetBounds(b);
+    const int a = std::clamp(options.clip_axis, 0, 2);
+    double origin[3] = { 0.5 * (b[0] + b[1]), 0.5 * (b[2] + b[3]), 0.5 * (b[4] + b[5]) };
+    origin[a] = b[2 * a] + std::clamp(options.clip_position, 0.0, 1.0) * (b[2 * a + 1] - b[2 * a]);
+    double normal[3] = { 0.0, 0.0, 0.0 };
+    normal[a] = 1.0;
+    vtkNew<vtkPlane> plane;
+    plane->SetOrigin(origin);
+    plane->SetNormal(normal);
+    vtkNew<vtkClipPolyData> clip;
+    clip->SetInputData(surface);
+    clip->SetClipFunction(plane);
+    clip->InsideOutOn(); // keep the part below the plane: the slider sweeps it through the model
+    clip->Update();
+    shown = clip->GetOutput();
+  }
+  info.shown_points = shown->GetNumberOfPoints();
+
+  vtkDataArray* field = shown->GetPointData()->GetScalars();
+  double range[2] = { 0.0, 1.0 };
+  if (field && field->GetNumberOfTuples() > 0)
+    field->GetRange(range);
+  if (options.log_scale)
+  {
+    range[1] = std::max(range[1], 1e-12);
+    range[0] = std::max(range[1] * 1e-6, gradient ? range[0] : info.influence_level * 1e-2);
+    range[0] = std::min(range[0], range[1] * 0.1);
+  }
+  else
+  {
+    if (!gradient)
+      range[0] = std::min(range[0], 0.0);
+    range[1] = std::max(range[1], range[0] + 1e-12);
+  }
+  info.range[0] = range[0];
+  info.range[1] = range[1];
+
+  vtkNew<vtkPolyDataMapper> mapper;
+  mapper->SetInputData(shown);
+  auto lut = make_lut(range[0], range[1], options.log_scale);
+  mapper->SetLookupTable(lut);
+  mapper->SetScalarRange(range);
+  mapper->UseLookupTableScalarRangeOn();
+  mapper->SetScalarModeToUsePointData();
+  mapper->ScalarVisibilityOn();
+  vtkNew<vtkActor> actor;
+  actor->SetMapper(mapper);
+  if (options.clip && options.dimension == 3)
+    actor->GetProperty()->BackfaceCullingOff();
+  renderer->AddActor(actor);
+
+  // level sets
+  std::vector<double> levels;
+  if (options.isolines > 0)
+  {
+    if (options.log_scale)
+      for (double v = std::pow(10.0, std::ceil(std::log10(range[0]))); v < range[1]; v *= 10.0)
+        levels.push_back(v);
+    else
+      for (int i = 0; i < options.isolines; ++i)
+        levels.push_back(range[1] * (i + 1.0) / (options.isolines + 1.0));
+  }
+  const double black[3] = { 0.05, 0.05, 0.05 }, magenta[3] = { 0.85, 0.1, 0.75 },
+               red[3] = { 0.9, 0.1, 0.1 };
+  add_level_set(renderer, shown, levels, black, 1.5);
+  if (!gradient && range[0] < 0.0 && options.isolines > 0)
+    add_level_set(renderer, shown, { 0.0 }, red, 2.5);
+  if (!gradient && options.influence_level)
+    add_level_set(renderer, shown, { info.influence_level }, magenta, 3.0);
+
+  if (controls && options.show_controls)
+    add_controls(renderer, controls, posed_controls, options);
+
+  vtkNew<vtkScalarBarActor> bar;
+  bar->SetLookupTable(lut);
+  bar->SetTitle(gradient ? "|grad w|" : "w");
+  bar->SetNumberOfLabels(5);
+  bar->SetWidth(0.08);
+  bar->SetHeight(0.6);
+  bar->SetPosition(0.9, 0.2);
+  bar->GetTitleTextProperty()->SetColor(0.1, 0.1, 0.1);
+  bar->GetLabelTextProperty()->SetColor(0.1, 0.1, 0.1);
+  bar->SetLabelFormat(options.log_scale ? "%.0e" : "%.2g");
+  renderer->AddActor2D(bar);
+  if (!options.title.empty())
+  {
+    vtkNew<vtkTextActor> text;
+    text->SetInput(options.title.c_str());
+    text->GetTextProperty()->SetFontSize(16);
+    text->GetTextProperty()->SetColor(0.1, 0.1, 0.1);
+    text->SetPosition(10, 10);
+    renderer->AddActor2D(text);
+  }
+  return info;
+}
+
+void ResetSceneCamera(vtkRenderer* renderer, int dimension)
+{
+  vtkCamera* camera = renderer->GetActiveCamera();
+  if (dimension == 2)
+  {
+    camera->SetFocalPoint(0.0, 0.0, 0.0);
+    camera->SetPosition(0.0, 0.0, 1.0);
+    camera->SetViewUp(0.0, 1.0, 0.0);
+    camera->ParallelProjectionOn();
+    renderer->ResetCamera();
+  }
+  else
+  {
+    camera->ParallelProjectionOff();
+    camera->SetFocalPoint(0.0, 0.0, 0.0);
+    camera->SetPosition(0.3, -1.0, 0.6);
+    camera->SetViewUp(0.0, 0.0, 1.0);
+    renderer->ResetCamera();
+  }
+}
+
+} // namespace viewer
+} // namespace barylab

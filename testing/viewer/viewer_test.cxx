@@ -1,0 +1,532 @@
+// barylab-viewer driven through its public slots, as a person drives it through the GUI
+// (QTest under Xvfb; errors go to a list, no modal dialogs). Regression images of what the
+// viewer draws are compared with testing/baselines/viewer_*.png (vtkTesting, threshold 10); a
+// missing baseline fails and leaves the image in BARYLAB_TEST_OUTPUT_DIR/images.
+
+#include "barylabPipeline.h"
+#include "barylabViewerParameters.h"
+#include "barylabViewerScene.h"
+#include "barylabViewerWindow.h"
+
+#include "vtkBaryDataIO.h"
+
+#include <QApplication>
+#include <QDir>
+#include <QFileInfo>
+#include <QImage>
+#include <QListWidget>
+#include <QProcess>
+#include <QSignalSpy>
+#include <QSurfaceFormat>
+#include <QTest>
+#include <QTimer>
+#include <QFile>
+
+#include <QVTKOpenGLNativeWidget.h>
+
+#include "vtkCamera.h"
+#include "vtkDataArray.h"
+#include "vtkGenericOpenGLRenderWindow.h"
+#include "vtkNew.h"
+#include "vtkPointData.h"
+#include "vtkRenderWindow.h"
+#include "vtkRenderWindowInteractor.h"
+#include "vtkTesting.h"
+
+#include <cmath>
+#include <memory>
+
+using barylab::viewer::ViewerWindow;
+
+namespace
+{
+QString data(const char* name)
+{
+  return QString(BARYLAB_DATA_DIR) + "/" + name;
+}
+
+QString output(const QString& name)
+{
+  const QString dir = QString(BARYLAB_TEST_OUTPUT_DIR) + "/viewer";
+  QDir().mkpath(dir);
+  return dir + "/" + name;
+}
+
+double distance(const double a[3], const double b[3])
+{
+  return std::sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) +
+    (a[2] - b[2]) * (a[2] - b[2]));
+}
+
+/// Largest distance between the points of @p a and @p b (same count).
+double max_difference(vtkPointSet* a, vtkPointSet* b)
+{
+  double worst = 0.0;
+  for (vtkIdType i = 0; i < a->GetNumberOfPoints(); ++i)
+  {
+    double p[3], q[3];
+    a->GetPoint(i, p);
+    b->GetPoint(i, q);
+    worst = std::max(worst, distance(p, q));
+  }
+  return worst;
+}
+} // namespace
+
+class ViewerTest : public QObject
+{
+  Q_OBJECT
+  std::unique_ptr<ViewerWindow> w;
+
+  ViewerWindow* makeWindow()
+  {
+    auto* window = new ViewerWindow;
+    window->setInteractive(false); // errors to errors() and errorReported, no dialogs
+    window->resize(1280, 800);
+    window->show();
+    [[maybe_unused]] const bool exposed = QTest::qWaitForWindowExposed(window);
+    return window;
+  }
+
+  void loadAndWait(const QString& example)
+  {
+    QVERIFY(w->loadExample(example));
+    QVERIFY(w->waitForComputation(60000));
+    QVERIFY2(w->hasWeights(), qPrintable(w->errors().join("; ")));
+  }
+
+  /// What the viewer draws, rendered at a fixed size in an offscreen window and compared with
+  /// testing/baselines/<name>.png; the window itself (grab) is kept beside it for the docs.
+  void compareImage(const std::string& name, bool side_by_side = false)
+  {
+    const std::string outdir = std::string(BARYLAB_TEST_OUTPUT_DIR) + "/images";
+    QDir().mkpath(QString::fromStdString(outdir));
+    vtkNew<vtkRenderWindow> window;
+    window->SetOffScreenRendering(1);
+    window->SetMultiSamples(0);
+    window->SetSize(side_by_side ? 1200 : 800, 600);
+    barylab::viewer::SceneOptions options = w->sceneOptions();
+    options.controls = w->controlKind();
+    options.title = w->parameters().method;
+    vtkNew<vtkRenderer> left, right;
+    window->AddRenderer(left);
+    barylab::viewer::BuildScene(left, w->weighted(), w->deformedModel()->GetPoints(),
+      w->controls(), w->posedControls(), options);
+    barylab::viewer::ResetSceneCamera(left, options.dimension);
+    if (side_by_side)
+    {
+      left->SetViewport(0.0, 0.0, 0.5, 1.0);
+      right->SetViewport(0.5, 0.0, 1.0, 1.0);
+      right->SetActiveCamera(left->GetActiveCamera());
+      options.title = w->compareMethod().toStdString();
+      barylab::viewer::BuildScene(right, w->compareWeighted(), nullptr, w->controls(),
+        w->posedControls(), options);
+      window->AddRenderer(right);
+    }
+    window->Render();
+    const std::string baseline = std::string(BARYLAB_BASELINE_DIR) + "/" + name + ".png";
+    vtkNew<vtkTesting> testing;
+    testing->AddArgument("-V");
+    testing->AddArgument(baseline.c_str());
+    testing->AddArgument("-T");
+    testing->AddArgument(outdir.c_str());
+    testing->SetRenderWindow(window);
+    const int result = testing->RegressionTest(10.0);
+    QVERIFY(w->saveScreenshot(QString::fromStdString(outdir + "/" + name + "_window.png")));
+    QVERIFY2(result == vtkTesting::PASSED,
+      qPrintable(QString::fromStdString("image differs from " + baseline + " (see " + outdir + ")")));
+  }
+
+private slots:
+  void init() { w.reset(this->makeWindow()); }
+  void cleanup() { w.reset(); }
+
+  void parameterTable()
+  {
+    using namespace barylab::viewer;
+    QStringList keys;
+    for (const ParameterField& f : WeightsParameterFields())
+    {
+      QVERIFY2(!keys.contains(QString::fromStdString(f.key)), f.key.c_str());
+      keys << QString::fromStdString(f.key);
+      QVERIFY(f.get && f.set);
+    }
+    const auto methods = MethodNames();
+    QVERIFY(methods.size() >= 5);
+    QCOMPARE(QString::fromStdString(methods.front()), QString("mvc"));
+    // every row is an editor in the panel, named after its key
+    for (const QString& key : keys)
+      QVERIFY2(w->findChild<QWidget*>(key) != nullptr, qPrintable(key));
+    // JSON round trip and the command line
+    barylab::WeightsParameters p;
+    p.method = "harmonic";
+    p.target_cells = 5000;
+    p.outside = "nearest";
+    p.insert_points = true;
+    const barylab::WeightsParameters q = ParametersFromJson(ParametersToJson(p));
+    QCOMPARE(ParametersToJson(q).dump(), ParametersToJson(p).dump());
+    const auto flags = CommandLineFlags(p);
+    const QStringList f = [&]() {
+      QStringList l;
+      for (const auto& s : flags)
+        l << QString::fromStdString(s);
+      return l;
+    }();
+    QCOMPARE(f.join(' '), QString("--method harmonic --cells 5000 --insert-points --outside nearest"));
+    // the panel edits the parameter object
+    QVERIFY(w->setParameter("target_cells", 1234));
+    QCOMPARE(w->parameters().target_cells, 1234);
+    QVERIFY(!w->setParameter("no_such_parameter", 1));
+    QCOMPARE(w->errors().size(), 1);
+  }
+
+  void exampleComputesInWorker()
+  {
+    QSignalSpy finished(w.get(), &ViewerWindow::computeFinished);
+    QVERIFY(w->loadExample("kidney-mvc"));
+    QVERIFY(w->isComputing()); // in a worker: the call returned at once
+    int ticks = 0;
+    QTimer timer;
+    connect(&timer, &QTimer::timeout, [&ticks]() { ++ticks; });
+    timer.start(5);
+    QVERIFY(w->waitForComputation(60000));
+    QCOMPARE(finished.count(), 1);
+    QCOMPARE(finished.at(0).at(0).toBool(), true);
+    QVERIFY(w->hasWeights());
+    QCOMPARE(w->componentCount(), 72);
+    QCOMPARE(w->selectedControl(), 36);
+    QCOMPARE(w->findChild<QListWidget*>("controls")->count(), 72);
+    QVERIFY(w->errors().isEmpty());
+    qInfo("kidney mvc: %.3f s (%d timer ticks while computing)", w->lastComputeSeconds(), ticks);
+  }
+
+  void viewsAndControlSelection()
+  {
+    loadAndWait("kidney-mvc");
+    w->selectControl(10);
+    QCOMPARE(w->selectedControl(), 10);
+    QCOMPARE(w->findChild<QListWidget*>("controls")->currentRow(), 10);
+    w->findChild<QListWidget*>("controls")->setCurrentRow(12); // the list drives the selection
+    QCOMPARE(w->selectedControl(), 12);
+    QVERIFY(w->sceneInfo().range[0] <= 0.0 + 1e-12);
+    QCOMPARE(w->sceneInfo().influence_level, 1e-3 / 72);
+    w->showGradientNorm();
+    QCOMPARE(w->sceneOptions().field, barylab::viewer::SceneOptions::Field::GradientNorm);
+    QVERIFY(w->sceneInfo().range[0] >= 0.0);
+    QVERIFY(w->sceneInfo().range[1] > 0.0);
+    w->setLogScale(true);
+    QVERIFY(w->sceneInfo().range[0] > 0.0);
+    w->showWeight();
+    QVERIFY(w->sceneInfo().range[0] > 0.0); // log scale: positive range
+    w->setLogScale(false);
+    w->setIsolines(3);
+    QCOMPARE(w->sceneOptions().isolines, 3);
+    w->setInfluenceLevel(false);
+    QVERIFY(!w->sceneOptions().influence_level);
+    w->setInfluenceLevel(true);
+    const long long all = w->sceneInfo().shown_points;
+    QCOMPARE(all, 2562LL);
+    w->setClipping(true);
+    w->setClipAxis(2);
+    w->setClipPosition(0.8);
+    const long long high = w->sceneInfo().shown_points;
+    w->setClipPosition(0.2);
+    const long long low = w->sceneInfo().shown_points;
+    QVERIFY(low < all); // the part below the plane is kept
+    QVERIFY(high < all);
+    QVERIFY(low < high);
+    w->setClipping(false);
+    QCOMPARE(w->sceneInfo().shown_points, all);
+
+    // clicking a control point in the view selects it
+    double p[3];
+    w->posedControls()->GetPoint(20, p);
+    w->renderer()->SetWorldPoint(p[0], p[1], p[2], 1.0);
+    w->renderer()->WorldToDisplay();
+    double d[3];
+    w->renderer()->GetDisplayPoint(d);
+    vtkRenderWindowInteractor* interactor = w->view()->interactor();
+    interactor->SetEventInformation(static_cast<int>(d[0]), static_cast<int>(d[1]));
+    interactor->InvokeEvent(vtkCommand::LeftButtonPressEvent);
+    interactor->InvokeEvent(vtkCommand::LeftButtonReleaseEvent);
+    QCOMPARE(w->selectedControl(), 20);
+    QVERIFY(w->errors().isEmpty());
+  }
+
+  void movingControlDeformsModel()
+  {
+    loadAndWait("gingerbread-mvc");
+    auto* rest = vtkPointSet::SafeDownCast(w->weighted());
+    vtkDataArray* weights = rest->GetPointData()->GetArray("Weights");
+    QVERIFY(weights);
+    const int c = 5;
+    double p[3];
+    w->posedControls()->GetPoint(c, p);
+    const double delta[3] = { 0.1, -0.05, 0.0 };
+    w->setControlPosition(c, p[0] + delta[0], p[1] + delta[1], p[2]);
+    QCOMPARE(static_cast<int>(w->undoDepth()), 1);
+    vtkPointSet* deformed = w->deformedModel();
+    QVERIFY(deformed != rest);
+    // mean value coordinates reproduce linear functions: each point moves by w_c(x) * delta
+    double worst = 0.0, largest = 0.0;
+    for (vtkIdType i = 0; i < rest->GetNumberOfPoints(); ++i)
+    {
+      double x[3], y[3];
+      rest->GetPoint(i, x);
+      deformed->GetPoint(i, y);
+      const double wc = weights->GetComponent(i, c);
+      for (int k = 0; k < 2; ++k)
+        worst = std::max(worst, std::abs(y[k] - x[k] - wc * delta[k]));
+      largest = std::max(largest, distance(x, y));
+    }
+    QVERIFY2(worst < 1e-9, qPrintable(QString::number(worst)));
+    QVERIFY(largest > 0.05);
+
+    // dragging a control point in the view (interactor events, as the mouse sends them)
+    double q[3];
+    w->posedControls()->GetPoint(2, q);
+    w->renderer()->SetWorldPoint(q[0], q[1], q[2], 1.0);
+    w->renderer()->WorldToDisplay();
+    double d[3];
+    w->renderer()->GetDisplayPoint(d); // copied: picking overwrites the renderer's display point
+    vtkRenderWindowInteractor* interactor = w->view()->interactor();
+    interactor->SetEventInformation(static_cast<int>(d[0]), static_cast<int>(d[1]));
+    interactor->InvokeEvent(vtkCommand::LeftButtonPressEvent);
+    interactor->SetEventInformation(static_cast<int>(d[0]) + 30, static_cast<int>(d[1]) + 20);
+    interactor->InvokeEvent(vtkCommand::MouseMoveEvent);
+    interactor->InvokeEvent(vtkCommand::LeftButtonReleaseEvent);
+    double moved[3];
+    w->posedControls()->GetPoint(2, moved);
+    QVERIFY(moved[0] > q[0] + 1e-3);
+    QVERIFY(moved[1] > q[1] + 1e-3);
+    QCOMPARE(moved[2], q[2]);
+    QCOMPARE(static_cast<int>(w->undoDepth()), 2);
+
+    // save the deformed model and the pose; read them back
+    QVERIFY(w->saveDeformedModel(output("deformed.vtp")));
+    const auto backData = vtkBaryDataIO::Read(output("deformed.vtp").toStdString());
+    auto* back = vtkPointSet::SafeDownCast(backData);
+    QVERIFY(back);
+    QVERIFY(max_difference(back, w->deformedModel()) < 1e-6);
+    QVERIFY(w->savePose(output("pose.obj")));
+    auto pose = vtkBaryDataIO::Read(output("pose.obj").toStdString());
+    QCOMPARE(pose->GetNumberOfPoints(), w->controls()->GetNumberOfPoints());
+    double saved[3];
+    pose->GetPoint(2, saved);
+    QVERIFY(distance(saved, moved) < 1e-5);
+
+    // undo twice: back to rest; undo again: nothing to undo
+    w->undo();
+    double after[3];
+    w->posedControls()->GetPoint(2, after);
+    QCOMPARE(after[0], q[0]);
+    w->undo();
+    QCOMPARE(static_cast<int>(w->undoDepth()), 0);
+    QVERIFY(max_difference(w->deformedModel(), rest) == 0.0);
+    w->undo();
+    // the bundled pose, then reset
+    QVERIFY(w->applyExamplePose());
+    QVERIFY(max_difference(w->deformedModel(), rest) > 0.05);
+    w->resetPose();
+    QVERIFY(max_difference(w->deformedModel(), rest) == 0.0);
+    w->undo(); // undoes the reset
+    QVERIFY(max_difference(w->deformedModel(), rest) > 0.05);
+    QVERIFY2(w->errors().isEmpty(), qPrintable(w->errors().join("; ")));
+  }
+
+  void skeletonDeformation()
+  {
+    loadAndWait("gingerbread-bbw");
+    QCOMPARE(w->controlKind(), barylab::viewer::ControlKind::Skeleton);
+    QCOMPARE(w->componentCount(), 8); // 8 bones
+    QVERIFY(w->findChild<QListWidget*>("controls")->item(0)->text().startsWith("bone 0"));
+    auto* rest = vtkPointSet::SafeDownCast(w->weighted());
+    QVERIFY(w->applyExamplePose());
+    QVERIFY(max_difference(w->deformedModel(), rest) > 0.05);
+    w->resetPose();
+    // move a joint: the model follows
+    double p[3];
+    w->posedControls()->GetPoint(w->controls()->GetNumberOfPoints() - 1, p);
+    w->setControlPosition(w->controls()->GetNumberOfPoints() - 1, p[0] + 0.1, p[1] + 0.1, p[2]);
+    QVERIFY(max_difference(w->deformedModel(), rest) > 0.02);
+    w->undo();
+    QVERIFY(max_difference(w->deformedModel(), rest) == 0.0);
+    QVERIFY2(w->errors().isEmpty(), qPrintable(w->errors().join("; ")));
+    qInfo("gingerbread bbw: %.3f s", w->lastComputeSeconds());
+  }
+
+  void sessionRoundTrip()
+  {
+    loadAndWait("gingerbread-mvc");
+    w->selectControl(7);
+    w->setLogScale(true);
+    w->setIsolines(4);
+    QVERIFY(w->setParameter("boundary_tolerance", 1e-9));
+    double p[3];
+    w->posedControls()->GetPoint(3, p);
+    w->setControlPosition(3, p[0] - 0.1, p[1] + 0.2, p[2]);
+    const QString path = output("session.json");
+    QVERIFY(w->saveSession(path));
+
+    std::unique_ptr<ViewerWindow> other(this->makeWindow());
+    QVERIFY(other->loadSession(path));
+    QVERIFY(other->waitForComputation(60000));
+    QVERIFY2(other->errors().isEmpty(), qPrintable(other->errors().join("; ")));
+    QCOMPARE(barylab::viewer::ParametersToJson(other->parameters()).dump(),
+      barylab::viewer::ParametersToJson(w->parameters()).dump());
+    QCOMPARE(other->inputs().model, w->inputs().model);
+    QCOMPARE(other->selectedControl(), 7);
+    QCOMPARE(other->sceneOptions().log_scale, true);
+    QCOMPARE(other->sceneOptions().isolines, 4);
+    double q[3];
+    other->posedControls()->GetPoint(3, q);
+    w->posedControls()->GetPoint(3, p);
+    QVERIFY(distance(p, q) < 1e-12);
+    QVERIFY(max_difference(other->deformedModel(), w->deformedModel()) < 1e-12);
+    other.reset();
+    // a session that is not one
+    QVERIFY(!w->loadSession(data("model2d.obj")));
+    QCOMPARE(w->errors().size(), 1);
+    QVERIFY(w->hasWeights()); // state untouched
+  }
+
+  void badInputAndFailingComputation()
+  {
+    QSignalSpy errors(w.get(), &ViewerWindow::errorReported);
+    QVERIFY(!w->openFiles({ data("does_not_exist.obj"), data("model2d.obj") }));
+    QCOMPARE(errors.count(), 1);
+    QVERIFY(w->errors().last().contains("does_not_exist.obj"));
+    QVERIFY(!w->openFiles({ data("bad/garbage.off"), data("model2d.obj") }));
+    QVERIFY(!w->openFiles({ data("cage2d.obj") }));
+    QVERIFY(!w->openFiles({ data("skeleton2d.tgf"), data("model2d.obj") })); // no domain
+    QVERIFY(!w->loadExample("no-such-example"));
+    w->compute(); // nothing open
+    QCOMPARE(errors.count(), 6);
+    QVERIFY(!w->hasWeights());
+
+    // a computation that fails: an open 3D cage
+    QVERIFY(w->openFiles({ data("bad/open_cage.obj"), data("model3d.off") }));
+    QSignalSpy finished(w.get(), &ViewerWindow::computeFinished);
+    w->compute();
+    QVERIFY(w->waitForComputation(60000));
+    QCOMPARE(finished.count(), 1);
+    QCOMPARE(finished.at(0).at(0).toBool(), false);
+    QVERIFY(!w->hasWeights());
+    QVERIFY2(w->errors().last().contains("closed"), qPrintable(w->errors().last()));
+    w->setMethod("no-such-method");
+    QVERIFY(w->errors().last().contains("unknown method"));
+
+    // still usable
+    loadAndWait("gingerbread-mvc");
+    QCOMPARE(w->componentCount(), 20);
+  }
+
+  void cancelKeepsAppUsable()
+  {
+    QVERIFY(w->openFiles({ data("cage3d.obj"), data("model3d.off") }));
+    w->setMethod("harmonic");
+    QVERIFY(w->setParameter("target_cells", 300000));
+    QSignalSpy finished(w.get(), &ViewerWindow::computeFinished);
+    w->compute();
+    QVERIFY(w->isComputing());
+    QTest::qWait(200);
+    QVERIFY(w->isComputing());
+    w->cancel();
+    QVERIFY(w->waitForComputation(60000));
+    QCOMPARE(finished.count(), 1);
+    QCOMPARE(finished.at(0).at(0).toBool(), false);
+    QVERIFY(!w->hasWeights());
+    QVERIFY2(w->errors().isEmpty(), qPrintable(w->errors().join("; "))); // cancelling is no error
+    w->setMethod("mvc");
+    w->compute();
+    QVERIFY(w->waitForComputation(60000));
+    QVERIFY(w->hasWeights());
+  }
+
+  void commandLine()
+  {
+    QVERIFY(w->commandLine().isEmpty());
+    QVERIFY(w->openFiles({ data("cage2d.obj"), data("model2d.obj") }));
+    QCOMPARE(w->commandLine(), "barylab weights --method mvc --cage " + data("cage2d.obj") +
+        " --points " + data("model2d.obj") + " --output weights.vtp --json weights.json");
+    w->setMethod("harmonic");
+    QVERIFY(w->setParameter("target_cells", 5000));
+    QVERIFY(w->commandLine().contains("--method harmonic --cells 5000 --cage"));
+    QVERIFY(w->openFiles({ data("skeleton2d.tgf"), data("model2d.obj"), data("cage2d.obj") }));
+    QCOMPARE(QString::fromStdString(w->parameters().method), QString("bbw"));
+    QVERIFY(w->commandLine().contains("--handles " + data("skeleton2d.tgf") + " --mesh " +
+      data("cage2d.obj")));
+    QVERIFY(w->openFiles({ data("heart_controls.obj"), data("heart.off") }));
+    w->setMethod("scc");
+    QVERIFY(w->commandLine().contains("--control-points"));
+    w->showCommandLine(); // not interactive: the status bar
+  }
+
+  void imageWeightFieldWithLevelSet()
+  {
+    loadAndWait("gingerbread-mvc");
+    QCOMPARE(w->selectedControl(), 14);
+    w->setIsolines(5);
+    compareImage("viewer_weight_field");
+  }
+
+  void imageGradientNorm()
+  {
+    loadAndWait("kidney-mvc");
+    w->showGradientNorm();
+    w->setLogScale(true);
+    compareImage("viewer_gradient_norm");
+  }
+
+  void imageSideBySide()
+  {
+    QVERIFY(w->openFiles({ data("cage2d.obj"), data("model2d.obj") }));
+    w->setCompareMethod("harmonic");
+    QVERIFY(w->compareView()->isVisible());
+    w->compute();
+    QVERIFY(w->waitForComputation(60000));
+    QVERIFY2(w->compareWeighted() != nullptr, qPrintable(w->errors().join("; ")));
+    w->selectControl(14);
+    // linked cameras: one camera object
+    QCOMPARE(w->compareRenderer()->GetActiveCamera(), w->renderer()->GetActiveCamera());
+    compareImage("viewer_side_by_side", true);
+  }
+
+  void scriptableStart()
+  {
+    const QString png = output("viewer_cli.png");
+    QFile::remove(png);
+    QProcess run;
+    run.start(BARYLAB_VIEWER_EXE,
+      { "--example", "gingerbread-mvc", "--control", "14", "--pose", "example", "--screenshot", png });
+    QVERIFY(run.waitForFinished(60000));
+    QVERIFY2(run.exitCode() == 0, run.readAllStandardError().constData());
+    QImage image(png);
+    QVERIFY(!image.isNull());
+    QVERIFY(image.width() >= 800);
+
+    QProcess bad;
+    bad.start(BARYLAB_VIEWER_EXE, { "--example", "no-such-example", "--screenshot", png });
+    QVERIFY(bad.waitForFinished(60000));
+    QCOMPARE(bad.exitCode(), 1);
+    QVERIFY(bad.readAllStandardError().contains("unknown example"));
+
+    QProcess failing;
+    failing.start(BARYLAB_VIEWER_EXE,
+      { data("bad/open_cage.obj"), data("model3d.off"), "--screenshot", output("never.png") });
+    QVERIFY(failing.waitForFinished(60000));
+    QCOMPARE(failing.exitCode(), 1);
+    QVERIFY(failing.readAllStandardError().contains("closed"));
+    QVERIFY(!QFileInfo::exists(output("never.png")));
+  }
+};
+
+int main(int argc, char* argv[])
+{
+  QSurfaceFormat::setDefaultFormat(QVTKOpenGLNativeWidget::defaultFormat());
+  QApplication app(argc, argv);
+  ViewerTest test;
+  return QTest::qExec(&test, argc, argv);
+}
+
+#include "viewer_test.moc"
