@@ -612,12 +612,8 @@ void CelestialCoordinates::Impl::build_planes(int index)
   {
     using P2 = Kernel::Point_2;
     std::vector<P2> pts;
-    std::map<std::pair<double, double>, Index> where;
     for (Index j = 0; j < m; ++j)
-    {
       pts.emplace_back(L(0, j), L(1, j));
-      where.emplace(std::make_pair(L(0, j), L(1, j)), j);
-    }
     std::vector<P2> hull;
     CGAL::convex_hull_2(pts.begin(), pts.end(), std::back_inserter(hull)); // counterclockwise
     for (std::size_t e = 0; e < hull.size(); ++e)
@@ -658,7 +654,8 @@ void CelestialCoordinates::Impl::build_planes(int index)
       const Eigen::Vector3d a = L.col(t[0]), b = L.col(t[1]), cc = L.col(t[2]);
       Eigen::Vector3d n = (b - a).cross(cc - a).normalized();
       std::vector<Index> on = on_plane(n, n.dot(a));
-      // refit: the farthest pair of the set, then the point farthest from their line
+      // refit: a far pair of the set (the farthest from its first control), then the control
+      // farthest from their line
       Index i0 = on.front(), i1 = on.front(), i2 = on.front();
       double best = -1.0;
       for (Index j : on)
@@ -679,6 +676,8 @@ void CelestialCoordinates::Impl::build_planes(int index)
           i2 = j;
         }
       }
+      if (best <= tol * tol)
+        continue; // a sliver of nearly collinear controls: its neighbours bound the hull there
       const Eigen::Vector3d p0 = L.col(i0), p1 = L.col(i1), p2 = L.col(i2);
       Eigen::Vector3d nf = (p1 - p0).cross(p2 - p0).normalized();
       if (nf.dot(centroid - p0) > 0.0)

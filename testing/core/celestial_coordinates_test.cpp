@@ -694,6 +694,44 @@ TEST_P(CelestialBoundary, RandomPointsOnTheHull)
   }
 }
 
+// A control 1e-14 outside the middle of a cube edge, in the plane of one face: that face is a
+// pentagon whose triangulation by CGAL's exact hull can contain the sliver (0, 8, 1), whose
+// plane, computed in floating point after a rotation, is noise. Slivers are dropped (their
+// neighbours bound the hull to within the tolerance), the faces stay single facets, and points
+// inside and on the hull near the sliver are classified and weighted correctly.
+TEST_P(CelestialBoundary, SliverOfNearlyCollinearControls)
+{
+  Points V(10, 3);
+  for (int c = 0; c < 8; ++c)
+    V.row(c) << (c & 1), (c >> 1) & 1, (c >> 2) & 1;
+  V.row(8) << 0.5, -1e-14, 0.0; // the edge y = z = 0 between controls 0 and 1, pushed out in z = 0
+  V.row(9) << 0.4, 0.5, 0.6;
+  Points X(5, 3);
+  X << 0.3, 0.0, 0.0,   // on the edge
+    0.5, 1e-9, 1e-9,    // just inside, next to control 8
+    0.5, 0.3, 0.0,      // on the face z = 0
+    0.25, 1e-6, 2e-6,   // inside near the edge
+    0.5, 0.5, 0.5;
+  for (int rotation = 0; rotation < 20; ++rotation)
+  {
+    const Eigen::Matrix3d R =
+      Eigen::AngleAxisd(0.3 + rotation, Eigen::Vector3d(1, 2 + rotation, -3).normalized())
+        .toRotationMatrix();
+    const Points Vr = V * R.transpose(), Xr = X * R.transpose();
+    const CelestialCoordinates cc(Vr, options_for(GetParam()));
+    EXPECT_EQ(cc.num_hull_facets(), 6) << "rotation " << rotation;
+    const CelestialResult r = cc.compute(Xr);
+    EXPECT_TRUE(r.outside.empty()) << "rotation " << rotation;
+    EXPECT_EQ(r.location[0], CelestialLocation::Boundary);
+    EXPECT_EQ(r.location[2], CelestialLocation::Boundary);
+    EXPECT_EQ(r.location[4], CelestialLocation::Inside);
+    const RowErrors e = row_errors(r.W, Vr, Xr);
+    EXPECT_LE(e.sum, kSumTol);
+    EXPECT_LE(e.repro, kNearHullReproTol);
+    EXPECT_GE(e.min_w, 0.0);
+  }
+}
+
 INSTANTIATE_TEST_SUITE_P(Celestial, CelestialBoundary,
   ::testing::Values(CelestialScheme::T, CelestialScheme::S),
   scheme_name);
