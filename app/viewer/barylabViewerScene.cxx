@@ -402,6 +402,22 @@ void ResetSceneCamera(vtkRenderer* renderer, int dimension)
     camera->SetViewUp(0.0, 1.0, 0.0);
     camera->ParallelProjectionOn();
     renderer->ResetCamera();
+    // fit the bounds to the viewport (narrow side-by-side views included)
+    double b[6];
+    renderer->ComputeVisiblePropBounds(b);
+    const double aspect = std::max(renderer->GetTiledAspectRatio(), 1e-6);
+    if (b[0] <= b[1])
+    {
+      const double scale = 0.5 * std::max(b[3] - b[2], 1.25 * (b[1] - b[0]) / aspect) * 1.06;
+      camera->SetParallelScale(scale);
+      // leave the right tenth of the view to the colour bar
+      const double shift = 0.08 * 2.0 * scale * aspect;
+      double f[3], p[3];
+      camera->GetFocalPoint(f);
+      camera->GetPosition(p);
+      camera->SetFocalPoint(f[0] + shift, f[1], f[2]);
+      camera->SetPosition(p[0] + shift, p[1], p[2]);
+    }
   }
   else
   {

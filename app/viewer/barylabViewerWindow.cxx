@@ -251,7 +251,7 @@ void ViewerWindow::buildUi()
   auto* inputs = new QGroupBox("Inputs");
   auto* inputsLayout = new QVBoxLayout(inputs);
   this->InputsLabel = new QLabel("(none)");
-  this->InputsLabel->setWordWrap(true);
+  this->InputsLabel->setMinimumHeight(3 * this->fontMetrics().height() + 6);
   this->InputsLabel->setTextInteractionFlags(Qt::TextSelectableByMouse);
   inputsLayout->addWidget(this->InputsLabel);
   layout->addWidget(inputs);
@@ -409,7 +409,8 @@ void ViewerWindow::buildUi()
   auto* scroll = new QScrollArea;
   scroll->setWidget(panel);
   scroll->setWidgetResizable(true);
-  scroll->setMinimumWidth(340);
+  scroll->setMinimumWidth(370);
+  scroll->setHorizontalScrollBarPolicy(Qt::ScrollBarAlwaysOff);
   splitter->insertWidget(0, scroll);
   splitter->setStretchFactor(0, 0);
   splitter->setStretchFactor(1, 1);
@@ -812,6 +813,8 @@ void ViewerWindow::setCompareMethod(const QString& method)
 {
   this->CompareMethod = method;
   this->CompareView->setVisible(!method.isEmpty());
+  this->CameraNeedsReset = true; // the views' aspect changes
+  QApplication::processEvents(QEventLoop::ExcludeUserInputEvents); // lay the views out
   this->CompareWeighted = nullptr;
   this->CompareDeformed = nullptr;
   this->syncPanel();

@@ -112,10 +112,11 @@ class ViewerTest : public QObject
     window->AddRenderer(left);
     barylab::viewer::BuildScene(left, w->weighted(), w->deformedModel()->GetPoints(),
       w->controls(), w->posedControls(), options);
+    if (side_by_side)
+      left->SetViewport(0.0, 0.0, 0.5, 1.0);
     barylab::viewer::ResetSceneCamera(left, options.dimension);
     if (side_by_side)
     {
-      left->SetViewport(0.0, 0.0, 0.5, 1.0);
       right->SetViewport(0.5, 0.0, 1.0, 1.0);
       right->SetActiveCamera(left->GetActiveCamera());
       options.title = w->compareMethod().toStdString();
