@@ -328,10 +328,10 @@ private:
       // cancellation for a >> 0 does not matter) and 1 / (r - a) = r / D.
       Eigen::Map<Array> m(m_, n), w(w_, n), b(beta, n);
       t = (a.square() + 1.0).sqrt();
-      w = 1.0 / (t * (t - a));                      // 1 / D
+      w = 1.0 / (t * (t - a)); // 1 / D
       m = (a >= 0.0).select(a + t, t * w);
       b = m.square();
-      w = 2.0 * b * (t - a) * w;                    // 2 m^2 / r
+      w = 2.0 * b * (t - a) * w; // 2 m^2 / r
       const double* mp = m_;
       const double* wp = w_;
 #pragma omp simd reduction(+ : f0, f1, f2, j00, j01, j02, j11, j12, j22, phi, sb)
@@ -447,9 +447,8 @@ std::vector<Index> hilbert_order(const Eigen::MatrixXd& X, int threads)
       c[static_cast<std::size_t>(k)] =
         static_cast<std::uint32_t>(std::clamp(u * cells, 0.0, cells));
     }
-    const std::uint64_t key = dim == 2
-      ? hilbert_key<2>({ c[0], c[1] }, bits)
-      : hilbert_key<3>({ c[0], c[1], c[2] }, bits);
+    const std::uint64_t key =
+      dim == 2 ? hilbert_key<2>({ c[0], c[1] }, bits) : hilbert_key<3>({ c[0], c[1], c[2] }, bits);
     keys[static_cast<std::size_t>(p)] = { key, p };
   }
   std::sort(keys.begin(), keys.end());
@@ -469,12 +468,12 @@ using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
 struct HullNode
 {
   int dim = 0;
-  std::vector<Index> ids;   // controls on this face (global ids)
-  Eigen::VectorXd origin;   // global coordinates of the local origin
-  Eigen::MatrixXd basis;    // global dim x dim, orthonormal columns
-  Eigen::MatrixXd local;    // dim x #ids, the controls in local coordinates
-  Eigen::MatrixXd normals;  // dim x #planes, outward unit normals (local coordinates)
-  Eigen::VectorXd offsets;  // #planes: x is inside plane k iff normals.col(k) . x <= offsets[k]
+  std::vector<Index> ids;    // controls on this face (global ids)
+  Eigen::VectorXd origin;    // global coordinates of the local origin
+  Eigen::MatrixXd basis;     // global dim x dim, orthonormal columns
+  Eigen::MatrixXd local;     // dim x #ids, the controls in local coordinates
+  Eigen::MatrixXd normals;   // dim x #planes, outward unit normals (local coordinates)
+  Eigen::VectorXd offsets;   // #planes: x is inside plane k iff normals.col(k) . x <= offsets[k]
   std::vector<int> children; // node of the face on each plane
 };
 
@@ -486,14 +485,14 @@ struct CelestialCoordinates::Impl
   CelestialOptions options;
   int dim = 0;
   double diameter = 0.0;
-  double tol = 0.0; // absolute boundary tolerance
+  double tol = 0.0;            // absolute boundary tolerance
   std::vector<HullNode> nodes; // nodes[0] is the hull
   std::vector<double> s;       // TCC user weights (empty: zero)
 
   void validate();
   void build_hull();
-  int add_node(int dim, std::vector<Index> ids, const Eigen::VectorXd& origin,
-    const Eigen::MatrixXd& basis);
+  int add_node(
+    int dim, std::vector<Index> ids, const Eigen::VectorXd& origin, const Eigen::MatrixXd& basis);
   void build_planes(int node);
 
   Eigen::VectorXd to_local(const HullNode& node, const double* p) const
@@ -543,8 +542,8 @@ Eigen::Matrix<double, 3, 2> complement_basis(const Eigen::Vector3d& n)
 
 } // namespace
 
-int CelestialCoordinates::Impl::add_node(int node_dim, std::vector<Index> ids,
-  const Eigen::VectorXd& origin, const Eigen::MatrixXd& basis)
+int CelestialCoordinates::Impl::add_node(
+  int node_dim, std::vector<Index> ids, const Eigen::VectorXd& origin, const Eigen::MatrixXd& basis)
 {
   HullNode node;
   node.dim = node_dim;
@@ -720,7 +719,8 @@ void CelestialCoordinates::Impl::validate()
   auto bad = [](const std::string& what) { throw Error(ErrorCode::InvalidArgument, what); };
   if (!(o.lambda > 1.0 && o.lambda <= 1e6))
     bad("lambda must lie in (1, 1e6] (the wrapping sphere must contain the unit sphere, "
-        "Sect. 5), got " + fmt(o.lambda));
+        "Sect. 5), got " +
+      fmt(o.lambda));
   if (!(o.tolerance >= 1e-15 && o.tolerance <= 1e-3))
     bad("tolerance must lie in [1e-15, 1e-3], got " + fmt(o.tolerance));
   if (o.max_iterations < 1 || o.max_iterations > 10000)
@@ -749,12 +749,11 @@ void CelestialCoordinates::Impl::validate()
           "user_weights empty or choose CelestialScheme::T");
     if (o.user_weights.size() != n)
       throw Error(ErrorCode::SizeMismatch,
-        "user_weights has " + std::to_string(o.user_weights.size()) +
-          " entries but there are " + std::to_string(n) + " control points (one each)");
+        "user_weights has " + std::to_string(o.user_weights.size()) + " entries but there are " +
+          std::to_string(n) + " control points (one each)");
     for (Index i = 0; i < n; ++i)
       if (!std::isfinite(o.user_weights[i]))
-        throw Error(ErrorCode::NonFinite,
-          "user weight " + std::to_string(i) + " is not finite");
+        throw Error(ErrorCode::NonFinite, "user weight " + std::to_string(i) + " is not finite");
       else if (o.user_weights[i] < 0.0)
         bad("user weight " + std::to_string(i) + " is " + fmt(o.user_weights[i]) +
           "; the s_i of Eq. (8) must be >= 0");
@@ -763,9 +762,8 @@ void CelestialCoordinates::Impl::validate()
   }
 
   if (n < dim + 1)
-    bad(std::to_string(dim) + "D celestial coordinates need at least " +
-      std::to_string(dim + 1) + " control points, got " + std::to_string(n) +
-      " (their convex hull must have an interior)");
+    bad(std::to_string(dim) + "D celestial coordinates need at least " + std::to_string(dim + 1) +
+      " control points, got " + std::to_string(n) + " (their convex hull must have an interior)");
 
   diameter = (V.colwise().maxCoeff() - V.colwise().minCoeff()).norm();
   tol = o.boundary_tolerance * diameter;
@@ -774,22 +772,22 @@ void CelestialCoordinates::Impl::validate()
   {
     std::vector<Index> by_x(static_cast<std::size_t>(n));
     std::iota(by_x.begin(), by_x.end(), Index(0));
-    std::sort(by_x.begin(), by_x.end(), [&](Index a, Index b) {
-      return V(a, 0) < V(b, 0) || (V(a, 0) == V(b, 0) && a < b);
-    });
+    std::sort(by_x.begin(), by_x.end(),
+      [&](Index a, Index b) { return V(a, 0) < V(b, 0) || (V(a, 0) == V(b, 0) && a < b); });
     std::pair<Index, Index> first{ -1, -1 };
     for (std::size_t a = 0; a < by_x.size(); ++a)
       for (std::size_t b = a + 1; b < by_x.size() && V(by_x[b], 0) - V(by_x[a], 0) <= tol; ++b)
         if ((V.row(by_x[a]) - V.row(by_x[b])).norm() <= tol)
         {
-          const std::pair<Index, Index> pr{ std::min(by_x[a], by_x[b]), std::max(by_x[a], by_x[b]) };
+          const std::pair<Index, Index> pr{ std::min(by_x[a], by_x[b]),
+            std::max(by_x[a], by_x[b]) };
           if (first.first < 0 || pr < first)
             first = pr;
         }
     if (first.first >= 0)
-      bad("control points " + std::to_string(first.first) + " and " +
-        std::to_string(first.second) + " coincide at " + fmt_point(V, first.first) +
-        " (distance " + fmt((V.row(first.first) - V.row(first.second)).norm()) +
+      bad("control points " + std::to_string(first.first) + " and " + std::to_string(first.second) +
+        " coincide at " + fmt_point(V, first.first) + " (distance " +
+        fmt((V.row(first.first) - V.row(first.second)).norm()) +
         " <= boundary_tolerance * diagonal = " + fmt(tol) + "); remove one of them");
   }
 
@@ -825,7 +823,8 @@ void CelestialCoordinates::Impl::validate()
       if (d3 <= tol)
         bad("the control points are coplanar (all within " + fmt(d3) +
           " of the plane through control points 0, " + std::to_string(i1) + " and " +
-          std::to_string(i2) + "): their convex hull has no interior; add a control point off "
+          std::to_string(i2) +
+          "): their convex hull has no interior; add a control point off "
           "that plane");
     }
   }
@@ -836,7 +835,8 @@ void CelestialCoordinates::Impl::build_hull()
   std::vector<Index> ids(static_cast<std::size_t>(V.rows()));
   std::iota(ids.begin(), ids.end(), Index(0));
   // local origin at the bounding-box centre: plane offsets stay small, distances accurate
-  const Eigen::VectorXd centre = 0.5 * (V.colwise().maxCoeff() + V.colwise().minCoeff()).transpose();
+  const Eigen::VectorXd centre =
+    0.5 * (V.colwise().maxCoeff() + V.colwise().minCoeff()).transpose();
   add_node(dim, std::move(ids), centre, Eigen::MatrixXd::Identity(dim, dim));
 }
 
@@ -904,7 +904,8 @@ SolveStats CelestialCoordinates::Impl::solve_on_face(int index, const double* p,
     {
       if (node->normals.col(k).dot(x) - node->offsets[k] < -tol)
         continue;
-      const HullNode& child = nodes[static_cast<std::size_t>(node->children[static_cast<std::size_t>(k)])];
+      const HullNode& child =
+        nodes[static_cast<std::size_t>(node->children[static_cast<std::size_t>(k)])];
       int a2;
       if (child.dim == 0 || max_plane_distance(child, to_local(child, p), &a2) <= tol)
       {
@@ -919,8 +920,8 @@ SolveStats CelestialCoordinates::Impl::solve_on_face(int index, const double* p,
   // Solve in the face.
   const int k = node->dim;
   const Index m = static_cast<Index>(node->ids.size());
-  std::vector<double> q(static_cast<std::size_t>(k * m)), inv_d(static_cast<std::size_t>(m)),
-    sf, beta(static_cast<std::size_t>(m)), scratch(static_cast<std::size_t>(6 * m));
+  std::vector<double> q(static_cast<std::size_t>(k * m)), inv_d(static_cast<std::size_t>(m)), sf,
+    beta(static_cast<std::size_t>(m)), scratch(static_cast<std::size_t>(6 * m));
   for (Index j = 0; j < m; ++j)
   {
     const Eigen::VectorXd e = node->local.col(j) - x;
@@ -971,10 +972,22 @@ CelestialCoordinates::~CelestialCoordinates() = default;
 CelestialCoordinates::CelestialCoordinates(CelestialCoordinates&&) noexcept = default;
 CelestialCoordinates& CelestialCoordinates::operator=(CelestialCoordinates&&) noexcept = default;
 
-Index CelestialCoordinates::num_controls() const noexcept { return impl_->V.rows(); }
-int CelestialCoordinates::dimension() const noexcept { return impl_->dim; }
-const Points& CelestialCoordinates::controls() const noexcept { return impl_->V; }
-const CelestialOptions& CelestialCoordinates::options() const noexcept { return impl_->options; }
+Index CelestialCoordinates::num_controls() const noexcept
+{
+  return impl_->V.rows();
+}
+int CelestialCoordinates::dimension() const noexcept
+{
+  return impl_->dim;
+}
+const Points& CelestialCoordinates::controls() const noexcept
+{
+  return impl_->V;
+}
+const CelestialOptions& CelestialCoordinates::options() const noexcept
+{
+  return impl_->options;
+}
 Index CelestialCoordinates::num_hull_facets() const noexcept
 {
   return impl_->nodes.front().normals.cols();
@@ -1061,7 +1074,8 @@ struct ChunkSolver
 
 } // namespace
 
-CelestialResult CelestialCoordinates::compute(const Points& X, const ProgressCallback& progress) const
+CelestialResult CelestialCoordinates::compute(
+  const Points& X, const ProgressCallback& progress) const
 {
   return compute(X, Eigen::MatrixXi(0, 2), progress);
 }
@@ -1076,8 +1090,8 @@ CelestialResult CelestialCoordinates::compute(
   const Index np = Xin.rows(), nc = im.V.rows();
   if (Xin.cols() != dim)
     throw Error(ErrorCode::SizeMismatch,
-      "the points have " + std::to_string(Xin.cols()) + " coordinates but the control points " +
-        std::to_string(dim));
+      "the points have " + std::to_string(Xin.cols()) +
+        " coordinates but the control points have " + std::to_string(dim));
   for (Index p = 0; p < np; ++p)
     if (!Xin.row(p).allFinite())
       throw Error(ErrorCode::NonFinite,
@@ -1103,7 +1117,8 @@ CelestialResult CelestialCoordinates::compute(
   result.solution.setConstant(np, dim, kNaN);
   if (np == 0)
   {
-    result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    result.seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return result;
   }
   const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> X = Xin;
@@ -1135,7 +1150,8 @@ CelestialResult CelestialCoordinates::compute(
       std::to_string(result.outside.size()) + " of " + std::to_string(np) +
         " points lie outside the convex hull of the " + std::to_string(nc) +
         " control points (points " + ids + "; point " + std::to_string(result.outside.front()) +
-        " is " + fmt(dist) + " outside): celestial coordinates are defined only inside the "
+        " is at least " + fmt(dist) +
+        " from the hull): celestial coordinates are defined only inside the "
         "hull. Add control points around the model (the paper adds the corners of a box), or "
         "set outside = CelestialOutsidePolicy::Flag to get NaN rows for them");
   }
@@ -1186,7 +1202,8 @@ CelestialResult CelestialCoordinates::compute(
       {
         const Index u = bfs[head++];
         next.clear();
-        for (Index a = adj_start[static_cast<std::size_t>(u)]; a < adj_start[static_cast<std::size_t>(u) + 1]; ++a)
+        for (Index a = adj_start[static_cast<std::size_t>(u)];
+             a < adj_start[static_cast<std::size_t>(u) + 1]; ++a)
         {
           const Index v = adj[static_cast<std::size_t>(a)];
           if (!seen[static_cast<std::size_t>(v)])
@@ -1220,7 +1237,7 @@ CelestialResult CelestialCoordinates::compute(
   auto run = [&](auto tag) {
     constexpr int D = decltype(tag)::value;
     using Vec = typename Newton<D>::Vec;
-#pragma omp parallel num_threads(static_cast<int>(std::min<Index>(threads, chunks)))
+#pragma omp parallel num_threads(static_cast <int>(std::min <Index>(threads, chunks)))
     {
       long long my_iterations = 0;
       Index my_warm = 0, my_restarts = 0;
@@ -1269,7 +1286,8 @@ CelestialResult CelestialCoordinates::compute(
             if (use_edges)
             {
               double best = std::numeric_limits<double>::infinity();
-              for (Index a = adj_start[static_cast<std::size_t>(p)]; a < adj_start[static_cast<std::size_t>(p) + 1]; ++a)
+              for (Index a = adj_start[static_cast<std::size_t>(p)];
+                   a < adj_start[static_cast<std::size_t>(p) + 1]; ++a)
               {
                 const Index v = adj[static_cast<std::size_t>(a)];
                 const Index pos = position[static_cast<std::size_t>(v)];

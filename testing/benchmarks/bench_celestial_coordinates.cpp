@@ -87,8 +87,8 @@ const bary::Points& points(int dim, Index n)
   return cache.emplace(std::make_pair(dim, n), std::move(X)).first->second;
 }
 
-void bm_celestial(benchmark::State& state, bary::CelestialScheme scheme, int dim, Index nc,
-  Index np, bool warm)
+void bm_celestial(
+  benchmark::State& state, bary::CelestialScheme scheme, int dim, Index nc, Index np, bool warm)
 {
   const bary::Points V = make_controls(dim, nc);
   const bary::Points& X = points(dim, np);
@@ -155,8 +155,8 @@ void register_all()
     for (CelestialScheme scheme : { CelestialScheme::S, CelestialScheme::T })
       for (bool warm : { true, false })
       {
-        const std::string name = std::string(scheme == CelestialScheme::S ? "SCC" : "TCC") +
-          "_" + std::to_string(c.dim) + "d/controls:" + std::to_string(c.nc) +
+        const std::string name = std::string(scheme == CelestialScheme::S ? "SCC" : "TCC") + "_" +
+          std::to_string(c.dim) + "d/controls:" + std::to_string(c.nc) +
           "/points:" + std::to_string(c.np) + (warm ? "/warm" : "/cold");
         benchmark::RegisterBenchmark(name.c_str(), bm_celestial, scheme, c.dim, c.nc, c.np, warm)
           ->Unit(benchmark::kMillisecond)

@@ -235,9 +235,11 @@ TEST_P(CelestialProperties, SmoothAlongSegments)
       double m = 0.0, first = 0.0;
       for (int k = 0; k < 15; ++k)
       {
-        const Eigen::RowVectorXd d2 = r.W.row(3 * k) - 2.0 * r.W.row(3 * k + 1) + r.W.row(3 * k + 2);
+        const Eigen::RowVectorXd d2 =
+          r.W.row(3 * k) - 2.0 * r.W.row(3 * k + 1) + r.W.row(3 * k + 2);
         m = std::max(m, d2.cwiseAbs().maxCoeff() / (h * h));
-        first = std::max(first, (r.W.row(3 * k + 2) - r.W.row(3 * k)).cwiseAbs().maxCoeff() / (2 * h));
+        first =
+          std::max(first, (r.W.row(3 * k + 2) - r.W.row(3 * k)).cwiseAbs().maxCoeff() / (2 * h));
       }
       EXPECT_LT(first, 50.0) << "segment " << seg << ", h " << h;
       if (prev_m >= 0.0)
@@ -277,7 +279,8 @@ TEST_P(CelestialProperties, SimilarityInvariant)
   if (o.scheme == CelestialScheme::T)
   { // psi rotates with the configuration
     const Points psi2 = a.solution * R.transpose();
-    EXPECT_LE((psi2 - b.solution).cwiseAbs().maxCoeff(), 1e-7 * (1.0 + a.solution.cwiseAbs().maxCoeff()));
+    EXPECT_LE(
+      (psi2 - b.solution).cwiseAbs().maxCoeff(), 1e-7 * (1.0 + a.solution.cwiseAbs().maxCoeff()));
   }
 }
 
@@ -317,7 +320,8 @@ TEST_P(CelestialProperties, SolutionSatisfiesThePapersEquations)
     {
       long double d2 = 0;
       for (int k = 0; k < dim; ++k)
-        d2 += (static_cast<long double>(V(i, k)) - X(p, k)) * (static_cast<long double>(V(i, k)) - X(p, k));
+        d2 += (static_cast<long double>(V(i, k)) - X(p, k)) *
+          (static_cast<long double>(V(i, k)) - X(p, k));
       d[static_cast<std::size_t>(i)] = std::sqrt(d2);
       for (int k = 0; k < dim; ++k)
         q[static_cast<std::size_t>(i)][static_cast<std::size_t>(k)] =
@@ -331,7 +335,8 @@ TEST_P(CelestialProperties, SolutionSatisfiesThePapersEquations)
     {
       long double a = 0;
       for (int k = 0; k < dim; ++k)
-        a += static_cast<long double>(r.solution(p, k)) * q[static_cast<std::size_t>(i)][static_cast<std::size_t>(k)];
+        a += static_cast<long double>(r.solution(p, k)) *
+          q[static_cast<std::size_t>(i)][static_cast<std::size_t>(k)];
       if (o.scheme == CelestialScheme::T)
         beta[static_cast<std::size_t>(i)] = std::exp(a); // s = 0
       else
@@ -345,7 +350,8 @@ TEST_P(CelestialProperties, SolutionSatisfiesThePapersEquations)
     for (Index i = 0; i < n; ++i)
     {
       for (int k = 0; k < dim; ++k)
-        F[k] += beta[static_cast<std::size_t>(i)] * q[static_cast<std::size_t>(i)][static_cast<std::size_t>(k)];
+        F[k] += beta[static_cast<std::size_t>(i)] *
+          q[static_cast<std::size_t>(i)][static_cast<std::size_t>(k)];
       sb += beta[static_cast<std::size_t>(i)];
       sw += beta[static_cast<std::size_t>(i)] / d[static_cast<std::size_t>(i)];
     }
@@ -353,7 +359,9 @@ TEST_P(CelestialProperties, SolutionSatisfiesThePapersEquations)
     worst_eq = std::max(worst_eq, static_cast<double>(Fn / sb));
     for (Index i = 0; i < n; ++i)
       worst_alpha = std::max(worst_alpha,
-        std::abs(static_cast<double>(beta[static_cast<std::size_t>(i)] / d[static_cast<std::size_t>(i)] / sw) - r.W(p, i)));
+        std::abs(static_cast<double>(
+                   beta[static_cast<std::size_t>(i)] / d[static_cast<std::size_t>(i)] / sw) -
+          r.W(p, i)));
   }
   EXPECT_LE(worst_eq, kEquationTol);
   EXPECT_LE(worst_alpha, 1e-10);
@@ -507,7 +515,8 @@ TEST(Celestial, TAndSAgreeQualitatively)
   const double mean2 = (t2.W - s2.W).cwiseAbs().mean();
   const double rel2 = ((t2.W - s2.W).rowwise().lpNorm<1>()).maxCoeff(); // max_p sum_i |dW|
   std::printf("[ measured ] TCC vs SCC, random 3D: mean |dW| = %.3g, max |dW| = %.3g, "
-              "max row L1 = %.3g\n", mean2, max2, rel2);
+              "max row L1 = %.3g\n",
+    mean2, max2, rel2);
   EXPECT_LT(max2, 0.05);
   EXPECT_LT(mean2, 5e-3);
   EXPECT_GT(max2, 1e-5);
@@ -571,7 +580,8 @@ TEST_P(CelestialBoundary, FacesAreTheLimitFromInside)
   // on the square face z = 0 (controls 0-3), on the edge y = z = 0 (controls 0, 1), and inside
   // points at distance h above them
   const std::vector<Eigen::Vector3d> on = { { 0.3, 0.25, 0.0 }, { 0.35, 0.0, 0.0 } };
-  const std::vector<Eigen::Vector3d> inward = { { 0, 0, 1 }, Eigen::Vector3d(0, 1, 1).normalized() };
+  const std::vector<Eigen::Vector3d> inward = { { 0, 0, 1 },
+    Eigen::Vector3d(0, 1, 1).normalized() };
   for (std::size_t f = 0; f < on.size(); ++f)
   {
     Points X(6, 3);
@@ -686,7 +696,8 @@ TEST_P(CelestialBoundary, RandomPointsOnTheHull)
     }
     const CelestialResult r = cc.compute(X);
     for (int p = 0; p < X.rows(); ++p)
-      EXPECT_NE(r.location[static_cast<std::size_t>(p)], CelestialLocation::Inside) << "point " << p;
+      EXPECT_NE(r.location[static_cast<std::size_t>(p)], CelestialLocation::Inside)
+        << "point " << p;
     const RowErrors e = row_errors(r.W, V, X);
     EXPECT_LE(e.sum, kSumTol);
     EXPECT_LE(e.repro, 2e-12); // projection onto the face: within the boundary tolerance
@@ -707,10 +718,10 @@ TEST_P(CelestialBoundary, SliverOfNearlyCollinearControls)
   V.row(8) << 0.5, -1e-14, 0.0; // the edge y = z = 0 between controls 0 and 1, pushed out in z = 0
   V.row(9) << 0.4, 0.5, 0.6;
   Points X(5, 3);
-  X << 0.3, 0.0, 0.0,   // on the edge
-    0.5, 1e-9, 1e-9,    // just inside, next to control 8
-    0.5, 0.3, 0.0,      // on the face z = 0
-    0.25, 1e-6, 2e-6,   // inside near the edge
+  X << 0.3, 0.0, 0.0, // on the edge
+    0.5, 1e-9, 1e-9,  // just inside, next to control 8
+    0.5, 0.3, 0.0,    // on the face z = 0
+    0.25, 1e-6, 2e-6, // inside near the edge
     0.5, 0.5, 0.5;
   for (int rotation = 0; rotation < 20; ++rotation)
   {
@@ -733,8 +744,7 @@ TEST_P(CelestialBoundary, SliverOfNearlyCollinearControls)
 }
 
 INSTANTIATE_TEST_SUITE_P(Celestial, CelestialBoundary,
-  ::testing::Values(CelestialScheme::T, CelestialScheme::S),
-  scheme_name);
+  ::testing::Values(CelestialScheme::T, CelestialScheme::S), scheme_name);
 
 // TCC with s != 0 has no limit at the boundary (psi grows like 1/h there): the boundary rows
 // are the face's TCC with the face's s_i (valid GBC rows), but interior points do not converge
@@ -772,7 +782,7 @@ TEST(Celestial, OutsidePoints)
     CelestialOptions o = options_for(scheme);
     EXPECT_TRUE(throws_error([&] { celestial_coordinates(V, X, o); }, ErrorCode::InvalidArgument,
       { "2 of 20 points lie outside the convex hull of the 18 control points", "points 3, 17",
-        "point 3 is 3.8 outside", "CelestialOutsidePolicy::Flag" }));
+        "point 3 is at least 3.8 from the hull", "CelestialOutsidePolicy::Flag" }));
     o.outside = CelestialOutsidePolicy::Flag;
     const CelestialResult r = celestial_coordinates(V, X, o);
     EXPECT_EQ(r.outside, (std::vector<Index>{ 3, 17 }));
@@ -825,19 +835,20 @@ TEST(Celestial, EmptyQuery)
 
 TEST(CelestialValidation, Controls)
 {
-  EXPECT_TRUE(throws_error([] { CelestialCoordinates(Points(0, 3)); }, ErrorCode::EmptyInput,
-    { "no control points" }));
+  EXPECT_TRUE(throws_error(
+    [] { CelestialCoordinates(Points(0, 3)); }, ErrorCode::EmptyInput, { "no control points" }));
   EXPECT_TRUE(throws_error([] { CelestialCoordinates(Points::Zero(5, 4)); },
     ErrorCode::SizeMismatch, { "2 or 3 coordinates, got 4" }));
   Points V = random_controls(3, 6, 2, false);
   V(4, 1) = std::numeric_limits<double>::quiet_NaN();
-  EXPECT_TRUE(throws_error([&] { CelestialCoordinates c(V); }, ErrorCode::NonFinite,
-    { "control point 4" }));
+  EXPECT_TRUE(
+    throws_error([&] { CelestialCoordinates c(V); }, ErrorCode::NonFinite, { "control point 4" }));
   V(4, 1) = std::numeric_limits<double>::infinity();
-  EXPECT_TRUE(throws_error([&] { CelestialCoordinates c(V); }, ErrorCode::NonFinite,
-    { "control point 4" }));
+  EXPECT_TRUE(
+    throws_error([&] { CelestialCoordinates c(V); }, ErrorCode::NonFinite, { "control point 4" }));
   EXPECT_TRUE(throws_error([] { CelestialCoordinates c(random_controls(3, 3, 2, false)); },
-    ErrorCode::InvalidArgument, { "3D celestial coordinates need at least 4 control points, got 3" }));
+    ErrorCode::InvalidArgument,
+    { "3D celestial coordinates need at least 4 control points, got 3" }));
   EXPECT_TRUE(throws_error([] { CelestialCoordinates c(random_controls(2, 2, 2, false)); },
     ErrorCode::InvalidArgument, { "at least 3 control points, got 2" }));
 }
@@ -867,8 +878,8 @@ TEST(CelestialValidation, DegenerateHull)
     { "coplanar", "add a control point off that plane" }));
   Points C(4, 3); // collinear in 3D
   C << 0, 0, 0, 1, 2, 3, 2, 4, 6, -1, -2, -3;
-  EXPECT_TRUE(throws_error([&] { CelestialCoordinates c(C); }, ErrorCode::InvalidArgument,
-    { "collinear" }));
+  EXPECT_TRUE(
+    throws_error([&] { CelestialCoordinates c(C); }, ErrorCode::InvalidArgument, { "collinear" }));
   // nearly coplanar beyond the tolerance: accepted, and works at the centroid, which is only
   // ~1e-7 of the diameter from the hull's faces: converged at the rounding floor (residual
   // 9e-11, see CelestialOptions::tolerance), reproduction within 1e-9
@@ -935,7 +946,7 @@ TEST(CelestialValidation, Queries)
   const Points V = random_controls(3, 6, 5, true);
   const CelestialCoordinates cc(V);
   EXPECT_TRUE(throws_error([&] { cc.compute(Points::Zero(3, 2)); }, ErrorCode::SizeMismatch,
-    { "2 coordinates" }));
+    { "the points have 2 coordinates but the control points have 3" }));
   Points X = random_inside(V, 10, 6);
   X(8, 2) = std::numeric_limits<double>::quiet_NaN();
   EXPECT_TRUE(throws_error([&] { cc.compute(X); }, ErrorCode::NonFinite, { "point 8" }));
@@ -944,8 +955,8 @@ TEST(CelestialValidation, Queries)
   bad << 0, 1, 3, 10;
   EXPECT_TRUE(throws_error([&] { cc.compute(X, bad); }, ErrorCode::InvalidArgument,
     { "edge 1 refers to point 10 but there are 10 points" }));
-  EXPECT_TRUE(throws_error([&] { cc.compute(X, Eigen::MatrixXi::Zero(2, 3)); },
-    ErrorCode::SizeMismatch, { "#E by 2" }));
+  EXPECT_TRUE(throws_error(
+    [&] { cc.compute(X, Eigen::MatrixXi::Zero(2, 3)); }, ErrorCode::SizeMismatch, { "#E by 2" }));
 }
 
 // ------------------------------------------------------------------------------------------
