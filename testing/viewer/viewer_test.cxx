@@ -12,6 +12,7 @@
 
 #include <QApplication>
 #include <QDir>
+#include <QElapsedTimer>
 #include <QFileInfo>
 #include <QImage>
 #include <QListWidget>
@@ -264,7 +265,10 @@ private slots:
     double p[3];
     w->posedControls()->GetPoint(c, p);
     const double delta[3] = { 0.1, -0.05, 0.0 };
+    QElapsedTimer timer;
+    timer.start();
     w->setControlPosition(c, p[0] + delta[0], p[1] + delta[1], p[2]);
+    qInfo("move + deform + redraw: %lld ms", static_cast<long long>(timer.elapsed()));
     QCOMPARE(static_cast<int>(w->undoDepth()), 1);
     vtkPointSet* deformed = w->deformedModel();
     QVERIFY(deformed != rest);
