@@ -703,12 +703,12 @@ int ViewerWindow::modelDimension() const
   return b[5] - b[4] <= 1e-9 * extent ? 2 : 3;
 }
 
-ControlKind ViewerWindow::controlKind() const
+ControlKind ViewerWindow::kindFor(const std::string& method) const
 {
-  if (this->Controls && this->Parameters.method == "bbw" && this->Controls->GetNumberOfPolys() == 0 &&
+  if (this->Controls && method == "bbw" && this->Controls->GetNumberOfPolys() == 0 &&
     (this->Controls->GetNumberOfLines() > 0 || is_skeleton_file(this->In.controls)))
     return ControlKind::Skeleton;
-  if (IsPointBasedMethod(this->Parameters.method))
+  if (IsPointBasedMethod(method))
     return ControlKind::FreePoints;
   return ControlKind::Cage;
 }
@@ -727,7 +727,7 @@ void ViewerWindow::updateControlList()
   this->Updating = true;
   this->ControlList->clear();
   const int n = this->componentCount();
-  if (n > 0 && this->controlKind() == ControlKind::Skeleton)
+  if (n > 0 && this->shownKind() == ControlKind::Skeleton)
   {
     try
     {
@@ -834,6 +834,8 @@ void ViewerWindow::compute()
   }
   this->Progress->store(0.0);
   this->CancelFlag->store(false);
+  this->Running = this->Parameters;
+  this->RunningCompare = this->CompareMethod;
   // the worker gets its own copies: the views keep drawing the originals
   auto model = deep_copy(this->Model.Get());
   auto controls = deep_copy(this->Controls.Get());
@@ -919,13 +921,15 @@ void ViewerWindow::finishCompute(const ComputeResult& result)
     if (result.cancelled)
       this->statusBar()->showMessage("Computation cancelled.");
     else
-      this->reportError("computing " + QString::fromStdString(this->Parameters.method) +
+      this->reportError("computing " + QString::fromStdString(this->Running.method) +
         " weights failed: " + result.error);
     this->PendingPose = nullptr;
     this->PendingSelection = -1;
     emit computeFinished(false);
     return;
   }
+  this->Computed = this->Running;
+  this->ComputedCompare = this->RunningCompare;
   this->Weighted = result.weighted;
   this->CompareWeighted = result.compare;
   if (this->PendingPose && this->PendingPose->GetNumberOfPoints() == this->Controls->GetNumberOfPoints())
@@ -947,7 +951,7 @@ void ViewerWindow::finishCompute(const ComputeResult& result)
   this->StatsLabel->setText(QString("%1 weights in %2 s: %3 points x %4 controls<br>"
                                     "min %5, max %6, partition of unity error %7<br>"
                                     "mean significant weights per point %8")
-                              .arg(QString::fromStdString(this->Parameters.method))
+                              .arg(QString::fromStdString(this->Computed.method))
                               .arg(result.seconds, 0, 'f', 3)
                               .arg(stats.value("points", 0LL))
                               .arg(stats.value("controls", 0LL))
@@ -956,7 +960,7 @@ void ViewerWindow::finishCompute(const ComputeResult& result)
                               .arg(stats["partition_of_unity"].value("max_error", 0.0), 0, 'g', 2)
                               .arg(stats["significant"].value("mean_per_point", 0.0), 0, 'g', 3));
   this->statusBar()->showMessage(QString("Computed %1 weights in %2 s.")
-                                   .arg(QString::fromStdString(this->Parameters.method))
+                                   .arg(QString::fromStdString(this->Computed.method))
                                    .arg(result.seconds, 0, 'f', 3));
   emit computeFinished(true);
 }
@@ -972,7 +976,7 @@ void ViewerWindow::selectControl(int component)
   component = (component % n + n) % n;
   this->Options.component = component;
   this->syncPanel();
-  if (this->controlKind() != ControlKind::Skeleton)
+  if (this->shownKind() != ControlKind::Skeleton)
     this->MoveIdBox->setValue(component);
   this->updateScene();
 }
@@ -1042,7 +1046,7 @@ void ViewerWindow::resetCamera()
 void ViewerWindow::updateScene()
 {
   SceneOptions options = this->Options;
-  options.controls = this->controlKind();
+  options.controls = this->shownKind();
   options.weights_name = this->Parameters.weights_name;
   const auto title = [&](const std::string& method) {
     std::string t = method + (options.field == SceneOptions::Field::Weight ? ": weight" : ": |grad w|");
@@ -1052,14 +1056,14 @@ void ViewerWindow::updateScene()
   };
   try
   {
-    options.title = this->Weighted ? title(this->Parameters.method) : std::string();
+    options.title = this->Weighted ? title(this->Computed.method) : std::string();
     vtkPointSet* deformed = this->deformedModel();
     this->Info = BuildScene(this->Renderer, this->Weighted,
       this->Weighted && deformed ? deformed->GetPoints() : nullptr, this->Controls,
       this->PosedControls, options);
     if (!this->CompareMethod.isEmpty())
     {
-      options.title = this->CompareWeighted ? title(to_std(this->CompareMethod)) : std::string();
+      options.title = this->CompareWeighted ? title(to_std(this->ComputedCompare)) : std::string();
       BuildScene(this->CompareRenderer, this->CompareWeighted,
         this->CompareDeformed ? this->CompareDeformed->GetPoints() : nullptr, this->Controls,
         this->PosedControls, options);
@@ -1137,10 +1141,10 @@ void ViewerWindow::updateDeformation()
   try
   {
     const auto deform = [this](vtkDataSet* weighted, const std::string& method) {
-      WeightsParameters p = this->Parameters;
+      WeightsParameters p = this->Computed;
       p.method = method;
       vtkPointSet* model = vtkPointSet::SafeDownCast(weighted);
-      if (this->controlKind() == ControlKind::Skeleton)
+      if (this->shownKind() == ControlKind::Skeleton)
       {
         const int dim = this->modelDimension();
         const bary::Skeleton s = vtkBaryConversion::ToSkeleton(this->Controls, dim);
@@ -1165,9 +1169,9 @@ void ViewerWindow::updateDeformation()
       posed->SetPoints(this->PosedControls);
       return Deform(model, this->Controls, posed, p);
     };
-    this->Deformed = deform(this->Weighted, this->Parameters.method);
+    this->Deformed = deform(this->Weighted, this->Computed.method);
     if (this->CompareWeighted)
-      this->CompareDeformed = deform(this->CompareWeighted, to_std(this->CompareMethod));
+      this->CompareDeformed = deform(this->CompareWeighted, to_std(this->ComputedCompare));
   }
   catch (const std::exception& e)
   {
@@ -1245,7 +1249,7 @@ bool ViewerWindow::loadPose(const QString& path)
   {
     vtkSmartPointer<vtkPoints> posed;
     const QString ext = QFileInfo(path).suffix().toLower();
-    if (this->controlKind() == ControlKind::Skeleton && (ext == "txt" || ext == "dmat"))
+    if (this->shownKind() == ControlKind::Skeleton && (ext == "txt" || ext == "dmat"))
     {
       const bary::Skeleton s = vtkBaryConversion::ToSkeleton(this->Controls, this->modelDimension());
       const auto pose = vtkBaryDataIO::ReadPose(to_std(path), s.handle_count(), &s);
@@ -1366,7 +1370,7 @@ void ViewerWindow::OnInteractorEvent(vtkObject* caller, unsigned long event, voi
     if (id < 0)
       return; // the camera moves
     self->InteractorCallback->AbortFlagOn();
-    if (self->controlKind() != ControlKind::Skeleton && id < self->componentCount())
+    if (self->shownKind() != ControlKind::Skeleton && id < self->componentCount())
       self->selectControl(id);
     if (!self->Weighted)
       return;

@@ -80,7 +80,13 @@ public:
   vtkPointSet* deformedModel() const;
   vtkPolyData* controls() const { return this->Controls; }
   vtkPoints* posedControls() const { return this->PosedControls; }
-  ControlKind controlKind() const;
+  /// What the controls are for the current method (cage, skeleton, free points).
+  ControlKind controlKind() const { return this->kindFor(this->Parameters.method); }
+  /// What the controls were for the weights shown (the current method before any weights).
+  ControlKind shownKind() const
+  {
+    return this->Weighted ? this->kindFor(this->Computed.method) : this->controlKind();
+  }
   int selectedControl() const { return this->Options.component; }
   int componentCount() const;
   const WeightsParameters& parameters() const { return this->Parameters; }
@@ -178,12 +184,17 @@ private:
   void pushUndo();
   void moveControlLive(int id, const double x[3]);
   int modelDimension() const;
+  ControlKind kindFor(const std::string& method) const;
   static void OnInteractorEvent(vtkObject* caller, unsigned long event, void* client, void* call);
   static void OnCameraModified(vtkObject* caller, unsigned long event, void* client, void* call);
   int pickControl(int x, int y) const;
 
   Inputs In;
   WeightsParameters Parameters;
+  WeightsParameters Running;  ///< the parameters of the computation under way
+  QString RunningCompare;
+  WeightsParameters Computed; ///< the parameters of the weights shown
+  QString ComputedCompare;
   QString CompareMethod;
   SceneOptions Options;
   SceneInfo Info;

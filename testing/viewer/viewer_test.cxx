@@ -336,6 +336,12 @@ private slots:
     QVERIFY(max_difference(w->deformedModel(), rest) == 0.0);
     w->undo(); // undoes the reset
     QVERIFY(max_difference(w->deformedModel(), rest) > 0.05);
+    // choosing another method does not change what the shown weights mean until recomputed
+    w->setMethod("scc");
+    QCOMPARE(w->shownKind(), barylab::viewer::ControlKind::Cage);
+    w->selectControl(3);
+    w->setControlPosition(3, 0.0, 0.0, 0.0);
+    QVERIFY(max_difference(w->deformedModel(), rest) > 0.01);
     QVERIFY2(w->errors().isEmpty(), qPrintable(w->errors().join("; ")));
   }
 
