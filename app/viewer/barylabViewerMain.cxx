@@ -75,7 +75,7 @@ int main(int argc, char* argv[])
     window.loadSession(parser.value(session));
   else if (parser.isSet(example))
   {
-    window.loadExample(parser.value(example));
+    window.loadExample(parser.value(example), !parser.isSet(method) && !parser.isSet(compare));
   }
   else if (!files.isEmpty())
     window.openFiles(files);

@@ -607,8 +607,12 @@ bool ViewerWindow::openFiles(const QStringList& files)
   return this->openInputs(in);
 }
 
-bool ViewerWindow::openInputs(const Inputs& in)
+bool ViewerWindow::openInputs(const Inputs& given)
 {
+  Inputs in = given; // absolute paths: sessions work from any folder
+  for (QString* path : { &in.controls, &in.model, &in.domain, &in.pose })
+    if (!path->isEmpty())
+      *path = QFileInfo(*path).absoluteFilePath();
   if (this->isComputing())
   {
     this->reportError("a computation is running: cancel it first");
@@ -666,7 +670,7 @@ bool ViewerWindow::openInputs(const Inputs& in)
   return true;
 }
 
-bool ViewerWindow::loadExample(const QString& name)
+bool ViewerWindow::loadExample(const QString& name, bool compute)
 {
   for (const Example& e : kExamples)
   {
@@ -686,7 +690,8 @@ bool ViewerWindow::loadExample(const QString& name)
       return false;
     this->PendingSelection = e.selected;
     this->syncPanel();
-    this->compute();
+    if (compute)
+      this->compute();
     return true;
   }
   this->reportError("unknown example '" + name + "' (known: " + ExampleNames().join(", ") + ")");

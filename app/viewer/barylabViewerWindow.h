@@ -115,8 +115,9 @@ public slots:
   /// Opens CONTROLS MODEL [DOMAIN] (a .tgf CONTROLS file is a BBW skeleton and needs DOMAIN).
   bool openFiles(const QStringList& files);
   bool openInputs(const barylab::viewer::Inputs& inputs);
-  /// gingerbread-mvc, kidney-mvc, gingerbread-bbw, heart-scc.
-  bool loadExample(const QString& name);
+  /// gingerbread-mvc, kidney-mvc, gingerbread-bbw, heart-scc; computes unless @p compute is
+  /// false.
+  bool loadExample(const QString& name, bool compute = true);
   void setMethod(const QString& method);
   /// Sets one parameter by its table key (WeightsParameterFields); false and an error if the
   /// key is unknown or the value has the wrong type.
