@@ -273,7 +273,8 @@ void ViewerWindow::buildUi()
   form->addRow("Method", this->MethodBox);
   form->addRow("Compare with", this->CompareBox);
   methodLayout->addLayout(form);
-  this->ParameterForm = new QFormLayout;
+  this->ParameterForm = new QVBoxLayout; // one row widget per table row: hidden rows leave no gap
+  this->ParameterForm->setContentsMargins(0, 0, 0, 0);
   methodLayout->addLayout(this->ParameterForm);
   this->buildParameterPanel();
   auto* buttons = new QHBoxLayout;
@@ -528,10 +529,16 @@ void ViewerWindow::buildParameterPanel()
     }
     editor->setObjectName(key);
     editor->setToolTip(QString::fromStdString(f.tooltip));
+    auto* row = new QWidget;
+    auto* rowLayout = new QHBoxLayout(row);
+    rowLayout->setContentsMargins(0, 0, 0, 0);
     auto* label = new QLabel(QString::fromStdString(f.label));
     label->setToolTip(editor->toolTip());
-    this->ParameterForm->addRow(label, editor);
-    this->ParameterWidgets.emplace_back(label, editor);
+    label->setMinimumWidth(130);
+    rowLayout->addWidget(label);
+    rowLayout->addWidget(editor, 1);
+    this->ParameterForm->addWidget(row);
+    this->ParameterWidgets.emplace_back(row, editor);
   }
 }
 
@@ -551,7 +558,6 @@ void ViewerWindow::syncPanel()
     const bool applies = f.AppliesTo(this->Parameters.method) ||
       (!this->CompareMethod.isEmpty() && f.AppliesTo(to_std(this->CompareMethod)));
     this->ParameterWidgets[i].first->setVisible(applies);
-    editor->setVisible(applies);
     if (auto* b = qobject_cast<QCheckBox*>(editor))
       b->setChecked(value.get<bool>());
     else if (auto* s = qobject_cast<QSpinBox*>(editor))

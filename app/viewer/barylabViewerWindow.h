@@ -26,7 +26,7 @@
 class QCheckBox;
 class QComboBox;
 class QDoubleSpinBox;
-class QFormLayout;
+class QVBoxLayout;
 class QLabel;
 class QListWidget;
 class QProgressBar;
@@ -235,8 +235,8 @@ private:
   QLabel* InputsLabel = nullptr;
   QComboBox* MethodBox = nullptr;
   QComboBox* CompareBox = nullptr;
-  QFormLayout* ParameterForm = nullptr;
-  std::vector<std::pair<QWidget*, QWidget*>> ParameterWidgets; ///< (label, editor) per table row
+  QVBoxLayout* ParameterForm = nullptr;
+  std::vector<std::pair<QWidget*, QWidget*>> ParameterWidgets; ///< (row, editor) per table row
   QPushButton* ComputeButton = nullptr;
   QPushButton* CancelButton = nullptr;
   QProgressBar* ProgressBar = nullptr;
