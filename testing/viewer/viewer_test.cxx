@@ -252,6 +252,17 @@ private slots:
     interactor->InvokeEvent(vtkCommand::LeftButtonPressEvent);
     interactor->InvokeEvent(vtkCommand::LeftButtonReleaseEvent);
     QCOMPARE(w->selectedControl(), 20);
+
+    // the same with real Qt mouse events on the view widget (Qt's y axis points down)
+    w->posedControls()->GetPoint(25, p);
+    w->renderer()->SetWorldPoint(p[0], p[1], p[2], 1.0);
+    w->renderer()->WorldToDisplay();
+    w->renderer()->GetDisplayPoint(d);
+    const double ratio = w->view()->devicePixelRatioF();
+    const QPoint at(static_cast<int>(d[0] / ratio),
+      w->view()->height() - 1 - static_cast<int>(d[1] / ratio));
+    QTest::mouseClick(w->view(), Qt::LeftButton, Qt::NoModifier, at);
+    QCOMPARE(w->selectedControl(), 25);
     QVERIFY(w->errors().isEmpty());
   }
 
@@ -306,6 +317,26 @@ private slots:
     QVERIFY(moved[1] > q[1] + 1e-3);
     QCOMPARE(moved[2], q[2]);
     QCOMPARE(static_cast<int>(w->undoDepth()), 2);
+
+    // and with real Qt mouse events: press on control 7, move, release
+    double r[3];
+    w->posedControls()->GetPoint(7, r);
+    w->renderer()->SetWorldPoint(r[0], r[1], r[2], 1.0);
+    w->renderer()->WorldToDisplay();
+    w->renderer()->GetDisplayPoint(d);
+    const double ratio = w->view()->devicePixelRatioF();
+    const QPoint at(static_cast<int>(d[0] / ratio),
+      w->view()->height() - 1 - static_cast<int>(d[1] / ratio));
+    QTest::mousePress(w->view(), Qt::LeftButton, Qt::NoModifier, at);
+    QTest::mouseMove(w->view(), at + QPoint(25, -15));
+    QTest::mouseRelease(w->view(), Qt::LeftButton, Qt::NoModifier, at + QPoint(25, -15));
+    double dragged[3];
+    w->posedControls()->GetPoint(7, dragged);
+    QVERIFY2(dragged[0] > r[0] + 1e-3 && dragged[1] > r[1] + 1e-3,
+      qPrintable(QString("control 7: (%1, %2) -> (%3, %4)").arg(r[0]).arg(r[1]).arg(dragged[0]).arg(dragged[1])));
+    QCOMPARE(w->selectedControl(), 7);
+    QCOMPARE(static_cast<int>(w->undoDepth()), 3);
+    w->undo();
 
     // save the deformed model and the pose; read them back
     QVERIFY(w->saveDeformedModel(output("deformed.vtp")));
