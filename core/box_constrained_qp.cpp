@@ -2,6 +2,7 @@
 
 #include "error.h"
 
+
 #include <algorithm>
 #include <atomic>
 #include <chrono>
@@ -38,40 +39,6 @@ std::uint64_t next_id()
 {
   static std::atomic<std::uint64_t> counter{ 0 };
   return ++counter;
-}
-
-/// A restricted to the rows and columns @p free (ascending); position(i) is i's index in free or
-/// -1. Column and row order are kept, so the compressed storage is built directly.
-SparseMatrix principal_submatrix(
-  const SparseMatrix& A, const std::vector<int>& free, const std::vector<int>& position)
-{
-  const Index nf = static_cast<Index>(free.size());
-  SparseMatrix S(nf, nf);
-  Index nnz = 0;
-  for (const int j : free)
-    for (SparseMatrix::InnerIterator it(A, j); it; ++it)
-      nnz += position[static_cast<std::size_t>(it.row())] >= 0;
-  S.resizeNonZeros(nnz);
-  int* outer = S.outerIndexPtr();
-  int* inner = S.innerIndexPtr();
-  double* value = S.valuePtr();
-  Index k = 0;
-  for (Index c = 0; c < nf; ++c)
-  {
-    outer[c] = static_cast<int>(k);
-    for (SparseMatrix::InnerIterator it(A, free[static_cast<std::size_t>(c)]); it; ++it)
-    {
-      const int r = position[static_cast<std::size_t>(it.row())];
-      if (r >= 0)
-      {
-        inner[k] = r;
-        value[k] = it.value();
-        ++k;
-      }
-    }
-  }
-  outer[nf] = static_cast<int>(k);
-  return S;
 }
 
 /// FNV-1a hash of an active set (a collision only costs one unnecessary single step).
@@ -154,6 +121,9 @@ void BoxConstrainedQP::precompute(const SparseMatrix& A)
             std::to_string(it.col()) + ") and (" + std::to_string(it.col()) + ", " +
             std::to_string(it.row()) + ") differ by " + fmt(it.value()) +
             "; store both triangles of a symmetric matrix");
+  // One fill-reducing ordering of A (AMD); the factorizations of the free blocks use its
+  // restriction to the free set instead of ordering every block anew.
+  ordering_ = fill_reducing_ordering(stored, FillReducingOrdering::Amd);
   A_ = std::move(stored);
   id_ = next_id();
 }
@@ -225,15 +195,24 @@ BoxQPResult BoxConstrainedQP::solve(const Eigen::VectorXd& b, const Eigen::Vecto
   }
 
   SparseCholesky factor(options.backend);
-  std::vector<int> factor_free; // free set of `factor`
+  std::vector<int> factor_rows; // A's row of each row of `factor`: its free set
+  std::vector<char> in_factor(static_cast<std::size_t>(n), 0);
   bool have_factor = false;
   if (warm && warm->owner == id_ && warm->factor.computed() &&
-    warm->factor.backend() == factor.backend())
+    warm->factor.backend() == factor.backend() &&
+    warm->factor.rows() == warm->factor_free.size())
   {
     factor = warm->factor;
-    factor_free.assign(warm->factor_free.data(), warm->factor_free.data() + warm->factor_free.size());
+    factor_rows.assign(warm->factor_free.data(), warm->factor_free.data() + warm->factor_free.size());
+    for (const int i : factor_rows)
+      in_factor[static_cast<std::size_t>(i)] = 1;
     have_factor = true;
   }
+  // Rows changed by modifications since the last factorization; a fresh factorization is due
+  // when the settled point was computed with a modified factor that is not accurate enough.
+  Index modified_rows = 0;
+  bool force_refactor = false;
+  std::vector<int> added, removed;
 
   BoxQPResult result;
   Eigen::VectorXd x = Eigen::VectorXd::Zero(n), y(n), r(n), magnitude(n);
@@ -299,12 +278,71 @@ BoxQPResult BoxConstrainedQP::solve(const Eigen::VectorXd& b, const Eigen::Vecto
     }
     if (!free.empty())
     {
-      if (!(have_factor && factor_free == free))
+      added.clear();
+      removed.clear();
+      if (have_factor)
+      {
+        for (const int i : free)
+          if (!in_factor[static_cast<std::size_t>(i)])
+            added.push_back(i);
+        for (const int i : factor_rows)
+          if (state(i) != BoxQPState::Free)
+            removed.push_back(i);
+      }
+      const Index changes = static_cast<Index>(added.size() + removed.size());
+      if (!have_factor || changes > 0 || force_refactor)
       {
         const auto factor_start = Clock::now();
+        // Row modifications when few rows change (see the file comment); a fresh factorization
+        // otherwise, and after modifications of a quarter of the rows in all (fill and
+        // rounding accumulate).
+        const Index nf = static_cast<Index>(free.size());
+        const bool modify = have_factor && !force_refactor && options.modify_factorizations &&
+          factor.modifiable() && changes <= std::max<Index>(8, nf / 64) &&
+          modified_rows + changes <= nf / 4;
         try
         {
-          factor.compute(principal_submatrix(A_, free, position));
+          if (modify)
+          {
+            factor.modify_principal(A_,
+              Eigen::Map<const Eigen::VectorXi>(added.data(), static_cast<Index>(added.size())),
+              Eigen::Map<const Eigen::VectorXi>(removed.data(), static_cast<Index>(removed.size())));
+            for (const int i : removed)
+              in_factor[static_cast<std::size_t>(i)] = 0;
+            for (const int i : added)
+              in_factor[static_cast<std::size_t>(i)] = 1;
+            factor_rows = factor.principal_rows();
+            modified_rows += changes;
+            ++result.modifications;
+            result.modified_rows += changes;
+          }
+          else
+          {
+            // A_FF is a principal submatrix of the validated A: symmetric, finite.
+            SparseCholeskySettings settings;
+            settings.trusted = true;
+            if (options.reuse_ordering)
+            {
+              settings.ordering.resize(nf);
+              Index k = 0;
+              for (Index g = 0; g < n; ++g)
+              {
+                const int p = position[static_cast<std::size_t>(ordering_(g))];
+                if (p >= 0)
+                  settings.ordering(k++) = p;
+              }
+            }
+            factor.compute_principal(
+              A_, Eigen::Map<const Eigen::VectorXi>(free.data(), nf), settings);
+            for (const int i : factor_rows)
+              in_factor[static_cast<std::size_t>(i)] = 0;
+            factor_rows = free;
+            for (const int i : factor_rows)
+              in_factor[static_cast<std::size_t>(i)] = 1;
+            modified_rows = 0;
+            force_refactor = false;
+            ++result.factorizations;
+          }
         }
         catch (const Error& e)
         {
@@ -317,19 +355,23 @@ BoxQPResult BoxConstrainedQP::solve(const Eigen::VectorXd& b, const Eigen::Vecto
               "); A must be symmetric positive definite on the variables that are not fixed, "
               "otherwise the problem may be unbounded below");
         }
-        factor_free = free;
         have_factor = true;
-        ++result.factorizations;
         result.factor_seconds += seconds_since(factor_start);
       }
-      r.noalias() = A_ * x;
-      r += b;
-      Eigen::VectorXd rhs(static_cast<Index>(free.size()));
-      for (std::size_t k = 0; k < free.size(); ++k)
-        rhs(static_cast<Index>(k)) = -r(free[k]);
+      // x_F solves A_FF x_F = -(b_F + A_FN x_N), x_F = 0 meanwhile; rows in the factor's order.
+      const Index nf = static_cast<Index>(factor_rows.size());
+      Eigen::VectorXd rhs(nf);
+      for (Index k = 0; k < nf; ++k)
+      {
+        const int i = factor_rows[static_cast<std::size_t>(k)];
+        double sum = b(i);
+        for (SparseMatrix::InnerIterator it(A_, i); it; ++it) // column i = row i (symmetric)
+          sum += it.value() * x(it.row());
+        rhs(k) = -sum;
+      }
       const Eigen::VectorXd x_free = factor.solve(rhs);
-      for (std::size_t k = 0; k < free.size(); ++k)
-        x(free[k]) = x_free(static_cast<Index>(k));
+      for (Index k = 0; k < nf; ++k)
+        x(factor_rows[static_cast<std::size_t>(k)]) = x_free(k);
     }
     y.noalias() = A_ * x;
     y += b;
@@ -358,6 +400,20 @@ BoxQPResult BoxConstrainedQP::solve(const Eigen::VectorXd& b, const Eigen::Vecto
       }
     }
     result.violators = static_cast<Index>(violators.size());
+    if (violators.empty() && modified_rows > 0)
+    {
+      // The solve used a modified factor: make sure rounding did not build up beyond what the
+      // KKT test can absorb (stationarity on the free set far below the tolerance), else solve
+      // this active set again with a fresh factorization.
+      double stationarity = 0.0;
+      for (const int i : free)
+        stationarity = std::max(stationarity, std::abs(y(i)));
+      if (stationarity > 0.25 * ty)
+      {
+        force_refactor = true;
+        continue;
+      }
+    }
     if (violators.empty())
     {
       settled = true;
@@ -460,8 +516,8 @@ BoxQPResult BoxConstrainedQP::solve(const Eigen::VectorXd& b, const Eigen::Vecto
     if (have_factor)
     {
       warm->factor = factor;
-      warm->factor_free = Eigen::Map<const Eigen::VectorXi>(factor_free.data(),
-        static_cast<Index>(factor_free.size()));
+      warm->factor_free = Eigen::Map<const Eigen::VectorXi>(factor_rows.data(),
+        static_cast<Index>(factor_rows.size()));
       warm->owner = id_;
     }
   }
