@@ -84,11 +84,7 @@ void check_cancel(const ProgressCallback& progress, double fraction)
 
 } // namespace
 
-GeodesicHeat::GeodesicHeat(
-  const Eigen::MatrixXd& V, const Eigen::MatrixXi& T, const GeodesicHeatOptions& options)
-  : options_(options)
-  , V_(V)
-  , T_(T)
+void GeodesicHeat::check_options(const GeodesicHeatOptions& options)
 {
   if (!(options.time_factor > 0.0 && options.time_factor <= 1e6))
     throw Error(ErrorCode::InvalidArgument,
@@ -98,13 +94,60 @@ GeodesicHeat::GeodesicHeat(
     throw Error(ErrorCode::InvalidArgument,
       "GeodesicHeatOptions::threads must be >= 0 (0 = OpenMP's default), got " +
         std::to_string(options.threads));
+}
 
+GeodesicHeat::GeodesicHeat(
+  const Eigen::MatrixXd& V, const Eigen::MatrixXi& T, const GeodesicHeatOptions& options)
+  : options_(options)
+  , V_(V)
+  , T_(T)
+{
+  check_options(options);
   const auto t0 = std::chrono::steady_clock::now();
-  // stiffness_matrix validates the mesh (shapes, indices, degenerate elements, finiteness).
-  const Eigen::SparseMatrix<double> K = stiffness_matrix(V, T);
-  const Eigen::SparseMatrix<double> M = mass_matrix(V, T, MassMatrixType::Barycentric);
-  G_ = gradient_operator(V, T);
-  volume_ = simplex_volumes(V, T);
+  // gradient_operator validates the mesh (shapes, indices, degenerate elements, finiteness).
+  Eigen::SparseMatrix<double> G = gradient_operator(V, T);
+  Eigen::VectorXd volume = simplex_volumes(V, T);
+  factor(std::move(G), std::move(volume), t0);
+}
+
+GeodesicHeat::GeodesicHeat(const Eigen::MatrixXd& V, const Eigen::MatrixXi& T,
+  Eigen::SparseMatrix<double> G, Eigen::VectorXd volumes, const GeodesicHeatOptions& options)
+  : options_(options)
+  , V_(V)
+  , T_(T)
+{
+  check_options(options);
+  if (T.rows() == 0)
+    throw Error(ErrorCode::EmptyInput, "the mesh has no elements (T has no rows)");
+  if (G.rows() != T.rows() * V.cols() || G.cols() != V.rows() || volumes.size() != T.rows())
+    throw Error(ErrorCode::SizeMismatch,
+      "the gradient operator must be (#T dim) by #V and the volumes #T long for this mesh");
+  factor(std::move(G), std::move(volumes), std::chrono::steady_clock::now());
+}
+
+void GeodesicHeat::factor(Eigen::SparseMatrix<double> G, Eigen::VectorXd volume,
+  std::chrono::steady_clock::time_point t0)
+{
+  const Eigen::MatrixXd& V = V_;
+  const Eigen::MatrixXi& T = T_;
+  const GeodesicHeatOptions& options = options_;
+  G_ = std::move(G);
+  volume_ = std::move(volume);
+  // K = G^T diag(vol) G (the stiffness matrix), M lumped: 1/(d+1) of the incident volumes.
+  const Index dim = V.cols();
+  Eigen::VectorXd weights(T.rows() * dim);
+  for (Index t = 0; t < T.rows(); ++t)
+    weights.segment(t * dim, dim).setConstant(volume_(t));
+  const Eigen::SparseMatrix<double> K =
+    Eigen::SparseMatrix<double>(G_.transpose() * weights.asDiagonal() * G_);
+  Eigen::VectorXd lumped = Eigen::VectorXd::Zero(V.rows());
+  for (Index t = 0; t < T.rows(); ++t)
+    for (Index k = 0; k < T.cols(); ++k)
+      lumped(T(t, k)) += volume_(t) / static_cast<double>(T.cols());
+  Eigen::SparseMatrix<double> M(V.rows(), V.rows());
+  M.reserve(Eigen::VectorXi::Ones(V.rows()));
+  for (Index v = 0; v < V.rows(); ++v)
+    M.insert(v, v) = lumped(v);
   const Index n = V.rows();
   {
     std::vector<char> used(static_cast<std::size_t>(n), 0);

@@ -37,6 +37,7 @@
 #include "sparse_cholesky.h"
 #include "types.h"
 
+#include <chrono>
 #include <vector>
 
 namespace bary
@@ -70,6 +71,14 @@ public:
   GeodesicHeat(
     const Eigen::MatrixXd& V, const Eigen::MatrixXi& T, const GeodesicHeatOptions& options = {});
 
+  /// The same with the mesh's gradient operator and element volumes already computed (as
+  /// gradient_operator(V, T) and simplex_volumes(V, T) return them, e.g. by a caller that needs
+  /// them too): the mesh is then not validated again.
+  /// @throws Error(SizeMismatch) when G or volumes do not fit the mesh; Error(EmptyInput) for no
+  ///   element; the other errors as above.
+  GeodesicHeat(const Eigen::MatrixXd& V, const Eigen::MatrixXi& T, Eigen::SparseMatrix<double> G,
+    Eigen::VectorXd volumes, const GeodesicHeatOptions& options = {});
+
   /// Distances from every vertex to each source: column j is the distance to vertex
   /// sources(j) (0 there, >= 0 up to the method's error elsewhere: values within O(h) of the
   /// source can be slightly negative; they are returned as computed). #V by #sources.
@@ -97,6 +106,9 @@ private:
   Eigen::MatrixXd potential(
     const Eigen::MatrixXd& U, const ProgressCallback& progress, Index* zero_gradient_elements) const;
   void check_sources(const int* sources, Index count) const;
+  static void check_options(const GeodesicHeatOptions& options);
+  void factor(Eigen::SparseMatrix<double> G, Eigen::VectorXd volume,
+    std::chrono::steady_clock::time_point t0);
 
   GeodesicHeatOptions options_;
   Eigen::MatrixXd V_;

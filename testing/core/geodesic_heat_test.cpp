@@ -17,6 +17,7 @@
 #include "cage_catalogue.h"
 #include "core/domain_mesh.h"
 #include "core/error.h"
+#include "core/fem_operators.h"
 #include "core/geodesic_heat.h"
 #include "error_matchers.h"
 
@@ -175,6 +176,13 @@ TEST(GeodesicHeat, ManySourcesEqualOneAtATimeAndDoNotDependOnThreads)
   }
   // Symmetry of the square: distance from corner 0 at corner 2 equals from 2 at 0.
   EXPECT_NEAR(all(2, 0), all(0, 2), 0.02);
+  // Precomputed operators give the same factorizations and distances.
+  const GeodesicHeat h3(mesh.V, mesh.T, gradient_operator(mesh.V, mesh.T),
+    simplex_volumes(mesh.V, mesh.T), one);
+  EXPECT_EQ((all - h3.distances(sources)).cwiseAbs().maxCoeff(), 0.0);
+  EXPECT_TRUE(test::throws_error(
+    [&] { GeodesicHeat(mesh.V, mesh.T, gradient_operator(mesh.V, mesh.T), Eigen::VectorXd(3)); },
+    ErrorCode::SizeMismatch, { "volumes" }));
 }
 
 TEST(GeodesicHeat, DistanceToASetIsNearTheMinimumOverItsSources)

@@ -1,0 +1,1633 @@
+#include "local_barycentric_coordinates.h"
+
+#include "error.h"
+#include "fem_operators.h"
+#include "harmonic_coordinates.h"
+
+#include <Eigen/Dense>
+#include <Eigen/OrderingMethods>
+#include <Eigen/SparseCholesky>
+
+#include <omp.h>
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <sstream>
+#include <type_traits>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace bary
+{
+namespace
+{
+
+using RowMatrix = DenseWeights;
+using Csr = Eigen::SparseMatrix<double, Eigen::RowMajor, int>;
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point t0)
+{
+  return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+int thread_count(int requested)
+{
+  return requested > 0 ? requested : std::max(1, omp_get_max_threads());
+}
+
+[[noreturn]] void invalid(const std::string& message)
+{
+  throw Error(ErrorCode::InvalidArgument, message);
+}
+
+std::string str(double x)
+{
+  std::ostringstream s;
+  s << x;
+  return s.str();
+}
+
+// --- deterministic reductions ------------------------------------------------------------------
+// Sums are taken over fixed chunks (independent of the thread count) and the chunk sums are
+// added in order, so every reduction gives the same bits whatever the number of threads.
+constexpr Index kChunk = 4096;
+
+double chunked_dot(const double* a, const double* b, Index n, int threads)
+{
+  const Index chunks = (n + kChunk - 1) / kChunk;
+  std::vector<double> partial(static_cast<std::size_t>(chunks), 0.0);
+#pragma omp parallel for num_threads(threads) schedule(static)
+  for (Index c = 0; c < chunks; ++c)
+  {
+    const Index begin = c * kChunk, end = std::min(n, begin + kChunk);
+    double sum = 0.0;
+    for (Index k = begin; k < end; ++k)
+      sum += a[k] * b[k];
+    partial[static_cast<std::size_t>(c)] = sum;
+  }
+  double sum = 0.0;
+  for (double p : partial)
+    sum += p;
+  return sum;
+}
+
+// --- row-major sparse Cholesky -----------------------------------------------------------------
+/// A = L L^T of a symmetric positive definite matrix (Eigen's simplicial factor of the AMD-
+/// permuted matrix), solved for a row-major block of right-hand sides: each factor entry
+/// updates a whole row of the block (a contiguous axpy over the columns), the BLAS-3-like
+/// access pattern that suits the ADMM's #free by #C blocks. Columns are split between threads;
+/// every column's arithmetic is the same whatever the split, so results do not depend on the
+/// thread count.
+class RowCholesky
+{
+public:
+  void factor(const Eigen::SparseMatrix<double>& A)
+  {
+    const Index n = A.rows();
+    Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> pinv;
+    Eigen::AMDOrdering<int> amd;
+    amd(A, pinv);
+    perm_.assign(pinv.indices().data(), pinv.indices().data() + n);
+    std::vector<int> inverse(static_cast<std::size_t>(n));
+    for (Index i = 0; i < n; ++i)
+      inverse[static_cast<std::size_t>(perm_[static_cast<std::size_t>(i)])] = static_cast<int>(i);
+    // Ap(i, j) = A(perm[i], perm[j]), lower triangle.
+    std::vector<Eigen::Triplet<double>> triplets;
+    triplets.reserve(static_cast<std::size_t>(A.nonZeros()));
+    for (Index j = 0; j < A.outerSize(); ++j)
+      for (Eigen::SparseMatrix<double>::InnerIterator it(A, j); it; ++it)
+      {
+        const int r = inverse[static_cast<std::size_t>(it.row())];
+        const int c = inverse[static_cast<std::size_t>(it.col())];
+        if (r >= c)
+          triplets.emplace_back(r, c, it.value());
+      }
+    Eigen::SparseMatrix<double> Ap(n, n);
+    Ap.setFromTriplets(triplets.begin(), triplets.end());
+    Eigen::SimplicialLLT<Eigen::SparseMatrix<double>, Eigen::Lower, Eigen::NaturalOrdering<int>> llt;
+    llt.compute(Ap);
+    if (llt.info() != Eigen::Success)
+      throw Error(ErrorCode::InvalidArgument,
+        "the ADMM's linear system is not positive definite (every vertex must belong to an "
+        "element)");
+    const Eigen::SparseMatrix<double> L = llt.matrixL();
+    diag_.assign(static_cast<std::size_t>(n), 0.0);
+    colptr_.assign(static_cast<std::size_t>(n) + 1, 0);
+    rows_.clear();
+    values_.clear();
+    rows_.reserve(static_cast<std::size_t>(L.nonZeros()));
+    values_.reserve(static_cast<std::size_t>(L.nonZeros()));
+    for (Index j = 0; j < n; ++j)
+    {
+      for (Eigen::SparseMatrix<double>::InnerIterator it(L, j); it; ++it)
+        if (it.row() == j)
+          diag_[static_cast<std::size_t>(j)] = it.value();
+        else if (it.row() > j)
+        {
+          rows_.push_back(static_cast<int>(it.row()));
+          values_.push_back(it.value());
+        }
+      colptr_[static_cast<std::size_t>(j) + 1] = static_cast<int>(rows_.size());
+    }
+    inv_diag_.resize(static_cast<std::size_t>(n));
+    for (Index j = 0; j < n; ++j)
+    {
+      if (!(diag_[static_cast<std::size_t>(j)] > 0.0))
+        throw Error(ErrorCode::InvalidArgument,
+          "the ADMM's linear system is not positive definite");
+      inv_diag_[static_cast<std::size_t>(j)] = 1.0 / diag_[static_cast<std::size_t>(j)];
+    }
+    n_ = n;
+  }
+
+  Index rows() const noexcept { return n_; }
+  Index nonzeros() const noexcept { return static_cast<Index>(values_.size()) + n_; }
+
+  /// B <- A^-1 B for the n by k row-major block B.
+  void solve(RowMatrix& B, int threads) const
+  {
+    const Index k = B.cols();
+    if (k == 0 || n_ == 0)
+      return;
+    const int parts = static_cast<int>(std::min<Index>(threads, k));
+#pragma omp parallel num_threads(parts)
+    {
+      const int part = omp_get_thread_num(), count = omp_get_num_threads();
+      const Index c0 = k * part / count, c1 = k * (part + 1) / count;
+      switch (c1 - c0)
+      {
+        case 1: solve_columns<1>(B, c0, c1); break;
+        case 2: solve_columns<2>(B, c0, c1); break;
+        case 3: solve_columns<3>(B, c0, c1); break;
+        case 4: solve_columns<4>(B, c0, c1); break;
+        case 5: solve_columns<5>(B, c0, c1); break;
+        case 6: solve_columns<6>(B, c0, c1); break;
+        case 7: solve_columns<7>(B, c0, c1); break;
+        case 8: solve_columns<8>(B, c0, c1); break;
+        case 10: solve_columns<10>(B, c0, c1); break;
+        case 12: solve_columns<12>(B, c0, c1); break;
+        default: solve_columns<0>(B, c0, c1); break;
+      }
+    }
+  }
+
+private:
+  /// Columns [c0, c1) of B (W = c1 - c0 when W > 0: fixed-size, unrolled Eigen packets).
+  template <int W>
+  void solve_columns(RowMatrix& B, Index c0, Index c1) const
+  {
+    using Vec = Eigen::Matrix<double, W == 0 ? Eigen::Dynamic : W, 1>;
+    using Map = Eigen::Map<Vec>;
+    const Index n = n_, k = B.cols();
+    const Index w = W > 0 ? W : c1 - c0;
+    std::vector<double> y(static_cast<std::size_t>(n * w));
+    double* Y = y.data();
+    for (Index i = 0; i < n; ++i)
+      Map(Y + i * w, w) =
+        Map(B.data() + static_cast<Index>(perm_[static_cast<std::size_t>(i)]) * k + c0, w);
+    const int* colptr = colptr_.data();
+    const int* rows = rows_.data();
+    const double* values = values_.data();
+    const double* inv_diag = inv_diag_.data();
+    // L y = b (column-oriented: scatter; rows never overlap, so Eigen's packets apply as is)
+    for (Index j = 0; j < n; ++j)
+    {
+      Map mj(Y + j * w, w);
+      mj *= inv_diag[j];
+      for (int p = colptr[j]; p < colptr[j + 1]; ++p)
+        Map(Y + static_cast<Index>(rows[p]) * w, w) -= values[p] * mj;
+    }
+    // L^T x = y (row-oriented: gather)
+    for (Index j = n - 1; j >= 0; --j)
+    {
+      Map mj(Y + j * w, w);
+      for (int p = colptr[j]; p < colptr[j + 1]; ++p)
+        mj -= values[p] * Map(Y + static_cast<Index>(rows[p]) * w, w);
+      mj *= inv_diag[j];
+    }
+    for (Index i = 0; i < n; ++i)
+      Map(B.data() + static_cast<Index>(perm_[static_cast<std::size_t>(i)]) * k + c0, w) =
+        Map(Y + i * w, w);
+  }
+
+  Index n_ = 0;
+  std::vector<int> perm_, colptr_, rows_;
+  std::vector<double> values_, diag_, inv_diag_;
+};
+
+/// out = A X (+ add) for a row-major sparse A and row-major dense X, rows in parallel.
+void csr_times(const Csr& A, const RowMatrix& X, RowMatrix& out, int threads)
+{
+  const Index rows = A.rows(), k = X.cols();
+  out.resize(rows, k);
+  const int* outer = A.outerIndexPtr();
+  const int* inner = A.innerIndexPtr();
+  const double* values = A.valuePtr();
+#pragma omp parallel for num_threads(threads) schedule(static)
+  for (Index r = 0; r < rows; ++r)
+  {
+    double* o = out.data() + r * k;
+    for (Index c = 0; c < k; ++c)
+      o[c] = 0.0;
+    for (int p = outer[r]; p < outer[r + 1]; ++p)
+    {
+      const double a = values[p];
+      const double* x = X.data() + static_cast<Index>(inner[p]) * k;
+      for (Index c = 0; c < k; ++c)
+        o[c] += a * x[c];
+    }
+  }
+}
+
+// --- the proximal map of the (relaxed) total variation: relaxed_tv_prox_radius below ---------
+inline double prox_radius(double r, double kappa, double eps)
+{
+  if (eps <= 0.0)
+    return r > kappa ? r - kappa : 0.0;
+  if (r >= eps + kappa)
+    return r - kappa;
+  // rho < eps: rho - r + kappa (2 rho / eps - rho^2 / eps^2) = 0, the smaller root of
+  // (kappa / eps^2) rho^2 - (1 + 2 kappa / eps) rho + r = 0 without cancellation
+  const double c = 1.0 + 2.0 * kappa / eps;
+  return 2.0 * r / (c + std::sqrt(std::max(0.0, c * c - 4.0 * kappa * r / (eps * eps))));
+}
+
+inline double relaxed_norm(double r, double eps)
+{
+  if (eps <= 0.0 || r >= eps)
+    return r;
+  return -r * r * r / (3.0 * eps * eps) + r * r / eps + eps / 3.0;
+}
+
+// --- Anderson acceleration ---------------------------------------------------------------------
+/// Type-II Anderson acceleration (Walker & Ni 2011) of a fixed-point map s -> s + g(s) over the
+/// last `m` secant pairs, with Tikhonov-regularised normal equations.
+class Anderson
+{
+public:
+  Anderson(Index size, int history, int threads)
+    : n_(size)
+    , m_(history)
+    , threads_(threads)
+    , dS_(static_cast<std::size_t>(size * history))
+    , dG_(static_cast<std::size_t>(size * history))
+    , prev_s_(static_cast<std::size_t>(size))
+    , prev_g_(static_cast<std::size_t>(size))
+    , gram_(Eigen::MatrixXd::Zero(history, history))
+  {
+  }
+
+  void reset()
+  {
+    count_ = 0;
+    head_ = 0;
+    has_prev_ = false;
+  }
+
+  /// Records the accepted pair (s, g) and writes the extrapolated point to @p out.
+  /// Returns false (and leaves out untouched) when there is no history yet or the least-squares
+  /// problem is degenerate.
+  bool extrapolate(const double* s, const double* g, double* out)
+  {
+    const Index n = n_;
+    if (has_prev_)
+    {
+      double* ds = dS_.data() + static_cast<Index>(head_) * n;
+      double* dg = dG_.data() + static_cast<Index>(head_) * n;
+      const double* ps = prev_s_.data();
+      const double* pg = prev_g_.data();
+#pragma omp parallel for num_threads(threads_) schedule(static)
+      for (Index k = 0; k < n; ++k)
+      {
+        ds[k] = s[k] - ps[k];
+        dg[k] = g[k] - pg[k];
+      }
+      const int written = head_;
+      head_ = (head_ + 1) % m_;
+      count_ = std::min(count_ + 1, m_);
+      for (int j = 0; j < count_; ++j)
+      {
+        const int slot = slot_of(j);
+        const double v = chunked_dot(dg, dG_.data() + static_cast<Index>(slot) * n, n, threads_);
+        gram_(written, slot) = v;
+        gram_(slot, written) = v;
+      }
+    }
+    std::copy(s, s + n, prev_s_.data());
+    std::copy(g, g + n, prev_g_.data());
+    has_prev_ = true;
+    if (count_ == 0)
+      return false;
+
+    // theta = argmin |g - dG theta|
+    const int c = count_;
+    Eigen::MatrixXd A(c, c);
+    Eigen::VectorXd rhs(c);
+    std::vector<int> slots(static_cast<std::size_t>(c));
+    for (int j = 0; j < c; ++j)
+      slots[static_cast<std::size_t>(j)] = slot_of(j);
+    for (int a = 0; a < c; ++a)
+    {
+      for (int b = 0; b < c; ++b)
+        A(a, b) = gram_(slots[static_cast<std::size_t>(a)], slots[static_cast<std::size_t>(b)]);
+      rhs(a) = chunked_dot(
+        dG_.data() + static_cast<Index>(slots[static_cast<std::size_t>(a)]) * n, g, n, threads_);
+    }
+    const double scale = A.diagonal().maxCoeff();
+    if (!(scale > 0.0) || !std::isfinite(scale))
+      return false;
+    A.diagonal().array() += 1e-10 * scale;
+    const Eigen::VectorXd theta = A.ldlt().solve(rhs);
+    if (!theta.allFinite())
+      return false;
+#pragma omp parallel for num_threads(threads_) schedule(static)
+    for (Index k = 0; k < n; ++k)
+    {
+      double v = s[k] + g[k];
+      for (int j = 0; j < c; ++j)
+      {
+        const Index off = static_cast<Index>(slots[static_cast<std::size_t>(j)]) * n + k;
+        v -= theta(j) * (dS_[static_cast<std::size_t>(off)] + dG_[static_cast<std::size_t>(off)]);
+      }
+      out[k] = v;
+    }
+    return true;
+  }
+
+private:
+  /// Slot of the j-th most recent difference (j = 0: newest).
+  int slot_of(int j) const { return ((head_ - 1 - j) % m_ + 2 * m_) % m_; }
+
+  Index n_;
+  int m_, threads_;
+  std::vector<double> dS_, dG_, prev_s_, prev_g_;
+  Eigen::MatrixXd gram_;
+  int count_ = 0, head_ = 0;
+  bool has_prev_ = false;
+};
+
+// --- polishing: projection onto {w >= 0, w K = b} ------------------------------------------------
+/// Euclidean projection of @p z (n) onto {w >= 0, K^T w = b} by a semismooth Newton method on
+/// the dual: w(l) = max(0, z + K l), maximise psi(l) = -1/2 |w(l)|^2 + b.l (concave, C^1),
+/// Newton steps with the generalised Hessian K^T diag(z + K l > 0) K (+ a tiny ridge), a step
+/// being accepted when it increases psi enough (Armijo) or reduces the gradient b - K^T w(l)
+/// (near the solution the change of psi drowns in rounding). Entries with z = -infinity stay 0.
+/// Returns false if it does not reach |K^T w - b|_inf <= tol within the iteration cap (w then
+/// holds max(z, 0)).
+bool project_feasible(const Eigen::MatrixXd& K, const Eigen::VectorXd& b, const double* z,
+  double* w, Index n, double tol)
+{
+  const Index d = K.cols();
+  Eigen::VectorXd lambda = Eigen::VectorXd::Zero(d);
+  Eigen::Map<const Eigen::VectorXd> zv(z, n);
+  Eigen::VectorXd x(n), wl(n), trial_x(n), trial_w(n);
+  auto dual = [&](const Eigen::VectorXd& l, Eigen::VectorXd& xout, Eigen::VectorXd& wout) {
+    xout.noalias() = zv + K * l;
+    wout = xout.cwiseMax(0.0);
+    return -0.5 * wout.squaredNorm() + b.dot(l);
+  };
+  double value = dual(lambda, x, wl);
+  Eigen::VectorXd grad = b - K.transpose() * wl;
+  double gmax = grad.cwiseAbs().maxCoeff();
+  for (int iteration = 0; iteration < 100 && gmax > tol; ++iteration)
+  {
+    Eigen::MatrixXd Hm = Eigen::MatrixXd::Zero(d, d);
+    for (Index i = 0; i < n; ++i)
+      if (x(i) > 0.0)
+        Hm.noalias() += K.row(i).transpose() * K.row(i);
+    Hm.diagonal().array() += 1e-12 * (1.0 + Hm.diagonal().maxCoeff());
+    const Eigen::VectorXd step = Hm.ldlt().solve(grad);
+    if (!step.allFinite())
+      break;
+    const double slope = grad.dot(step);
+    double t = 1.0;
+    bool accepted = false;
+    for (int ls = 0; ls < 60 && !accepted; ++ls, t *= 0.5)
+    {
+      const Eigen::VectorXd trial = lambda + t * step;
+      const double v = dual(trial, trial_x, trial_w);
+      const Eigen::VectorXd trial_grad = b - K.transpose() * trial_w;
+      const double trial_gmax = trial_grad.cwiseAbs().maxCoeff();
+      if (v >= value + 1e-4 * t * slope || trial_gmax < 0.5 * gmax)
+      {
+        lambda = trial;
+        value = v;
+        x.swap(trial_x);
+        wl.swap(trial_w);
+        grad = trial_grad;
+        gmax = trial_gmax;
+        accepted = true;
+      }
+    }
+    if (!accepted)
+      break;
+  }
+  if (gmax <= tol)
+  {
+    for (Index i = 0; i < n; ++i)
+      w[i] = wl(i);
+    return true;
+  }
+  for (Index i = 0; i < n; ++i)
+    w[i] = std::max(0.0, z[i]);
+  return false;
+}
+
+} // namespace
+
+// =================================================================================================
+
+struct LocalBarycentricCoordinates::Impl
+{
+  LBCOptions o;
+  int D = 0;
+  Index nv = 0, nc = 0, nt = 0, m = 0;
+  double scale = 1.0;         ///< bounding-box diagonal of the input mesh
+  Eigen::RowVectorXd center;  ///< bounding-box center
+  Eigen::MatrixXd Vs;         ///< rescaled vertices (diameter 1)
+  Eigen::MatrixXi T;
+  Eigen::VectorXi control_vertex;
+  std::vector<int> free_vertices;  ///< m mesh vertices that are optimised
+  RowMatrix W_fixed;               ///< #V by n: boundary rows set, free rows 0
+
+  Eigen::SparseMatrix<double> G;   ///< (#T D) by #V gradient (rescaled units)
+  Eigen::VectorXd area;            ///< #T
+  Eigen::MatrixXd distances;       ///< #V by n normalised distances
+  Eigen::MatrixXd phi;             ///< #T by n
+  RowMatrix weight;                ///< #T by n: phi A (the TV weights of Eq. 14)
+
+  // scaled splitting (see the file comment of the header): constraint rows a_t (G_t Z + E_t) and
+  // b_v Z_v; state s = (s_X: #T D rows, s_W: m rows) by n.
+  double mu = 10.0;                ///< internal penalty
+  Eigen::VectorXd a;               ///< #T cell row scale
+  Eigen::VectorXd b;               ///< m vertex row scale
+  Csr Ga;                          ///< (#T D) by m: diag(a) G_free
+  Csr GtA;                         ///< m by (#T D): Ga^T
+  std::vector<int> ea_row;         ///< #T: first row of cell t in ea, -1 if a (G E)_t = 0
+  RowMatrix ea;                    ///< (cells with boundary data) D by n: rows of diag(a) E
+  std::vector<int> c0_row;         ///< m: row of vertex v in c0, -1 if (Ga^T ea)_v = 0
+  RowMatrix c0;                    ///< rows of Ga^T diag(a) E
+  RowMatrix H;                     ///< m by n least-norm solution of H K = B
+  Eigen::MatrixXd Ur;              ///< n by D+1 orthonormal basis of range(K)
+  Eigen::MatrixXd Kmat;            ///< n by D+1, [c_i^T 1] (rescaled)
+  RowCholesky chol;
+  SparseCholesky sparse;           ///< used for the explicit backends
+  bool use_row_cholesky = true;
+
+  double geodesic_seconds = 0, factor_seconds = 0;
+
+  Index rows_x() const { return nt * D; }
+  Index state_rows() const { return nt * D + m; }
+
+  void solve(RowMatrix& B, int threads) const
+  {
+    if (use_row_cholesky)
+      chol.solve(B, threads);
+    else
+    {
+      Eigen::MatrixXd cm = B;
+      B = sparse.solve(cm);
+    }
+  }
+
+  double tau(double x) const
+  {
+    switch (o.locality)
+    {
+      case LocalityFunction::Squared: return x * x;
+      case LocalityFunction::Constant: return 1.0;
+      case LocalityFunction::Linear: return x;
+      case LocalityFunction::Custom: return o.custom_locality(x);
+    }
+    return 1.0;
+  }
+
+  /// Residuals (26)-(27) of a step and the ADMM iterates it produced.
+  struct Check_
+  {
+    double primal = 0, dual = 0;
+    double primal_scaled = 0, dual_scaled = 0; // the same in the scaled splitting, mu internal
+    RowMatrix Z;  // Z^{k+1} = Y^{k+1} M + H
+    RowMatrix W;  // W^{k+1} (>= 0, the projection (31))
+  };
+  /// Buffers of one computation.
+  struct Work
+  {
+    RowMatrix r;   ///< #T D by n: r_X = 2 p_X - s_X (shrinkage (30) applied to s_X)
+    RowMatrix B;   ///< m by n (2n on checks): right-hand sides, then Z' (and Z^k)
+    std::vector<double> sums; ///< per-row partial sums for deterministic reductions
+  };
+  /// r_X = 2 prox(s_X) - s_X: the shrinkage (30) per cell and control point.
+  template <int N>
+  void reflect_gradients(const RowMatrix& s, RowMatrix& r, int threads) const;
+  /// The Y-update of Appendix B: w.B <- the feasible Z minimising
+  /// |a (G Z + E) - r_X|^2 + |b Z - r_W|^2 for r = 2 p - s (columns 0..n-1) and, with
+  /// @p with_state, for r = s itself (columns n..2n-1: Z^k of the state).
+  template <int N, bool WithState>
+  void y_update(const RowMatrix& s, Work& w, int threads) const;
+  /// g = alpha (q - p), q = (a (G Z' + E), b Z'), the residuals on checks (see step()).
+  template <int N, bool Check, bool StoreG>
+  void finish_step(RowMatrix& s, RowMatrix* g, Work& w, Check_* check, const double* zk,
+    Index zk_stride, int threads) const;
+  /// One fixed-point evaluation of the relaxed Douglas-Rachford (= ADMM) map at s:
+  /// g = alpha (q - p). In place (g == nullptr): s <- s + g. With @p check: the residuals
+  /// (26)-(27), Z^{k+1}, W^{k+1}. Returns |g|^2.
+  /// @p tracked: Z^k of the state s, kept up to date (Z^{k+1} = (1 - alpha/2) Z^k +
+  /// (alpha/2) Z', exact for the plain iteration) so that checks need no projection of s; null:
+  /// computed on checks (after Anderson steps, which mix states).
+  double step(RowMatrix& s, RowMatrix* g, Work& w, Check_* check, RowMatrix* tracked,
+    int threads) const;
+  void polish(const RowMatrix& Z, const RowMatrix& W, RowMatrix& Wfree, LBCResult& result,
+    int threads) const;
+  double objective_of(const DenseWeights& W, int threads) const;
+  double cage_edge_length(const DomainMesh& mesh) const;
+};
+
+double LocalBarycentricCoordinates::Impl::cage_edge_length(const DomainMesh& mesh) const
+{
+  // Pairs of control points that share a boundary row (a cage edge, or two corners of a cage
+  // face), in rescaled units.
+  std::vector<std::pair<int, int>> pairs;
+  const SparseWeights& B = mesh.boundary_weights;
+  for (Index r = 0; r < B.outerSize(); ++r)
+  {
+    std::vector<int> support;
+    for (SparseWeights::InnerIterator it(B, r); it; ++it)
+      if (it.value() != 0.0)
+        support.push_back(static_cast<int>(it.col()));
+    if (support.size() > 3)
+      continue;
+    for (std::size_t i = 0; i < support.size(); ++i)
+      for (std::size_t j = i + 1; j < support.size(); ++j)
+        pairs.emplace_back(std::min(support[i], support[j]), std::max(support[i], support[j]));
+  }
+  std::sort(pairs.begin(), pairs.end());
+  pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
+  double sum = 0.0;
+  for (const auto& [i, j] : pairs)
+    sum += (Vs.row(control_vertex(i)) - Vs.row(control_vertex(j))).norm();
+  if (!pairs.empty() && sum > 0.0)
+    return sum / static_cast<double>(pairs.size());
+  // nearest neighbours
+  sum = 0.0;
+  for (Index i = 0; i < nc; ++i)
+  {
+    double nearest = std::numeric_limits<double>::infinity();
+    for (Index j = 0; j < nc; ++j)
+      if (j != i)
+        nearest = std::min(nearest, (Vs.row(control_vertex(i)) - Vs.row(control_vertex(j))).norm());
+    sum += nearest;
+  }
+  return sum / static_cast<double>(nc);
+}
+
+/// Calls f(std::integral_constant<int, N>) with N = n for the small column counts the kernels
+/// are unrolled for, N = 0 (run-time count) otherwise.
+template <typename F>
+void dispatch_columns(Index n, F&& f)
+{
+  switch (n)
+  {
+    case 3: f(std::integral_constant<int, 3>()); break;
+    case 4: f(std::integral_constant<int, 4>()); break;
+    case 5: f(std::integral_constant<int, 5>()); break;
+    case 6: f(std::integral_constant<int, 6>()); break;
+    case 7: f(std::integral_constant<int, 7>()); break;
+    case 8: f(std::integral_constant<int, 8>()); break;
+    case 10: f(std::integral_constant<int, 10>()); break;
+    case 12: f(std::integral_constant<int, 12>()); break;
+    default: f(std::integral_constant<int, 0>()); break;
+  }
+}
+
+template <int N>
+void LocalBarycentricCoordinates::Impl::reflect_gradients(
+  const RowMatrix& s, RowMatrix& r, int threads) const
+{
+  const Index n = N > 0 ? N : nc;
+  const int dim = D;
+  const double eps = o.relaxed_tv_epsilon;
+  using Array = Eigen::Array<double, N == 0 ? Eigen::Dynamic : N, 1>;
+  r.resize(nt * dim, n);
+#pragma omp parallel num_threads(threads)
+  {
+    Array q(n), f(n);
+#pragma omp for schedule(static)
+    for (Index t = 0; t < nt; ++t)
+    {
+      const double* st = s.data() + t * dim * n;
+      double* rt = r.data() + t * dim * n;
+      const Eigen::Map<const Array> w(weight.data() + t * n, n);
+      q = Eigen::Map<const Array>(st, n).square();
+      for (int k = 1; k < dim; ++k)
+        q += Eigen::Map<const Array>(st + k * n, n).square();
+      q = q.sqrt(); // Eigen's packet sqrt vectorises (std::sqrt keeps errno and does not)
+      // s_X = a x~ with x~ = a x: the threshold of x~ is kappa~ = phi A / (mu a) (Eq. 30).
+      const double inv_mu_a = 1.0 / (mu * a(t));
+      if (eps <= 0.0)
+        f = (q - w * inv_mu_a).max(0.0) / q.max(1e-300); // max(0, 1 - kappa / |s|)
+      else
+      {
+        // f_eps: in x = x~ / a the threshold is kappa = phi A / (mu a^2) and the radius r / a.
+        const double at = a(t);
+        for (Index i = 0; i < n; ++i)
+          f(i) = q(i) > 0.0 ? at * prox_radius(q(i) / at, w(i) * inv_mu_a / at, eps) / q(i) : 0.0;
+      }
+      f = 2.0 * f - 1.0;
+      for (int k = 0; k < dim; ++k)
+        Eigen::Map<Array>(rt + k * n, n) = f * Eigen::Map<const Array>(st + k * n, n);
+    }
+  }
+}
+
+template <int N, bool WithState>
+void LocalBarycentricCoordinates::Impl::y_update(const RowMatrix& s, Work& w, int threads) const
+{
+  using Vec = Eigen::Matrix<double, N == 0 ? Eigen::Dynamic : N, 1>;
+  using VecMap = Eigen::Map<Vec>;
+  using ConstMap = Eigen::Map<const Vec>;
+  const Index n = N > 0 ? N : nc, rx = rows_x();
+  const Index width = WithState ? 2 * n : n;
+  w.B.resize(m, width);
+  const int* outer = GtA.outerIndexPtr();
+  const int* inner = GtA.innerIndexPtr();
+  const double* values = GtA.valuePtr();
+  const Index d1 = Ur.cols();
+  const double* rx_data = w.r.data();
+#pragma omp parallel num_threads(threads)
+  {
+    std::vector<double> proj(static_cast<std::size_t>(d1));
+#pragma omp for schedule(static)
+    for (Index v = 0; v < m; ++v)
+    {
+      double* z = w.B.data() + v * width;
+      const double* sw = s.data() + (rx + v) * n;
+      const double bv = b(v);
+      // r_W = 2 max(0, s_W) - s_W = |s_W|; - c0; + Ga^T r_X gathered from the incident cells
+      VecMap zv(z, n);
+      zv = bv * ConstMap(sw, n).cwiseAbs();
+      const int crow = c0_row[static_cast<std::size_t>(v)];
+      if (crow >= 0)
+        zv -= ConstMap(c0.data() + static_cast<Index>(crow) * n, n);
+      for (int p = outer[v]; p < outer[v + 1]; ++p)
+        zv += values[p] * ConstMap(rx_data + static_cast<Index>(inner[p]) * n, n);
+      if (WithState)
+      {
+        VecMap zs(z + n, n);
+        zs = bv * ConstMap(sw, n);
+        if (crow >= 0)
+          zs -= ConstMap(c0.data() + static_cast<Index>(crow) * n, n);
+        for (int p = outer[v]; p < outer[v + 1]; ++p)
+          zs += values[p] * ConstMap(s.data() + static_cast<Index>(inner[p]) * n, n);
+      }
+      // times Pi = I - Ur Ur^T (the rows of M span null(K^T)): z <- z - (z Ur) Ur^T
+      for (Index block = 0; block < width; block += n)
+      {
+        double* zb = z + block;
+        for (Index j = 0; j < d1; ++j)
+        {
+          const double* u = Ur.data() + j * Ur.rows();
+          double sum = 0.0;
+          for (Index i = 0; i < n; ++i)
+            sum += zb[i] * u[i];
+          proj[static_cast<std::size_t>(j)] = sum;
+        }
+        for (Index j = 0; j < d1; ++j)
+        {
+          const double* u = Ur.data() + j * Ur.rows();
+          const double c = proj[static_cast<std::size_t>(j)];
+          for (Index i = 0; i < n; ++i)
+            zb[i] -= c * u[i];
+        }
+      }
+    }
+  }
+  solve(w.B, threads);
+#pragma omp parallel for num_threads(threads) schedule(static)
+  for (Index v = 0; v < m; ++v)
+  {
+    double* z = w.B.data() + v * width;
+    const double* h = H.data() + v * n;
+    for (Index i = 0; i < n; ++i)
+      z[i] += h[i];
+    if (WithState)
+      for (Index i = 0; i < n; ++i)
+        z[n + i] += h[i];
+  }
+}
+
+template <int N, bool Check, bool StoreG>
+void LocalBarycentricCoordinates::Impl::finish_step(RowMatrix& s, RowMatrix* g, Work& w,
+  Check_* check, const double* zk, Index zk_stride, int threads) const
+{
+  using Vec = Eigen::Matrix<double, N == 0 ? Eigen::Dynamic : N, 1>;
+  using VecMap = Eigen::Map<Vec>;
+  using ConstMap = Eigen::Map<const Vec>;
+  const Index n = N > 0 ? N : nc, rx = rows_x();
+  const int dim = D;
+  const double alpha = o.relaxation;
+  const Index width = w.B.cols();
+  const int* outer = Ga.outerIndexPtr();
+  const int* inner = Ga.innerIndexPtr();
+  const double* values = Ga.valuePtr();
+  constexpr int sums = Check ? 5 : 1;
+  double* partial = w.sums.data();
+  // With l^k = (a (G Z^k + E), b Z^k) and q = p + g / alpha:
+  //   r_p = (1 - alpha/2)(p - l^k) - g/2,  r_d = mu_paper ((alpha/2)(p - l^k) + g/2),
+  // each row divided by its scale (a for gradient rows, b for weight rows).
+#pragma omp parallel num_threads(threads)
+  {
+    std::vector<double> qbuf(static_cast<std::size_t>(n)), lbuf(static_cast<std::size_t>(n));
+    double* q = qbuf.data();
+    double* l = lbuf.data();
+#pragma omp for schedule(static)
+    for (Index t = 0; t < nt; ++t)
+    {
+      const int erow = ea_row[static_cast<std::size_t>(t)];
+      double acc[5] = { 0, 0, 0, 0, 0 };
+      const double inv = 1.0 / a(t);
+      for (int k = 0; k < dim; ++k)
+      {
+        const Index row = t * dim + k;
+        double* sr = s.data() + row * n;
+        const double* rr = w.r.data() + row * n;
+        VecMap qm(q, n), lm(l, n);
+        if (erow >= 0)
+        {
+          const ConstMap e(ea.data() + (static_cast<Index>(erow) + k) * n, n);
+          qm = e;
+          if (Check)
+            lm = e;
+        }
+        else
+        {
+          qm.setZero();
+          if (Check)
+            lm.setZero();
+        }
+        for (int p = outer[row]; p < outer[row + 1]; ++p)
+          qm += values[p] * ConstMap(w.B.data() + static_cast<Index>(inner[p]) * width, n);
+        if (Check)
+          for (int p = outer[row]; p < outer[row + 1]; ++p)
+            lm += values[p] * ConstMap(zk + static_cast<Index>(inner[p]) * zk_stride, n);
+        double a0 = 0.0;
+        if (!Check && !StoreG)
+        {
+          // the plain step: s += alpha (q - (r + s) / 2)
+          VecMap sv(sr, n);
+          sv += alpha * (ConstMap(q, n) - 0.5 * (ConstMap(rr, n) + sv));
+        }
+        else
+        {
+          double* gr = StoreG ? g->data() + row * n : nullptr;
+          for (Index i = 0; i < n; ++i)
+          {
+            const double pv = 0.5 * (rr[i] + sr[i]); // p = (r + s) / 2
+            const double gv = alpha * (q[i] - pv);
+            if (Check)
+            {
+              const double pl = pv - l[i];
+              const double rp = (1.0 - 0.5 * alpha) * pl - 0.5 * gv;
+              const double rd = 0.5 * alpha * pl + 0.5 * gv;
+              acc[1] += rp * rp;
+              acc[2] += rd * rd;
+              acc[3] += rp * rp * inv * inv;
+              acc[4] += rd * rd * inv * inv;
+            }
+            if (StoreG)
+            {
+              a0 += gv * gv;
+              gr[i] = gv;
+            }
+            else
+              sr[i] += gv;
+          }
+        }
+        acc[0] += a0;
+      }
+      for (int c = 0; c < sums; ++c)
+        partial[t * sums + c] = acc[c];
+    }
+#pragma omp for schedule(static)
+    for (Index v = 0; v < m; ++v)
+    {
+      double* sw = s.data() + (rx + v) * n;
+      const double* z = w.B.data() + v * width;
+      double* gr = StoreG ? g->data() + (rx + v) * n : nullptr;
+      const double bv = b(v), inv = 1.0 / b(v);
+      double acc[5] = { 0, 0, 0, 0, 0 };
+      double* wout = Check ? check->W.data() + v * n : nullptr;
+      const double* zp = Check ? zk + v * zk_stride : nullptr;
+      if (!Check && !StoreG)
+      {
+        VecMap sv(sw, n);
+        sv += alpha * (bv * ConstMap(z, n) - sv.cwiseMax(0.0));
+        continue;
+      }
+      for (Index i = 0; i < n; ++i)
+      {
+        const double pv = std::max(0.0, sw[i]);
+        const double gv = alpha * (bv * z[i] - pv);
+        if (Check)
+        {
+          const double pl = pv - bv * zp[i];
+          const double rp = (1.0 - 0.5 * alpha) * pl - 0.5 * gv;
+          const double rd = 0.5 * alpha * pl + 0.5 * gv;
+          acc[1] += rp * rp;
+          acc[2] += rd * rd;
+          acc[3] += rp * rp * inv * inv;
+          acc[4] += rd * rd * inv * inv;
+          wout[i] = pv * inv;
+        }
+        if (StoreG)
+        {
+          acc[0] += gv * gv;
+          gr[i] = gv;
+        }
+        else
+          sw[i] += gv;
+      }
+      for (int c = 0; c < sums; ++c)
+        partial[(nt + v) * sums + c] = acc[c];
+    }
+  }
+}
+
+double LocalBarycentricCoordinates::Impl::step(RowMatrix& s, RowMatrix* g, Work& w, Check_* check,
+  RowMatrix* tracked, int threads) const
+{
+  const Index n = nc;
+  const double alpha = o.relaxation;
+  if (check)
+    check->W.resize(m, n);
+  if (g)
+    g->resize(s.rows(), n);
+  const Index parts = nt + m;
+  const int sums = check ? 5 : 1;
+  w.sums.assign(static_cast<std::size_t>(parts * sums), 0.0);
+  const bool project_state = check && !tracked;
+  dispatch_columns(n, [&](auto columns) {
+    constexpr int N = decltype(columns)::value;
+    // 1. p = prox(s): shrinkage (30) per cell and control point, projection (31) per vertex;
+    //    kept as r = 2 p - s.
+    reflect_gradients<N>(s, w.r, threads);
+    // 2. Z' = Pi(2 p - s) (and Z^k = Pi(s) on checks without tracking): the Y-update
+    if (project_state)
+      y_update<N, true>(s, w, threads);
+    else
+      y_update<N, false>(s, w, threads);
+    // 3. g = alpha (q - p); the residuals on checks
+    const double* zk = project_state ? w.B.data() + n : tracked ? tracked->data() : nullptr;
+    const Index stride = project_state ? 2 * n : n;
+    if (check)
+    {
+      if (g)
+        finish_step<N, true, true>(s, g, w, check, zk, stride, threads);
+      else
+        finish_step<N, true, false>(s, g, w, check, zk, stride, threads);
+    }
+    else
+    {
+      if (g)
+        finish_step<N, false, true>(s, g, w, check, zk, stride, threads);
+      else
+        finish_step<N, false, false>(s, g, w, check, zk, stride, threads);
+    }
+  });
+  double total[5] = { 0, 0, 0, 0, 0 };
+  for (Index r = 0; r < parts; ++r)
+    for (int c = 0; c < sums; ++c)
+      total[c] += w.sums[static_cast<std::size_t>(r * sums + c)];
+  if (check)
+  {
+    check->primal_scaled = std::sqrt(total[1]);
+    check->dual_scaled = mu * std::sqrt(total[2]);
+    check->primal = std::sqrt(total[3]);
+    check->dual = o.penalty * std::sqrt(total[4]);
+  }
+  // Z^{k+1} = (1 - alpha/2) Z^k + (alpha/2) Z'
+  const Index width = w.B.cols();
+  if (tracked || check)
+  {
+    RowMatrix* out = tracked ? tracked : &check->Z;
+    if (!tracked)
+      out->resize(m, n);
+#pragma omp parallel for num_threads(threads) schedule(static)
+    for (Index v = 0; v < m; ++v)
+    {
+      const double* z = w.B.data() + v * width;
+      double* zk = out->data() + v * n;
+      const double* zold = tracked ? zk : z + n;
+      for (Index i = 0; i < n; ++i)
+        zk[i] = (1.0 - 0.5 * alpha) * zold[i] + 0.5 * alpha * z[i];
+    }
+    if (tracked && check)
+      check->Z = *tracked;
+  }
+  return total[0];
+}
+
+void LocalBarycentricCoordinates::Impl::polish(const RowMatrix& Z, const RowMatrix& W,
+  RowMatrix& Wfree, LBCResult& result, int threads) const
+{
+  const Index n = nc;
+  Wfree.resize(m, n);
+  Index failures = 0;
+  double max_change = 0.0;
+  constexpr double kOff = -1e300; // "not in the support": stays 0
+#pragma omp parallel num_threads(threads) reduction(+ : failures) reduction(max : max_change)
+  {
+    Eigen::VectorXd bv(D + 1), z(n);
+#pragma omp for schedule(static)
+    for (Index v = 0; v < m; ++v)
+    {
+      const Index vertex = free_vertices[static_cast<std::size_t>(v)];
+      bv.head(D) = Vs.row(vertex).transpose();
+      bv(D) = 1.0;
+      const double* zr = Z.data() + v * n;
+      const double* wr = W.data() + v * n;
+      double* out = Wfree.data() + v * n;
+      if (!o.barycentric_constraints)
+        for (Index i = 0; i < n; ++i)
+          out[i] = std::max(0.0, zr[i]);
+      else if (o.polish)
+      {
+        // The ADMM's W (>= 0, exact zeros) projected onto the constraints on its support; if
+        // the support cannot satisfy them, Z projected onto the whole feasible set.
+        for (Index i = 0; i < n; ++i)
+          z(i) = wr[i] > 0.0 ? wr[i] : kOff;
+        if (!project_feasible(Kmat, bv, z.data(), out, n, 1e-14) &&
+          !project_feasible(Kmat, bv, zr, out, n, 1e-14))
+          ++failures;
+      }
+      else
+        for (Index i = 0; i < n; ++i)
+          out[i] = zr[i];
+      for (Index i = 0; i < n; ++i)
+        max_change = std::max(max_change, std::abs(out[i] - zr[i]));
+    }
+  }
+  result.polish_failures = failures;
+  result.max_polish_change = max_change;
+}
+
+double LocalBarycentricCoordinates::Impl::objective_of(const DenseWeights& W, int threads) const
+{
+  const Eigen::MatrixXd grad = G * Eigen::MatrixXd(W);
+  std::vector<double> cell(static_cast<std::size_t>(nt), 0.0);
+  const double eps = o.relaxed_tv_epsilon;
+#pragma omp parallel for num_threads(threads) schedule(static)
+  for (Index t = 0; t < nt; ++t)
+  {
+    double sum = 0.0;
+    for (Index i = 0; i < nc; ++i)
+      sum += weight(t, i) * relaxed_norm(grad.col(i).segment(t * D, D).norm(), eps);
+    cell[static_cast<std::size_t>(t)] = sum;
+  }
+  double sum = 0.0;
+  for (double c : cell)
+    sum += c;
+  // Eq. 14 scales like length^(D-1).
+  return sum * std::pow(scale, D - 1);
+}
+
+// =================================================================================================
+
+LocalBarycentricCoordinates::LocalBarycentricCoordinates(
+  const DomainMesh& mesh, const LBCOptions& options, const ProgressCallback& progress)
+  : impl_(std::make_unique<Impl>())
+{
+  Impl& s = *impl_;
+  s.o = options;
+  const LBCOptions& o = s.o;
+  // --- options
+  if (!(o.penalty > 0.0) || !std::isfinite(o.penalty))
+    invalid("LBCOptions::penalty must be > 0, got " + str(o.penalty));
+  if (!(o.scaled_penalty > 0.0) || !std::isfinite(o.scaled_penalty))
+    invalid("LBCOptions::scaled_penalty must be > 0, got " + str(o.scaled_penalty));
+  if (!(o.relaxation > 0.0 && o.relaxation < 2.0))
+    invalid("LBCOptions::relaxation must be in (0, 2), got " + str(o.relaxation));
+  if (!(o.primal_tolerance > 0.0 && o.primal_tolerance < 1.0))
+    invalid("LBCOptions::primal_tolerance must be in (0, 1), got " + str(o.primal_tolerance));
+  if (!(o.dual_tolerance > 0.0 && o.dual_tolerance < 1.0))
+    invalid("LBCOptions::dual_tolerance must be in (0, 1), got " + str(o.dual_tolerance));
+  if (o.max_iterations < 1)
+    invalid("LBCOptions::max_iterations must be >= 1, got " + std::to_string(o.max_iterations));
+  if (o.check_interval < 1)
+    invalid("LBCOptions::check_interval must be >= 1, got " + std::to_string(o.check_interval));
+  if (o.locality == LocalityFunction::Custom && !o.custom_locality)
+    invalid("LBCOptions::locality is Custom but custom_locality is empty");
+  if (!(o.relaxed_tv_epsilon >= 0.0) || !std::isfinite(o.relaxed_tv_epsilon))
+    invalid("LBCOptions::relaxed_tv_epsilon must be >= 0, got " + str(o.relaxed_tv_epsilon));
+  if (o.threads < 0)
+    invalid("LBCOptions::threads must be >= 0 (0 = OpenMP's default), got " +
+      std::to_string(o.threads));
+  if (!(o.constraint_balance > 0.0) || !std::isfinite(o.constraint_balance))
+    invalid("LBCOptions::constraint_balance must be > 0, got " + str(o.constraint_balance));
+  if (o.anderson_history < 1 || o.anderson_history > 50)
+    invalid("LBCOptions::anderson_history must be in [1, 50], got " +
+      std::to_string(o.anderson_history));
+  const int threads = thread_count(o.threads);
+  auto check_cancel = [&progress](double f) {
+    if (progress && !progress(f))
+      throw Error(ErrorCode::Cancelled, "local barycentric coordinates were cancelled");
+  };
+  check_cancel(0.0);
+
+  // --- mesh
+  const Eigen::MatrixXd& V = mesh.V;
+  const Index nv = V.rows();
+  const Index nc = mesh.control_vertex.size();
+  const int D = static_cast<int>(V.cols());
+  if (nv == 0 || mesh.T.rows() == 0)
+    throw Error(ErrorCode::EmptyInput, "the domain mesh is empty");
+  if (D != 2 && D != 3)
+    throw Error(ErrorCode::SizeMismatch,
+      "mesh vertices must have 2 or 3 coordinates, got " + std::to_string(D));
+  if (mesh.T.cols() != D + 1)
+    throw Error(ErrorCode::SizeMismatch,
+      "a " + std::to_string(D) + "D domain needs " + (D == 2 ? "triangles" : "tetrahedra") +
+        " (T with " + std::to_string(D + 1) + " columns), got " + std::to_string(mesh.T.cols()) +
+        " columns");
+  if (nc < D + 1)
+    throw Error(ErrorCode::EmptyInput,
+      "a " + std::to_string(D) + "D cage needs at least " + std::to_string(D + 1) +
+        " control vertices, got " + std::to_string(nc));
+  const Index nb = static_cast<Index>(mesh.boundary_vertices.size());
+  if (mesh.boundary_weights.rows() != nb || mesh.boundary_weights.cols() != nc)
+    throw Error(ErrorCode::SizeMismatch,
+      "boundary_weights is " + std::to_string(mesh.boundary_weights.rows()) + " by " +
+        std::to_string(mesh.boundary_weights.cols()) + " but there are " + std::to_string(nb) +
+        " boundary vertices and " + std::to_string(nc) + " control vertices");
+  s.D = D;
+  s.nv = nv;
+  s.nc = nc;
+  s.nt = mesh.T.rows();
+  s.T = mesh.T;
+  s.control_vertex = mesh.control_vertex;
+
+  std::vector<int> fixed_row(static_cast<std::size_t>(nv), -1);
+  for (Index k = 0; k < nb; ++k)
+  {
+    const int v = mesh.boundary_vertices[static_cast<std::size_t>(k)];
+    if (v < 0 || v >= nv)
+      invalid("boundary vertex " + std::to_string(v) + " is outside [0, " + std::to_string(nv) + ")");
+    if (fixed_row[static_cast<std::size_t>(v)] >= 0)
+      invalid("boundary vertex " + std::to_string(v) + " is listed twice");
+    fixed_row[static_cast<std::size_t>(v)] = static_cast<int>(k);
+  }
+  for (Index i = 0; i < nc; ++i)
+  {
+    const int v = mesh.control_vertex(i);
+    if (v < 0 || v >= nv)
+      invalid("control vertex " + std::to_string(i) + " is mesh vertex " + std::to_string(v) +
+        ", outside [0, " + std::to_string(nv) + ")");
+    if (fixed_row[static_cast<std::size_t>(v)] < 0)
+      invalid("control vertex " + std::to_string(i) + " (mesh vertex " + std::to_string(v) +
+        ") is not a boundary vertex of the domain mesh");
+  }
+  s.W_fixed = RowMatrix::Zero(nv, nc);
+  {
+    const Eigen::MatrixXd bw = Eigen::MatrixXd(mesh.boundary_weights);
+    if (!bw.allFinite())
+      throw Error(ErrorCode::NonFinite, "boundary_weights holds NaN or infinity");
+    for (Index k = 0; k < nb; ++k)
+      s.W_fixed.row(mesh.boundary_vertices[static_cast<std::size_t>(k)]) = bw.row(k);
+  }
+  for (Index v = 0; v < nv; ++v)
+    if (fixed_row[static_cast<std::size_t>(v)] < 0)
+      s.free_vertices.push_back(static_cast<int>(v));
+  s.m = static_cast<Index>(s.free_vertices.size());
+  const Index m = s.m;
+
+  // --- rescale to bounding-box diameter 1 (Appendix B, "Parameters")
+  const auto t_factor = Clock::now();
+  if (!V.allFinite())
+    throw Error(ErrorCode::NonFinite, "the mesh has a non-finite vertex coordinate");
+  const Eigen::RowVectorXd lo = V.colwise().minCoeff(), hi = V.colwise().maxCoeff();
+  s.scale = (hi - lo).norm();
+  if (!(s.scale > 0.0))
+    invalid("the mesh has zero extent");
+  s.center = 0.5 * (lo + hi);
+  s.Vs = (V.rowwise() - s.center) / s.scale;
+
+  // --- operators (gradient_operator validates the elements)
+  s.G = gradient_operator(s.Vs, s.T);
+  s.area = simplex_volumes(s.Vs, s.T);
+  {
+    std::vector<char> used(static_cast<std::size_t>(nv), 0);
+    for (Index t = 0; t < s.nt; ++t)
+      for (Index k = 0; k <= D; ++k)
+        used[static_cast<std::size_t>(s.T(t, k))] = 1;
+    for (Index v = 0; v < nv; ++v)
+      if (!used[static_cast<std::size_t>(v)])
+        invalid("mesh vertex " + std::to_string(v) + " belongs to no element");
+  }
+  s.factor_seconds = seconds_since(t_factor);
+  check_cancel(0.05);
+
+  // --- locality weights phi_i^s = tau(D_i(centroid)) (§3.3)
+  const auto t_geo = Clock::now();
+  s.distances = Eigen::MatrixXd::Zero(nv, nc);
+  s.phi = Eigen::MatrixXd::Ones(s.nt, nc);
+  if (o.locality != LocalityFunction::Constant)
+  {
+    GeodesicHeatOptions go = o.geodesic;
+    go.threads = o.threads;
+    // Eigen's simplicial factorisation was faster than CHOLMOD's supernodal one (with the
+    // reference BLAS) on 2D meshes and on 3D meshes up to ~10,000 vertices (LBCOptions::geodesic)
+    if (go.backend == SparseCholesky::Backend::Automatic && (D == 2 || nv < 10000))
+      go.backend = SparseCholesky::Backend::Eigen;
+    const GeodesicHeat heat(s.Vs, s.T, s.G, s.area, go);
+    Eigen::MatrixXd g = heat.distances(s.control_vertex);
+    // unreachable vertices (another component) count as farthest
+    double global_max = 0.0;
+    for (Index j = 0; j < nc; ++j)
+      for (Index v = 0; v < nv; ++v)
+        if (std::isfinite(g(v, j)))
+          global_max = std::max(global_max, g(v, j));
+    for (Index j = 0; j < nc; ++j)
+    {
+      double mx = global_max;
+      if (o.distance_normalization == DistanceNormalization::PerControlPoint)
+      {
+        mx = 0.0;
+        for (Index v = 0; v < nv; ++v)
+          if (std::isfinite(g(v, j)))
+            mx = std::max(mx, g(v, j));
+      }
+      for (Index v = 0; v < nv; ++v)
+        s.distances(v, j) =
+          std::isfinite(g(v, j)) && mx > 0.0 ? std::clamp(g(v, j) / mx, 0.0, 1.0) : 1.0;
+    }
+    for (Index t = 0; t < s.nt; ++t)
+      for (Index j = 0; j < nc; ++j)
+      {
+        double d = 0.0;
+        for (Index k = 0; k <= D; ++k)
+          d += s.distances(s.T(t, k), j);
+        const double value = s.tau(d / (D + 1));
+        if (!std::isfinite(value) || value < 0.0)
+          invalid("the locality function returned " + str(value) + " for D = " +
+            str(d / (D + 1)) + "; it must be finite and >= 0");
+        s.phi(t, j) = value;
+      }
+  }
+  s.weight.resize(s.nt, nc);
+  for (Index t = 0; t < s.nt; ++t)
+    for (Index j = 0; j < nc; ++j)
+      s.weight(t, j) = s.phi(t, j) * s.area(t);
+  s.geodesic_seconds = seconds_since(t_geo);
+  check_cancel(0.5);
+
+  // --- constraints W K = B: K = [c_i^T 1], range(K) basis, least-norm H (SVD, Appendix B)
+  const auto t_fac2 = Clock::now();
+  s.Kmat.resize(nc, D + 1);
+  for (Index i = 0; i < nc; ++i)
+  {
+    s.Kmat.row(i).head(D) = s.Vs.row(s.control_vertex(i));
+    s.Kmat(i, D) = 1.0;
+  }
+  if (!o.barycentric_constraints)
+  {
+    // each w_i on its own: no W K = B (Pi = I, H = 0)
+    s.Ur.resize(nc, 0);
+    s.H = RowMatrix::Zero(m, nc);
+  }
+  else
+  {
+    Eigen::JacobiSVD<Eigen::MatrixXd> svd(s.Kmat, Eigen::ComputeThinU | Eigen::ComputeThinV);
+    const Eigen::VectorXd sv = svd.singularValues();
+    if (!(sv(D) > 1e-10 * sv(0)))
+      invalid("the control points do not span the " + std::to_string(D) +
+        "D space (collinear or coplanar): no barycentric coordinates exist");
+    s.Ur = svd.matrixU();
+    // K^+ = V S^-1 U^T; H = B K^+ for the free rows
+    const Eigen::MatrixXd Kplus = svd.matrixV() * sv.cwiseInverse().asDiagonal() * s.Ur.transpose();
+    s.H.resize(m, nc);
+    for (Index v = 0; v < m; ++v)
+    {
+      Eigen::RowVectorXd bvec(D + 1);
+      bvec.head(D) = s.Vs.row(s.free_vertices[static_cast<std::size_t>(v)]);
+      bvec(D) = 1.0;
+      s.H.row(v) = bvec * Kplus;
+    }
+  }
+
+  // --- scaled splitting: a per cell, b per free vertex
+  s.a = Eigen::VectorXd::Ones(s.nt);
+  s.b = Eigen::VectorXd::Ones(m);
+  s.mu = o.penalty;
+  if (o.scaling == ConstraintScaling::Lumped)
+  {
+    const double hc = s.cage_edge_length(mesh);
+    s.mu = o.scaled_penalty * hc;
+    Eigen::VectorXd mass = Eigen::VectorXd::Zero(nv);
+    for (Index t = 0; t < s.nt; ++t)
+      for (Index k = 0; k <= D; ++k)
+        mass(s.T(t, k)) += s.area(t) / (D + 1);
+    s.a = s.area.cwiseSqrt();
+    for (Index v = 0; v < m; ++v)
+      s.b(v) = o.constraint_balance / hc *
+        std::sqrt(mass(s.free_vertices[static_cast<std::size_t>(v)]));
+  }
+  {
+    std::vector<int> free_index(static_cast<std::size_t>(nv), -1);
+    for (Index v = 0; v < m; ++v)
+      free_index[static_cast<std::size_t>(s.free_vertices[static_cast<std::size_t>(v)])] =
+        static_cast<int>(v);
+    std::vector<Eigen::Triplet<double>> triplets;
+    triplets.reserve(static_cast<std::size_t>(s.G.nonZeros()));
+    for (Index j = 0; j < s.G.outerSize(); ++j)
+      for (Eigen::SparseMatrix<double>::InnerIterator it(s.G, j); it; ++it)
+      {
+        const int f = free_index[static_cast<std::size_t>(it.col())];
+        if (f >= 0)
+          triplets.emplace_back(
+            static_cast<int>(it.row()), f, s.a(it.row() / D) * it.value());
+      }
+    s.Ga.resize(s.nt * D, m);
+    s.Ga.setFromTriplets(triplets.begin(), triplets.end());
+    s.Ga.makeCompressed();
+    s.GtA = Csr(s.Ga.transpose());
+    s.GtA.makeCompressed();
+    // E = G W_fixed (free rows of W_fixed are 0), scaled by a; only the cells touching the
+    // boundary have nonzero rows, only those are stored (and likewise for Ga^T diag(a) E).
+    const Eigen::MatrixXd E = s.G * Eigen::MatrixXd(s.W_fixed);
+    RowMatrix ea_full(s.nt * D, nc);
+    for (Index r = 0; r < s.nt * D; ++r)
+      ea_full.row(r) = s.a(r / D) * E.row(r);
+    s.ea_row.assign(static_cast<std::size_t>(s.nt), -1);
+    Index stored = 0;
+    for (Index t = 0; t < s.nt; ++t)
+      if (ea_full.middleRows(t * D, D).cwiseAbs().maxCoeff() > 0.0)
+        s.ea_row[static_cast<std::size_t>(t)] = static_cast<int>(D * stored++);
+    s.ea.resize(D * stored, nc);
+    for (Index t = 0; t < s.nt; ++t)
+      if (s.ea_row[static_cast<std::size_t>(t)] >= 0)
+        s.ea.middleRows(s.ea_row[static_cast<std::size_t>(t)], D) = ea_full.middleRows(t * D, D);
+    RowMatrix c0_full;
+    csr_times(s.GtA, ea_full, c0_full, threads);
+    s.c0_row.assign(static_cast<std::size_t>(m), -1);
+    stored = 0;
+    for (Index v = 0; v < m; ++v)
+      if (c0_full.row(v).cwiseAbs().maxCoeff() > 0.0)
+        s.c0_row[static_cast<std::size_t>(v)] = static_cast<int>(stored++);
+    s.c0.resize(stored, nc);
+    for (Index v = 0; v < m; ++v)
+      if (s.c0_row[static_cast<std::size_t>(v)] >= 0)
+        s.c0.row(s.c0_row[static_cast<std::size_t>(v)]) = c0_full.row(v);
+  }
+  check_cancel(0.6);
+  if (m > 0)
+  {
+    Eigen::SparseMatrix<double> S = Eigen::SparseMatrix<double>(s.GtA * s.Ga);
+    for (Index v = 0; v < m; ++v)
+      S.coeffRef(v, v) += s.b(v) * s.b(v);
+    S.makeCompressed();
+    if (o.backend == SparseCholesky::Backend::Automatic)
+    {
+      s.use_row_cholesky = true;
+      s.chol.factor(S);
+    }
+    else
+    {
+      s.use_row_cholesky = false;
+      s.sparse = SparseCholesky(o.backend);
+      s.sparse.compute(S);
+    }
+  }
+  s.factor_seconds += seconds_since(t_fac2);
+  check_cancel(1.0);
+}
+
+LocalBarycentricCoordinates::~LocalBarycentricCoordinates() = default;
+LocalBarycentricCoordinates::LocalBarycentricCoordinates(LocalBarycentricCoordinates&&) noexcept =
+  default;
+LocalBarycentricCoordinates& LocalBarycentricCoordinates::operator=(
+  LocalBarycentricCoordinates&&) noexcept = default;
+
+const Eigen::MatrixXd& LocalBarycentricCoordinates::normalized_distances() const noexcept
+{
+  return impl_->distances;
+}
+const Eigen::MatrixXd& LocalBarycentricCoordinates::locality_weights() const noexcept
+{
+  return impl_->phi;
+}
+const LBCOptions& LocalBarycentricCoordinates::options() const noexcept
+{
+  return impl_->o;
+}
+Index LocalBarycentricCoordinates::free_vertex_count() const noexcept
+{
+  return impl_->m;
+}
+
+double LocalBarycentricCoordinates::objective(const DenseWeights& W) const
+{
+  const Impl& s = *impl_;
+  if (W.rows() != s.nv || W.cols() != s.nc)
+    throw Error(ErrorCode::SizeMismatch,
+      "weights are " + std::to_string(W.rows()) + " by " + std::to_string(W.cols()) +
+        " but the mesh has " + std::to_string(s.nv) + " vertices and " + std::to_string(s.nc) +
+        " control vertices");
+  return s.objective_of(W, thread_count(s.o.threads));
+}
+
+LBCResult LocalBarycentricCoordinates::compute(const ProgressCallback& progress) const
+{
+  const Impl& s = *impl_;
+  const LBCOptions& o = s.o;
+  const auto t0 = Clock::now();
+  const int threads = thread_count(o.threads);
+  const Index n = s.nc, m = s.m, rows = s.state_rows();
+  LBCResult result;
+  result.geodesic_seconds = s.geodesic_seconds;
+  result.factor_seconds = s.factor_seconds;
+  const double entries = static_cast<double>(rows) * static_cast<double>(n);
+  result.primal_threshold = entries * o.primal_tolerance;
+  result.dual_threshold = entries * o.dual_tolerance;
+  auto report = [&progress](double f) {
+    if (progress && !progress(std::clamp(f, 0.0, 1.0)))
+      throw Error(ErrorCode::Cancelled, "local barycentric coordinates were cancelled");
+  };
+  report(0.0);
+
+  RowMatrix Zout, Wout;
+  const bool trivial = m == 0 || (o.barycentric_constraints && n == s.D + 1);
+  if (trivial)
+  {
+    // No free vertex, or as many control points as a simplex: W = H is the only solution.
+    Zout = s.H;
+    Wout = s.H.cwiseMax(0.0);
+    result.converged = true;
+  }
+  else
+  {
+    // s0 = l(Z0) with Z0 = H (Y = 0, lambda = 0: Appendix B's initial values)
+    RowMatrix state(rows, n), g, trial, trial_g;
+    {
+      const Index rx = s.rows_x();
+      RowMatrix GH;
+      csr_times(s.Ga, s.H, GH, threads);
+      for (Index t = 0; t < s.nt; ++t)
+        for (int k = 0; k < s.D; ++k)
+        {
+          const Index r = t * s.D + k;
+          state.row(r) = GH.row(r);
+          if (s.ea_row[static_cast<std::size_t>(t)] >= 0)
+            state.row(r) += s.ea.row(s.ea_row[static_cast<std::size_t>(t)] + k);
+        }
+      for (Index v = 0; v < m; ++v)
+        state.row(rx + v) = s.b(v) * s.H.row(v);
+    }
+    Impl::Work work;
+    Impl::Check_ check;
+    std::unique_ptr<Anderson> anderson;
+    if (o.anderson)
+    {
+      anderson = std::make_unique<Anderson>(rows * n, o.anderson_history, threads);
+      trial.resize(rows, n);
+    }
+    int iterations = 0;
+    double residual = 0.0;
+    double progress_fraction = 0.0;
+    double log_p0 = 0.0, log_d0 = 0.0;
+    bool have_log0 = false;
+    auto process_check = [&]() {
+      result.primal_residual = check.primal;
+      result.dual_residual = check.dual;
+      result.primal_history.push_back(check.primal);
+      result.dual_history.push_back(check.dual);
+      const bool ok = check.primal <= result.primal_threshold && check.dual <= result.dual_threshold;
+      // progress: fraction of the way (in log scale) from the first residuals to the thresholds
+      const double lp = std::log(std::max(check.primal, 1e-300) / result.primal_threshold);
+      const double ld = std::log(std::max(check.dual, 1e-300) / result.dual_threshold);
+      if (!have_log0)
+      {
+        log_p0 = std::max(lp, 1e-3);
+        log_d0 = std::max(ld, 1e-3);
+        have_log0 = true;
+      }
+      const double f = std::clamp(std::min(1.0 - lp / log_p0, 1.0 - ld / log_d0), 0.0, 1.0);
+      progress_fraction = std::max(progress_fraction,
+        std::max(f, static_cast<double>(iterations) / o.max_iterations));
+      report(0.98 * progress_fraction);
+      return ok;
+    };
+    // One evaluation at x; in place (plain step) when gx is null. True when it was a check
+    // and the stopping rule holds.
+    RowMatrix tracked = s.H; // Z^0 = H
+    auto evaluate = [&](RowMatrix& x, RowMatrix* gx, double* norm2) {
+      ++iterations;
+      const bool due = iterations % o.check_interval == 0 || iterations >= o.max_iterations;
+      const double r2 =
+        s.step(x, gx, work, due ? &check : nullptr, anderson ? nullptr : &tracked, threads);
+      if (norm2)
+        *norm2 = r2;
+      return due && process_check();
+    };
+    bool converged = false;
+    if (!anderson)
+    {
+      while (!converged && iterations < o.max_iterations)
+        converged = evaluate(state, nullptr, nullptr);
+    }
+    else
+    {
+      // Safeguarded Anderson acceleration; the safeguard constants of Zhang, O'Donoghue & Boyd
+      // 2020 (D = 1e6, eps = 1e-6).
+      constexpr double kSafeD = 1e6, kSafeEps = 1e-6;
+      double r2 = 0.0;
+      converged = evaluate(state, &g, &r2);
+      residual = std::sqrt(r2);
+      const double residual0 = residual;
+      while (!converged && iterations < o.max_iterations)
+      {
+        bool accepted = false;
+        if (anderson->extrapolate(state.data(), g.data(), trial.data()))
+        {
+          converged = evaluate(trial, &trial_g, &r2);
+          if (converged)
+            break; // the trial point's own ADMM step met the stopping rule
+          const double r = std::sqrt(r2);
+          const double bound = kSafeD * residual0 *
+            std::pow(static_cast<double>(result.anderson_accepted + 1), -(1.0 + kSafeEps));
+          if (r < residual && r <= bound)
+          {
+            state.swap(trial);
+            g.swap(trial_g);
+            residual = r;
+            ++result.anderson_accepted;
+            accepted = true;
+          }
+          else
+            ++result.anderson_rejected;
+          if (iterations >= o.max_iterations)
+            break;
+        }
+        if (!accepted)
+        {
+          // plain relaxed Douglas-Rachford (= ADMM) step
+          state += g;
+          converged = evaluate(state, &g, &r2);
+          residual = std::sqrt(r2);
+        }
+      }
+    }
+    result.iterations = iterations;
+    result.converged = converged;
+    if (!converged && result.primal_history.empty())
+    {
+      // never checked (max_iterations below check_interval): the residuals of one more step
+      s.step(state, nullptr, work, &check, anderson ? nullptr : &tracked, threads);
+      process_check();
+    }
+    Zout = std::move(check.Z);
+    Wout = std::move(check.W);
+  }
+  result.admm_seconds = seconds_since(t0);
+  if (!result.converged && o.require_convergence)
+    throw Error(ErrorCode::NotConverged,
+      "local barycentric coordinates did not converge in " + std::to_string(o.max_iterations) +
+        " iterations (primal residual " + str(result.primal_residual) + " > " +
+        str(result.primal_threshold) + " or dual residual " + str(result.dual_residual) + " > " +
+        str(result.dual_threshold) +
+        "); raise max_iterations, loosen the tolerances or set require_convergence = false");
+  report(0.98);
+
+  // --- polish and assemble
+  const auto t_polish = Clock::now();
+  RowMatrix Wfree;
+  s.polish(Zout, Wout, Wfree, result, threads);
+  result.W = s.W_fixed;
+  for (Index v = 0; v < m; ++v)
+    result.W.row(s.free_vertices[static_cast<std::size_t>(v)]) = Wfree.row(v);
+  result.objective = s.objective_of(result.W, threads);
+  // property errors in the input's units
+  {
+    double pe = 0.0, re = 0.0;
+    for (Index v = 0; v < s.nv; ++v)
+    {
+      pe = std::max(pe, std::abs(result.W.row(v).sum() - 1.0));
+      Eigen::RowVectorXd x = Eigen::RowVectorXd::Zero(s.D);
+      for (Index i = 0; i < n; ++i)
+        x += result.W(v, i) * s.Vs.row(s.control_vertex(i));
+      re = std::max(re, (x - s.Vs.row(v)).norm());
+    }
+    result.partition_error = pe;
+    result.reproduction_error = re;
+    result.min_weight = result.W.minCoeff();
+  }
+  result.polish_seconds = seconds_since(t_polish);
+  result.seconds = s.geodesic_seconds + s.factor_seconds + seconds_since(t0);
+  report(1.0);
+  return result;
+}
+
+double relaxed_tv_prox_radius(double r, double kappa, double eps)
+{
+  return prox_radius(r, kappa, eps);
+}
+
+double relaxed_tv(double r, double eps)
+{
+  return relaxed_norm(r, eps);
+}
+
+LBCResult local_barycentric_coordinates(
+  const DomainMesh& mesh, const LBCOptions& options, const ProgressCallback& progress)
+{
+  const auto t0 = Clock::now();
+  ProgressCallback setup, solve;
+  if (progress)
+  {
+    setup = [&progress](double f) { return progress(0.1 * f); };
+    solve = [&progress](double f) { return progress(0.1 + 0.9 * f); };
+  }
+  const LocalBarycentricCoordinates lbc(mesh, options, setup);
+  LBCResult result = lbc.compute(solve);
+  result.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+  return result;
+}
+
+DomainMesh domain_mesh_from_simplices(const Cage& cage, const Eigen::MatrixXd& V,
+  const Eigen::MatrixXi& T, const Eigen::VectorXi& control_vertex, double tolerance)
+{
+  const int D = static_cast<int>(V.cols());
+  if (D != cage.dimension())
+    throw Error(ErrorCode::SizeMismatch,
+      "mesh vertices have " + std::to_string(D) + " coordinates but the cage is " +
+        std::to_string(cage.dimension()) + "D");
+  if (T.cols() != D + 1)
+    throw Error(ErrorCode::SizeMismatch,
+      "a " + std::to_string(D) + "D mesh needs " + std::to_string(D + 1) +
+        " vertices per element, got " + std::to_string(T.cols()));
+  if (control_vertex.size() != cage.num_controls())
+    throw Error(ErrorCode::SizeMismatch,
+      "control_vertex has " + std::to_string(control_vertex.size()) +
+        " entries but the cage has " + std::to_string(cage.num_controls()) + " vertices");
+  const Index nv = V.rows();
+  for (Index t = 0; t < T.rows(); ++t)
+    for (Index k = 0; k < T.cols(); ++k)
+      if (T(t, k) < 0 || T(t, k) >= nv)
+        invalid("element " + std::to_string(t) + " refers to vertex " + std::to_string(T(t, k)) +
+          ", outside [0, " + std::to_string(nv) + ")");
+  const double diameter = cage.diameter();
+  for (Index i = 0; i < control_vertex.size(); ++i)
+  {
+    const int v = control_vertex(i);
+    if (v < 0 || v >= nv)
+      invalid("control vertex " + std::to_string(i) + " is mesh vertex " + std::to_string(v) +
+        ", outside [0, " + std::to_string(nv) + ")");
+    if ((V.row(v) - cage.V.row(i)).norm() > tolerance * diameter)
+      invalid("mesh vertex " + std::to_string(v) + " is not at cage vertex " + std::to_string(i));
+  }
+  // boundary facets: those used by exactly one element
+  std::vector<std::array<int, 3>> facets;
+  facets.reserve(static_cast<std::size_t>(T.rows() * T.cols()));
+  for (Index t = 0; t < T.rows(); ++t)
+    for (Index skip = 0; skip <= D; ++skip)
+    {
+      std::array<int, 3> f{ -1, -1, -1 };
+      int c = 0;
+      for (Index k = 0; k <= D; ++k)
+        if (k != skip)
+          f[static_cast<std::size_t>(c++)] = T(t, k);
+      if (D == 3)
+        std::sort(f.begin(), f.end());
+      else if (f[0] > f[1])
+        std::swap(f[0], f[1]);
+      facets.push_back(f);
+    }
+  std::sort(facets.begin(), facets.end());
+  std::vector<int> boundary;
+  for (std::size_t i = 0; i < facets.size();)
+  {
+    std::size_t j = i;
+    while (j < facets.size() && facets[j] == facets[i])
+      ++j;
+    if (j - i == 1)
+      for (int k = 0; k < D; ++k)
+        boundary.push_back(facets[i][static_cast<std::size_t>(k)]);
+    i = j;
+  }
+  std::sort(boundary.begin(), boundary.end());
+  boundary.erase(std::unique(boundary.begin(), boundary.end()), boundary.end());
+  DomainMesh mesh;
+  mesh.V = V;
+  mesh.T = T;
+  mesh.control_vertex = control_vertex;
+  mesh.boundary_vertices = boundary;
+  const DenseWeights values = cage_boundary_values(cage, V, boundary, tolerance);
+  mesh.boundary_weights = values.sparseView();
+  return mesh;
+}
+
+} // namespace bary
