@@ -1139,10 +1139,9 @@ LocalBarycentricCoordinates::LocalBarycentricCoordinates(
   {
     GeodesicHeatOptions go = o.geodesic;
     go.threads = o.threads;
-    // Eigen's simplicial factorisation was faster than CHOLMOD's supernodal one (with the
-    // reference BLAS) on 2D meshes and on 3D meshes up to ~10,000 vertices (LBCOptions::geodesic)
-    if (go.backend == SparseCholesky::Backend::Automatic && (D == 2 || nv < 10000))
-      go.backend = SparseCholesky::Backend::Eigen;
+    // BaryLab's supernodal factorisation was the fastest here (LBCOptions::geodesic)
+    if (go.backend == SparseCholesky::Backend::Automatic)
+      go.backend = SparseCholesky::Backend::Supernodal;
     const GeodesicHeat heat(s.Vs, s.T, s.G, s.area, go);
     Eigen::MatrixXd g = heat.distances(s.control_vertex);
     // unreachable vertices (another component) count as farthest

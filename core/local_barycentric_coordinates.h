@@ -136,10 +136,10 @@ struct LBCOptions
   /// Eq. 12's normalisation. Default PerControlPoint.
   DistanceNormalization distance_normalization = DistanceNormalization::PerControlPoint;
   /// Heat-method settings for D_i (not used with LocalityFunction::Constant); threads is
-  /// replaced by LBCOptions::threads. Its backend Automatic means here: Eigen for 2D meshes and 3D
-  /// meshes under 10,000 vertices, CHOLMOD above (with the reference BLAS, measured: LBClogo's
-  /// 1,621 vertices 5 vs 8 ms; a 3D cube mesh of 3,127 vertices 0.13 vs 0.14 s, of 29,903
-  /// vertices 25.7 vs 4.3 s).
+  /// replaced by LBCOptions::threads. Its backend Automatic means Supernodal here (measured, one
+  /// thread, the factorisations and 6-8 sources: LBClogo's 1,621 vertices 4.5 ms vs Eigen 4.3,
+  /// CHOLMOD 6.7; a 3D cube mesh of 3,127 vertices 0.05 s vs 0.12, 0.13; of 29,903 vertices
+  /// 3.8 s vs 25.5, 4.3).
   GeodesicHeatOptions geodesic;
 
   /// epsilon of the relaxed total variation f_eps (Eq. 7-8), >= 0, in units of 1 / (the
@@ -158,11 +158,13 @@ struct LBCOptions
   /// Throw Error(NotConverged) when max_iterations is reached; false returns the last iterate
   /// (polished) with converged = false. Default true.
   bool require_convergence = true;
-  /// Factorisation of the Y-system. Automatic (default): BaryLab's row-major supernode-free
-  /// LL^T (Eigen's simplicial factor, AMD ordering, solved for all columns at once in row-major
-  /// blocks: the fastest here, measured); Cholmod / Eigen: SparseCholesky's backends, solved
-  /// through SparseCholesky::solve (for comparison). The geodesic distances use
-  /// geodesic.backend.
+  /// Factorisation of the Y-system. Automatic (default): BaryLab's row-major LL^T (Eigen's
+  /// simplicial factor with AMD ordering, solved for all #C columns at once in row-major blocks,
+  /// each factor entry a contiguous update of a row of weights). Any other value: that
+  /// SparseCholesky backend, solved through SparseCholesky::solve on column-major copies (for
+  /// comparison). Measured ADMM time, one thread: Gil_Gecko 1.13 s (Automatic) vs 1.47
+  /// (Supernodal), 1.84 (Eigen), 2.24 (Cholmod); LBClogo 19 vs 30, 35, 43 ms. The geodesic
+  /// distances use geodesic.backend.
   SparseCholesky::Backend backend = SparseCholesky::Backend::Automatic;
 
   // --- acceleration (none of these changes the problem or the stopping rule) ----------------
