@@ -1,0 +1,353 @@
+// Local barycentric coordinates: the LBC authors' four reference runs (their triangulations,
+// control vertices and weights, ../shared/data/lbc) solved again on one thread, with the
+// objective of both weight sets evaluated by BaryLab; 2D iteration counts against mesh size;
+// 3D cages meshed with TetGen at a few sizes, next to BBW and harmonic coordinates on the same
+// meshes. See docs/local-barycentric-coordinates.md for the results and how they were taken.
+#include "core/bbw.h"
+#include "core/domain_mesh.h"
+#include "core/harmonic_coordinates.h"
+#include "core/local_barycentric_coordinates.h"
+#include "core/locality_statistics.h"
+
+#include <benchmark/benchmark.h>
+
+#include <cmath>
+#include <ctime>
+#include <fstream>
+#include <map>
+#include <random>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace
+{
+using bary::Index;
+
+double cpu_seconds()
+{
+  return static_cast<double>(std::clock()) / CLOCKS_PER_SEC;
+}
+
+// --- the reference runs ------------------------------------------------------------------------
+
+struct Reference
+{
+  bary::DomainMesh mesh;
+  bary::DenseWeights W;
+  bool ok = false;
+  std::string error;
+};
+
+Reference load_reference(const std::string& name)
+{
+  Reference ref;
+  const std::string dir = std::string(BARYLAB_SHARED_DIR) + "/lbc/";
+  std::ifstream mesh(dir + "reference/" + name + ".mesh.obj"),
+    control(dir + "reference/" + name + ".ctrl_idx.txt"),
+    weights(dir + "reference/" + name + ".weights.txt"),
+    cage(dir + "cages/" + name + "-control-edgeset.obj");
+  if (!mesh || !control || !weights || !cage)
+  {
+    ref.error = "shared data not found in " + dir;
+    return ref;
+  }
+  auto read_obj = [](std::ifstream& in, std::vector<Eigen::RowVector2d>& v,
+                    std::vector<Eigen::RowVector3i>& t) {
+    std::string line;
+    while (std::getline(in, line))
+    {
+      std::istringstream s(line);
+      std::string tag;
+      s >> tag;
+      if (tag == "v")
+      {
+        double x, y;
+        s >> x >> y;
+        v.emplace_back(x, y);
+      }
+      else if (tag == "f")
+      {
+        int a, b, c;
+        s >> a >> b >> c;
+        t.emplace_back(a - 1, b - 1, c - 1);
+      }
+    }
+  };
+  std::vector<Eigen::RowVector2d> v, cv;
+  std::vector<Eigen::RowVector3i> t, unused;
+  read_obj(mesh, v, t);
+  read_obj(cage, cv, unused);
+  Eigen::MatrixXd V(static_cast<Index>(v.size()), 2);
+  for (std::size_t k = 0; k < v.size(); ++k)
+    V.row(static_cast<Index>(k)) = v[k];
+  Eigen::MatrixXi T(static_cast<Index>(t.size()), 3);
+  for (std::size_t k = 0; k < t.size(); ++k)
+    T.row(static_cast<Index>(k)) = t[k];
+  bary::Cage c;
+  c.V.resize(static_cast<Index>(cv.size()), 2);
+  for (std::size_t k = 0; k < cv.size(); ++k)
+    c.V.row(static_cast<Index>(k)) = cv[k];
+  std::vector<int> ids;
+  int id;
+  while (control >> id)
+    ids.push_back(id);
+  const Eigen::VectorXi cvx = Eigen::Map<Eigen::VectorXi>(ids.data(), static_cast<Index>(ids.size()));
+  ref.mesh = bary::domain_mesh_from_simplices(c, V, T, cvx, 1e-9);
+  std::string line;
+  std::getline(weights, line);
+  ref.W.resize(V.rows(), cvx.size());
+  for (Index r = 0; r < ref.W.rows(); ++r)
+    for (Index k = 0; k < ref.W.cols(); ++k)
+      weights >> ref.W(r, k);
+  ref.ok = static_cast<bool>(weights);
+  if (!ref.ok)
+    ref.error = "could not read " + dir + "reference/" + name + ".weights.txt";
+  return ref;
+}
+
+const char* kReferences[] = { "Gil_Gecko", "LBClogo", "cactus", "woody" };
+// The reference solver's iterations and single-thread times (../shared/data/README.md).
+const int kReferenceIterations[] = { 2580, 230, 2190, 1960 };
+const double kReferenceSeconds[] = { 12.7, 0.16, 7.9, 7.3 };
+
+/// Arguments: the cage (index into kReferences) and the tolerances: 0 = the paper's rule
+/// (defaults), 1 = the authors' code's defaults (1e-7 primal, 1e-6 dual: what the reference ran).
+void LBCReference(benchmark::State& state)
+{
+  const int which = static_cast<int>(state.range(0));
+  const Reference ref = load_reference(kReferences[which]);
+  if (!ref.ok)
+  {
+    state.SkipWithError(ref.error.c_str());
+    return;
+  }
+  bary::LBCOptions o;
+  o.threads = 1;
+  o.distance_normalization = bary::DistanceNormalization::Global; // as the authors' code
+  if (state.range(1) == 1)
+  {
+    o.primal_tolerance = 1e-7;
+    o.dual_tolerance = 1e-6;
+  }
+  bary::LBCResult r;
+  double cpu = 0.0, reference_objective = 0.0;
+  for (auto _ : state)
+  {
+    const double c0 = cpu_seconds();
+    const bary::LocalBarycentricCoordinates lbc(ref.mesh, o);
+    r = lbc.compute();
+    cpu = cpu_seconds() - c0;
+    state.PauseTiming();
+    reference_objective = lbc.objective(ref.W);
+    state.ResumeTiming();
+  }
+  const bary::DenseWeights diff = r.W - ref.W;
+  const bary::LocalityStatistics s = bary::locality_statistics(r.W),
+                                 sr = bary::locality_statistics(ref.W);
+  state.counters["n"] = static_cast<double>(ref.mesh.control_vertex.size());
+  state.counters["V"] = static_cast<double>(ref.mesh.V.rows());
+  state.counters["iterations"] = r.iterations;
+  state.counters["ref_iterations"] = kReferenceIterations[which];
+  state.counters["cpu_s"] = cpu;
+  state.counters["ref_cpu_s"] = kReferenceSeconds[which];
+  state.counters["speedup"] = kReferenceSeconds[which] / cpu;
+  state.counters["geodesic_s"] = r.geodesic_seconds;
+  state.counters["factor_s"] = r.factor_seconds;
+  state.counters["admm_s"] = r.admm_seconds;
+  state.counters["polish_s"] = r.polish_seconds;
+  state.counters["objective"] = r.objective;
+  state.counters["ref_objective"] = reference_objective;
+  state.counters["objective_rel"] = (r.objective - reference_objective) / reference_objective;
+  state.counters["max_dW"] = diff.cwiseAbs().maxCoeff();
+  state.counters["mean_dW"] = diff.cwiseAbs().mean();
+  state.counters["partition_err"] = r.partition_error;
+  state.counters["repro_err"] = r.reproduction_error;
+  state.counters["min_w"] = r.min_weight;
+  state.counters["ref_min_w"] = ref.W.minCoeff();
+  state.counters["support_mean"] = s.mean_support;
+  state.counters["support_max"] = s.max_support;
+  state.counters["ref_support_mean"] = sr.mean_support;
+  state.counters["ref_support_max"] = sr.max_support;
+  state.SetLabel(std::string(kReferences[which]) + (state.range(1) ? " authors' tolerances" : " paper's rule"));
+}
+BENCHMARK(LBCReference)
+  ->ArgsProduct({ { 0, 1, 2, 3 }, { 0, 1 } })
+  ->Unit(benchmark::kMillisecond)
+  ->Iterations(1);
+
+// --- 2D: iterations against mesh size ---------------------------------------------------------
+
+/// A 7-tip star (14 control points), arguments: target cells, scaling (0 lumped, 1 paper).
+void LBC2DMeshSize(benchmark::State& state)
+{
+  bary::Cage cage;
+  cage.V.resize(14, 2);
+  for (int i = 0; i < 14; ++i)
+  {
+    const double a = M_PI * i / 7 + 0.5 * M_PI, rr = i % 2 == 0 ? 1.0 : 0.55;
+    cage.V.row(i) << rr * std::cos(a), rr * std::sin(a);
+  }
+  bary::PolygonMeshOptions po;
+  po.target_cells = static_cast<int>(state.range(0));
+  const bary::DomainMesh mesh = bary::mesh_polygon(cage, po);
+  bary::LBCOptions o;
+  o.threads = 1;
+  o.require_convergence = false;
+  if (state.range(1) == 1)
+    o.scaling = bary::ConstraintScaling::Paper;
+  bary::LBCResult r;
+  for (auto _ : state)
+    r = bary::local_barycentric_coordinates(mesh, o);
+  state.counters["V"] = static_cast<double>(mesh.V.rows());
+  state.counters["iterations"] = r.iterations;
+  state.counters["converged"] = r.converged;
+  state.counters["objective"] = r.objective;
+  state.counters["admm_s"] = r.admm_seconds;
+  state.counters["ms_per_iteration"] = 1e3 * r.admm_seconds / std::max(1, r.iterations);
+  state.counters["support_mean"] = bary::locality_statistics(r.W).mean_support;
+  state.SetLabel(state.range(1) ? "paper scaling" : "lumped scaling");
+}
+BENCHMARK(LBC2DMeshSize)
+  ->ArgsProduct({ { 1000, 3000, 10000 }, { 0, 1 } })
+  ->Unit(benchmark::kMillisecond)
+  ->Iterations(1);
+
+// --- 3D cages next to BBW and harmonic coordinates ---------------------------------------------
+
+bary::Cage cube()
+{
+  bary::Cage c;
+  c.V.resize(8, 3);
+  for (int i = 0; i < 8; ++i)
+    c.V.row(i) << (i & 1), (i >> 1 & 1), (i >> 2 & 1);
+  c.F.resize(12, 3);
+  c.F << 0, 2, 1, 1, 2, 3, 4, 5, 6, 5, 7, 6, 0, 1, 4, 1, 5, 4, 2, 6, 3, 3, 6, 7, 0, 4, 2, 2, 4, 6, 1,
+    3, 5, 3, 7, 5;
+  return c;
+}
+
+bary::Cage octahedron()
+{
+  bary::Cage c;
+  c.V.resize(6, 3);
+  c.V << 1, 0, 0, -1, 0, 0, 0, 1, 0, 0, -1, 0, 0, 0, 1, 0, 0, -1;
+  c.F.resize(8, 3);
+  c.F << 0, 2, 4, 2, 1, 4, 1, 3, 4, 3, 0, 4, 2, 0, 5, 1, 2, 5, 3, 1, 5, 0, 3, 5;
+  return c;
+}
+
+/// Icosahedron subdivided once (42 vertices, 80 faces), radii perturbed by +-10% (fixed seed).
+bary::Cage icosphere42()
+{
+  const double p = (1.0 + std::sqrt(5.0)) / 2.0;
+  std::vector<Eigen::Vector3d> v = { { -1, p, 0 }, { 1, p, 0 }, { -1, -p, 0 }, { 1, -p, 0 },
+    { 0, -1, p }, { 0, 1, p }, { 0, -1, -p }, { 0, 1, -p }, { p, 0, -1 }, { p, 0, 1 },
+    { -p, 0, -1 }, { -p, 0, 1 } };
+  std::vector<Eigen::Vector3i> f = { { 0, 11, 5 }, { 0, 5, 1 }, { 0, 1, 7 }, { 0, 7, 10 },
+    { 0, 10, 11 }, { 1, 5, 9 }, { 5, 11, 4 }, { 11, 10, 2 }, { 10, 7, 6 }, { 7, 1, 8 },
+    { 3, 9, 4 }, { 3, 4, 2 }, { 3, 2, 6 }, { 3, 6, 8 }, { 3, 8, 9 }, { 4, 9, 5 }, { 2, 4, 11 },
+    { 6, 2, 10 }, { 8, 6, 7 }, { 9, 8, 1 } };
+  for (auto& x : v)
+    x.normalize();
+  std::map<std::pair<int, int>, int> mid;
+  auto midpoint = [&](int a, int b) {
+    const std::pair<int, int> key(std::min(a, b), std::max(a, b));
+    auto it = mid.find(key);
+    if (it != mid.end())
+      return it->second;
+    v.push_back((v[static_cast<std::size_t>(a)] + v[static_cast<std::size_t>(b)]).normalized());
+    return mid[key] = static_cast<int>(v.size()) - 1;
+  };
+  std::vector<Eigen::Vector3i> g;
+  for (const auto& t : f)
+  {
+    const int a = midpoint(t[0], t[1]), b = midpoint(t[1], t[2]), c = midpoint(t[2], t[0]);
+    g.push_back({ t[0], a, c });
+    g.push_back({ t[1], b, a });
+    g.push_back({ t[2], c, b });
+    g.push_back({ a, b, c });
+  }
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  bary::Cage c;
+  c.V.resize(static_cast<Index>(v.size()), 3);
+  for (std::size_t k = 0; k < v.size(); ++k)
+    c.V.row(static_cast<Index>(k)) = (1.0 + 0.1 * u(rng)) * v[k].transpose();
+  c.F.resize(static_cast<Index>(g.size()), 3);
+  for (std::size_t k = 0; k < g.size(); ++k)
+    c.F.row(static_cast<Index>(k)) = g[k].transpose();
+  return c;
+}
+
+/// Arguments: cage (0 cube, 1 octahedron, 2 icosphere with 42 vertices), target tetrahedra,
+/// tolerances (0: the paper's rule, 1: 100 times tighter).
+void LBC3D(benchmark::State& state)
+{
+  const int which = static_cast<int>(state.range(0));
+  const bary::Cage cage = which == 0 ? cube() : which == 1 ? octahedron() : icosphere42();
+  bary::SurfaceMeshOptions so;
+  so.target_cells = static_cast<int>(state.range(1));
+  const bary::DomainMesh mesh = bary::mesh_closed_surface(cage, so);
+  bary::LBCOptions o;
+  o.threads = 1;
+  o.require_convergence = false;
+  if (state.range(2) == 1)
+  {
+    o.primal_tolerance = 1e-8;
+    o.dual_tolerance = 1e-7;
+  }
+  bary::LBCResult r;
+  double cpu = 0.0;
+  for (auto _ : state)
+  {
+    const double c0 = cpu_seconds();
+    r = bary::local_barycentric_coordinates(mesh, o);
+    cpu = cpu_seconds() - c0;
+  }
+  // BBW (fast mode, one thread) and harmonic coordinates on the same mesh
+  bary::BBWHandles handles;
+  handles.extra_handles = cage.num_controls();
+  handles.fixed_vertices = Eigen::Map<const Eigen::VectorXi>(
+    mesh.boundary_vertices.data(), static_cast<Index>(mesh.boundary_vertices.size()));
+  handles.fixed_values = bary::DenseWeights(Eigen::MatrixXd(mesh.boundary_weights));
+  bary::BBWOptions bo;
+  bo.threads = 1;
+  double c0 = cpu_seconds();
+  const bary::BBWResult bbw = bary::bounded_biharmonic_weights(mesh.V, mesh.T, handles, bo);
+  const double bbw_cpu = cpu_seconds() - c0;
+  c0 = cpu_seconds();
+  const bary::HarmonicCoordinates hc(cage, mesh);
+  const double hc_cpu = cpu_seconds() - c0;
+  const Eigen::VectorXd measure = bary::vertex_measures(mesh.V, mesh.T);
+  const bary::LocalityStatistics sl = bary::locality_statistics(r.W, -1, measure),
+                                 sb = bary::locality_statistics(bbw.W, -1, measure),
+                                 sh = bary::locality_statistics(hc.mesh_weights(), -1, measure);
+  state.counters["n"] = static_cast<double>(cage.num_controls());
+  state.counters["V"] = static_cast<double>(mesh.V.rows());
+  state.counters["T"] = static_cast<double>(mesh.T.rows());
+  state.counters["iterations"] = r.iterations;
+  state.counters["converged"] = r.converged;
+  state.counters["cpu_s"] = cpu;
+  state.counters["geodesic_s"] = r.geodesic_seconds;
+  state.counters["admm_s"] = r.admm_seconds;
+  state.counters["partition_err"] = r.partition_error;
+  state.counters["objective"] = r.objective;
+  state.counters["support_lbc"] = sl.mean_support;
+  state.counters["support_lbc_max"] = sl.max_support;
+  state.counters["support_bbw"] = sb.mean_support;
+  state.counters["support_harmonic"] = sh.mean_support;
+  state.counters["bbw_cpu_s"] = bbw_cpu;
+  state.counters["harmonic_cpu_s"] = hc_cpu;
+  state.SetLabel(std::string(which == 0 ? "cube" : which == 1 ? "octahedron" : "icosphere42") +
+    (state.range(2) ? ", tolerances / 100" : ", paper's rule"));
+}
+BENCHMARK(LBC3D)
+  ->ArgsProduct({ { 0, 1, 2 }, { 1000, 5000, 20000 }, { 0 } })
+  ->ArgsProduct({ { 0, 1, 2 }, { 1000, 5000 }, { 1 } })
+  ->Unit(benchmark::kMillisecond)
+  ->Iterations(1);
+
+} // namespace
+
+BENCHMARK_MAIN();
