@@ -12,12 +12,14 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <exception>
 #include <limits>
 #include <mutex>
 #include <numeric>
 #include <sstream>
 #include <string>
+#include <unordered_set>
 #include <utility>
 
 namespace bary
@@ -99,44 +101,488 @@ BoxQPOptions qp_options(const BBWOptions& o, const ProgressReporter& reporter)
   return q;
 }
 
-/// H = blockdiag(Q, ..., Q) (m blocks) + E^T diag(rho) E, E summing the m weights of a vertex,
-/// assembled column by column in compressed form (rows ascending: the penalty entries of the
-/// blocks before, the block's own column with rho on its diagonal, the blocks after).
-SparseMatrix coupled_matrix(const SparseMatrix& Q, Index m, const Eigen::VectorXd& rho)
+/// Runs fn(j) for j = 0 .. m-1 on @p threads OpenMP threads; rethrows the first exception.
+template<typename Fn>
+void for_each_handle(Index m, int threads, const Fn& fn)
 {
-  const Index n = Q.rows();
-  Index penalty_nnz = 0;
-  for (Index i = 0; i < n; ++i)
-    penalty_nnz += rho(i) != 0.0 ? m - 1 : 0;
-  SparseMatrix H(n * m, n * m);
-  H.resizeNonZeros(m * (Q.nonZeros() + penalty_nnz));
-  int* outer = H.outerIndexPtr();
-  int* inner = H.innerIndexPtr();
-  double* value = H.valuePtr();
-  Index k = 0;
+  std::exception_ptr failure;
+  std::mutex failure_mutex;
+#pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
+  for (Index j = 0; j < m; ++j)
+  {
+    try
+    {
+      fn(j);
+    }
+    catch (...)
+    {
+      std::lock_guard<std::mutex> lock(failure_mutex);
+      if (!failure)
+        failure = std::current_exception();
+    }
+  }
+  (void)threads;
+  if (failure)
+    std::rethrow_exception(failure);
+}
+
+/// What the coupled solver did.
+struct CoupledOutcome
+{
+  Eigen::MatrixXd W;
+  int iterations = 0, cg_iterations = 0, factorizations = 0, modifications = 0;
+  Index violators = 0;
+  double kkt_residual = 0, partition_error = 0;
+  bool converged = false;
+};
+
+/// The coupled problem (Eq. 8 subject to Eq. 3-6) by a primal-dual active-set method on all
+/// handles at once, started from @p start (the normalized fast weights) and from the fast
+/// phase's factorizations (@p warm). See BBWMode::Coupled for the method.
+CoupledOutcome solve_coupled(const BoxConstrainedQP& qp, const BBWBoundaryConditions& bc,
+  const Eigen::MatrixXd& start, std::vector<BoxQPWarmStart>& warm, const BBWOptions& o,
+  const BoxQPOptions& box, ProgressReporter& reporter)
+{
+  const SparseMatrix& Q = qp.matrix();
+  const Index n = Q.rows(), m = start.cols();
+#ifdef _OPENMP
+  const int threads = o.threads > 0 ? o.threads : omp_get_max_threads();
+#else
+  const int threads = 1;
+#endif
+  std::vector<char> known(static_cast<std::size_t>(n), 0);
+  for (Index k = 0; k < bc.vertices.size(); ++k)
+    known[static_cast<std::size_t>(bc.vertices(k))] = 1;
+
+  CoupledOutcome out;
+  Eigen::MatrixXd& X = out.W;
+  X = start;
+  using States = Eigen::Matrix<BoxQPState, Eigen::Dynamic, Eigen::Dynamic>;
+  States state(n, m);
   for (Index j = 0; j < m; ++j)
     for (Index i = 0; i < n; ++i)
     {
-      outer[j * n + i] = static_cast<int>(k);
-      const bool penalized = rho(i) != 0.0;
-      for (Index b = 0; penalized && b < j; ++b, ++k)
+      BoxQPState& st = state(i, j);
+      if (known[static_cast<std::size_t>(i)])
+        st = BoxQPState::Fixed;
+      else if (X(i, j) <= 0.0)
+        st = BoxQPState::Lower;
+      else if (X(i, j) >= 1.0)
+        st = BoxQPState::Upper;
+      else
+        st = BoxQPState::Free;
+    }
+  // The scale of the gradient's terms: max_i sum_j |Q_ij| bounds |Q| |w| for 0 <= w <= 1.
+  double sy = 0.0;
+  for (Index i = 0; i < n; ++i)
+  {
+    double row = 0.0;
+    for (SparseMatrix::InnerIterator it(Q, i); it; ++it)
+      row += std::abs(it.value());
+    sy = std::max(sy, row);
+  }
+  sy = sy > 0.0 ? sy : 1.0;
+  // Free weights are pinned once they leave [0, 1] by tx: half the KKT tolerance, and little
+  // enough that clamping the weights within tx of a bound keeps the partition error of every
+  // vertex within half its tolerance.
+  const double tx = std::min(0.5 * o.tolerance, 0.5 * o.partition_tolerance / static_cast<double>(m));
+  const double ty = 0.5 * o.tolerance * sy;
+  // Floor of the conjugate gradients' stopping test (the max-norm of the partition residual).
+  const double cg_floor = 0.1 * o.partition_tolerance;
+  const int cg_cap = static_cast<int>(std::min<Index>(5000, 10 * n + 10));
+
+  std::vector<FreeSetFactor> factors;
+  factors.reserve(static_cast<std::size_t>(m));
+  for (Index j = 0; j < m; ++j)
+  {
+    factors.emplace_back(qp, box);
+    const BoxQPWarmStart& w = warm[static_cast<std::size_t>(j)];
+    if (w.factor.computed() && w.factor.rows() == w.factor_free.size())
+      factors.back().adopt(
+        w.factor, std::vector<int>(w.factor_free.data(), w.factor_free.data() + w.factor_free.size()));
+  }
+  warm.clear();
+  std::vector<std::vector<int>> free(static_cast<std::size_t>(m));
+  std::vector<Eigen::VectorXd> a(static_cast<std::size_t>(m)), solved(static_cast<std::size_t>(m));
+  Eigen::VectorXd mu = Eigen::VectorXd::Zero(n), full(n), bound_sum(n);
+  std::vector<int> free_count(static_cast<std::size_t>(n)), vpos(static_cast<std::size_t>(n), -1), V;
+  Eigen::MatrixXd Y(n, m);
+
+  // S z = sum_j E_j^T A(F_j, F_j)^-1 E_j z on V, the handles' solves in parallel, summed in
+  // handle order (so the result does not depend on the thread count).
+  auto apply_S = [&](const Eigen::VectorXd& z, Eigen::VectorXd& result) {
+    for_each_handle(m, threads, [&](Index j) {
+      const auto ju = static_cast<std::size_t>(j);
+      if (factors[ju].empty() || free[ju].empty())
+        return;
+      const std::vector<int>& rows = factors[ju].rows();
+      Eigen::VectorXd g(static_cast<Index>(rows.size()));
+      for (std::size_t k = 0; k < rows.size(); ++k)
+        g(static_cast<Index>(k)) = z(vpos[static_cast<std::size_t>(rows[k])]);
+      solved[ju] = factors[ju].solve(g);
+    });
+    result.setZero(static_cast<Index>(V.size()));
+    for (Index j = 0; j < m; ++j)
+    {
+      const auto ju = static_cast<std::size_t>(j);
+      if (factors[ju].empty() || free[ju].empty())
+        continue;
+      const std::vector<int>& rows = factors[ju].rows();
+      for (std::size_t k = 0; k < rows.size(); ++k)
+        result(vpos[static_cast<std::size_t>(rows[k])]) += solved[ju](static_cast<Index>(k));
+    }
+  };
+  // The preconditioner Q(V, V) / m: exactly S^-1 when every handle is free on V.
+  auto precondition = [&](const Eigen::VectorXd& r, Eigen::VectorXd& z) {
+    full.setZero();
+    for (std::size_t v = 0; v < V.size(); ++v)
+      full(V[v]) = r(static_cast<Index>(v));
+    const Eigen::VectorXd product = Q * full;
+    z.resize(static_cast<Index>(V.size()));
+    for (std::size_t v = 0; v < V.size(); ++v)
+      z(static_cast<Index>(v)) = product(V[v]) / static_cast<double>(m);
+  };
+  auto state_hash = [&]() {
+    std::uint64_t h = 14695981039346656037ull;
+    for (Index k = 0; k < state.size(); ++k)
+    {
+      h ^= static_cast<std::uint64_t>(static_cast<unsigned char>(state.data()[k]));
+      h *= 1099511628211ull;
+    }
+    return h;
+  };
+
+  std::unordered_set<std::uint64_t> visited;
+  Index best_violators = std::numeric_limits<Index>::max();
+  int attempts_left = box.block_attempts;
+  double last_violation = 1.0, first_violation = -1.0;
+  bool tight = false, refactored_at_end = false;
+  long long reported = 0;
+  std::vector<std::pair<Index, Index>> violators; // (vertex, handle)
+  double stationarity = 0, dual = 0, complementarity = 0, partition = 0;
+
+  while (out.iterations < o.max_outer_iterations)
+  {
+    if (reporter.cancelled())
+      reporter.throw_if_cancelled("bounded biharmonic weights (coupled)");
+    ++out.iterations;
+    visited.insert(state_hash());
+
+    // 1. Active weights on their bounds; per handle, the factorization of Q on its free set and
+    //    a_j = -Q(F, F)^-1 Q(F, N) x(N), the free weights for mu = 0.
+    for (Index i = 0; i < n; ++i)
+    {
+      free_count[static_cast<std::size_t>(i)] = 0;
+      bound_sum(i) = 0.0;
+    }
+    for (Index j = 0; j < m; ++j)
+    {
+      std::vector<int>& f = free[static_cast<std::size_t>(j)];
+      f.clear();
+      for (Index i = 0; i < n; ++i)
+        switch (state(i, j))
+        {
+          case BoxQPState::Free:
+            f.push_back(static_cast<int>(i));
+            ++free_count[static_cast<std::size_t>(i)];
+            X(i, j) = 0.0;
+            break;
+          case BoxQPState::Lower: X(i, j) = 0.0; break;
+          case BoxQPState::Upper:
+            X(i, j) = 1.0;
+            bound_sum(i) += 1.0;
+            break;
+          case BoxQPState::Fixed: break;
+        }
+    }
+    for_each_handle(m, threads, [&](Index j) {
+      const auto ju = static_cast<std::size_t>(j);
+      if (free[ju].empty())
+        return;
+      factors[ju].update(free[ju]);
+      const std::vector<int>& rows = factors[ju].rows();
+      Eigen::VectorXd rhs(static_cast<Index>(rows.size()));
+      for (std::size_t k = 0; k < rows.size(); ++k)
       {
-        inner[k] = static_cast<int>(b * n + i);
-        value[k] = rho(i);
+        double sum = 0.0;
+        for (SparseMatrix::InnerIterator it(Q, rows[k]); it; ++it)
+          sum += it.value() * X(it.row(), j);
+        rhs(static_cast<Index>(k)) = -sum;
       }
-      for (SparseMatrix::InnerIterator it(Q, i); it; ++it, ++k)
+      a[ju] = factors[ju].solve(rhs);
+    });
+
+    // 2. mu on V (vertices with a free weight) from S mu = sum_j a_j - (1 - bound sums), by
+    //    conjugate gradients started from the last mu, to a tolerance that follows the
+    //    violations (tight once they are gone).
+    V.clear();
+    for (Index i = 0; i < n; ++i)
+    {
+      vpos[static_cast<std::size_t>(i)] = -1;
+      if (!known[static_cast<std::size_t>(i)] && free_count[static_cast<std::size_t>(i)] > 0)
       {
-        inner[k] = static_cast<int>(j * n + it.row());
-        value[k] = it.value() + (it.row() == i ? rho(i) : 0.0);
-      }
-      for (Index b = j + 1; penalized && b < m; ++b, ++k)
-      {
-        inner[k] = static_cast<int>(b * n + i);
-        value[k] = rho(i);
+        vpos[static_cast<std::size_t>(i)] = static_cast<int>(V.size());
+        V.push_back(static_cast<int>(i));
       }
     }
-  outer[n * m] = static_cast<int>(k);
-  return H;
+    const Index nv = static_cast<Index>(V.size());
+    Eigen::VectorXd rhs(nv), z(nv), r(nv), p(nv), Sp(nv), x(nv);
+    for (Index v = 0; v < nv; ++v)
+      rhs(v) = bound_sum(V[static_cast<std::size_t>(v)]) - 1.0;
+    for (Index j = 0; j < m; ++j)
+    {
+      const auto ju = static_cast<std::size_t>(j);
+      if (free[ju].empty())
+        continue;
+      const std::vector<int>& rows = factors[ju].rows();
+      for (std::size_t k = 0; k < rows.size(); ++k)
+        rhs(vpos[static_cast<std::size_t>(rows[k])]) += a[ju](static_cast<Index>(k));
+    }
+    const double cg_tolerance = tight ? cg_floor : std::max(cg_floor, 0.1 * last_violation);
+    if (nv > 0)
+    {
+      for (Index v = 0; v < nv; ++v)
+        x(v) = mu(V[static_cast<std::size_t>(v)]);
+      apply_S(x, Sp);
+      r = rhs - Sp;
+      precondition(r, z);
+      p = z;
+      double rz = r.dot(z);
+      for (int k = 0; k < cg_cap && r.cwiseAbs().maxCoeff() > cg_tolerance; ++k)
+      {
+        apply_S(p, Sp);
+        const double curvature = p.dot(Sp);
+        if (!(curvature > 0.0))
+          break;
+        const double alpha = rz / curvature;
+        x += alpha * p;
+        r -= alpha * Sp;
+        precondition(r, z);
+        const double rz_next = r.dot(z);
+        p = z + (rz_next / rz) * p;
+        rz = rz_next;
+        ++out.cg_iterations;
+      }
+    }
+    mu.setZero();
+    for (Index v = 0; v < nv; ++v)
+      mu(V[static_cast<std::size_t>(v)]) = x(v);
+
+    // 3. The free weights x_F = a_j - Q(F, F)^-1 mu_F, the gradients Y = Q X and the
+    //    multipliers lambda = Y + mu of the bounds.
+    for_each_handle(m, threads, [&](Index j) {
+      const auto ju = static_cast<std::size_t>(j);
+      if (free[ju].empty())
+        return;
+      const std::vector<int>& rows = factors[ju].rows();
+      Eigen::VectorXd g(static_cast<Index>(rows.size()));
+      for (std::size_t k = 0; k < rows.size(); ++k)
+        g(static_cast<Index>(k)) = mu(rows[k]);
+      const Eigen::VectorXd correction = factors[ju].solve(g);
+      for (std::size_t k = 0; k < rows.size(); ++k)
+        X(rows[k], j) = a[ju](static_cast<Index>(k)) - correction(static_cast<Index>(k));
+    });
+    for_each_handle(m, threads, [&](Index j) { Y.col(j) = Q * X.col(j); });
+    // mu where no weight is free: the middle of the interval that makes the multipliers of the
+    // active bounds correctly signed (its best compromise when the interval is empty).
+    for (Index i = 0; i < n; ++i)
+    {
+      if (known[static_cast<std::size_t>(i)] || free_count[static_cast<std::size_t>(i)] > 0)
+        continue;
+      double lo = -std::numeric_limits<double>::infinity(), hi = std::numeric_limits<double>::infinity();
+      for (Index j = 0; j < m; ++j)
+        if (state(i, j) == BoxQPState::Lower)
+          lo = std::max(lo, -Y(i, j));
+        else if (state(i, j) == BoxQPState::Upper)
+          hi = std::min(hi, -Y(i, j));
+      mu(i) = std::isfinite(lo) && std::isfinite(hi) ? 0.5 * (lo + hi) : std::isfinite(lo) ? lo : hi;
+    }
+
+    // 4. KKT measures and violators.
+    stationarity = dual = complementarity = partition = 0.0;
+    violators.clear();
+    double violation = 0.0;
+    for (Index i = 0; i < n; ++i)
+    {
+      if (known[static_cast<std::size_t>(i)])
+        continue;
+      partition = std::max(partition, std::abs(X.row(i).sum() - 1.0));
+      for (Index j = 0; j < m; ++j)
+      {
+        const double w = X(i, j), lambda = Y(i, j) + mu(i);
+        switch (state(i, j))
+        {
+          case BoxQPState::Free:
+            stationarity = std::max(stationarity, std::abs(lambda) / sy);
+            complementarity = std::max(complementarity, std::abs(lambda) * std::max(0.0, std::min(w, 1.0 - w)) / sy);
+            if (w < -tx || w > 1.0 + tx)
+            {
+              violators.emplace_back(i, j);
+              violation = std::max(violation, std::max(-w, w - 1.0));
+            }
+            break;
+          case BoxQPState::Lower:
+            dual = std::max(dual, -lambda / sy);
+            if (lambda < -ty)
+            {
+              violators.emplace_back(i, j);
+              violation = std::max(violation, -lambda / sy);
+            }
+            break;
+          case BoxQPState::Upper:
+            dual = std::max(dual, lambda / sy);
+            if (lambda > ty)
+            {
+              violators.emplace_back(i, j);
+              violation = std::max(violation, lambda / sy);
+            }
+            break;
+          case BoxQPState::Fixed: break;
+        }
+      }
+    }
+    out.violators = static_cast<Index>(violators.size());
+    out.kkt_residual = std::max({ stationarity, dual, complementarity });
+    out.partition_error = partition;
+
+    // Progress: the decrease of log(violation) towards log(tolerance).
+    if (first_violation < 0.0)
+      first_violation = std::max(violation, 10.0 * o.tolerance);
+    {
+      const double fraction = std::clamp(std::log(first_violation / std::max(violation, 1e-300)) /
+          std::log(first_violation / o.tolerance), 0.0, 1.0);
+      const long long now = static_cast<long long>(999.0 * fraction);
+      if (!reporter.step(std::max(0LL, now - reported)))
+        reporter.throw_if_cancelled("bounded biharmonic weights (coupled)");
+      reported = std::max(reported, now);
+    }
+
+    if (violators.empty())
+    {
+      if (cg_tolerance > cg_floor && !tight)
+      {
+        tight = true; // confirm with mu solved to the partition tolerance
+        continue;
+      }
+      if (partition <= o.partition_tolerance && out.kkt_residual <= o.tolerance)
+      {
+        out.converged = true;
+        break;
+      }
+      // Rounding from factor modifications (or conjugate gradients at their cap): once, solve
+      // the same active set with fresh factorizations.
+      if (!refactored_at_end)
+      {
+        refactored_at_end = true;
+        for (FreeSetFactor& f : factors)
+          f.force_refactor();
+        continue;
+      }
+      break;
+    }
+    last_violation = violation;
+    tight = false;
+
+    // 5. Block step, or the safeguard's single step (as in BoxConstrainedQP).
+    const Index count = static_cast<Index>(violators.size());
+    bool block = true;
+    if (count < best_violators)
+    {
+      best_violators = count;
+      attempts_left = box.block_attempts;
+    }
+    else if (attempts_left > 0)
+      --attempts_left;
+    else
+      block = false;
+    auto flip = [&](Index i, Index j) {
+      BoxQPState& st = state(i, j);
+      if (st == BoxQPState::Free)
+        st = X(i, j) < 0.0 ? BoxQPState::Lower : BoxQPState::Upper;
+      else
+        st = BoxQPState::Free;
+    };
+    // A vertex must keep a free weight unless its bounds sum to 1 (else the partition of unity
+    // has no solution on the active set): free its largest weight.
+    auto repair = [&]() {
+      for (Index i = 0; i < n; ++i)
+      {
+        if (known[static_cast<std::size_t>(i)])
+          continue;
+        Index largest = 0;
+        double sum = 0.0;
+        bool any_free = false;
+        for (Index j = 0; j < m; ++j)
+        {
+          any_free = any_free || state(i, j) == BoxQPState::Free;
+          sum += state(i, j) == BoxQPState::Upper ? 1.0 : 0.0;
+          if (X(i, j) > X(i, largest))
+            largest = j;
+        }
+        if (!any_free && sum != 1.0)
+          state(i, largest) = BoxQPState::Free;
+      }
+    };
+    const States before = state;
+    if (block)
+    {
+      for (const auto& [i, j] : violators)
+        flip(i, j);
+      repair();
+      if (visited.count(state_hash()) != 0)
+      {
+        state = before;
+        block = false;
+      }
+    }
+    if (!block)
+    {
+      // The violator with the largest index (handle-major).
+      auto last = violators.front();
+      for (const auto& v : violators)
+        if (v.second > last.second || (v.second == last.second && v.first > last.first))
+          last = v;
+      flip(last.first, last.second);
+      repair();
+    }
+  }
+
+  // Clamp onto the bounds (moves free weights by at most the primal threshold when converged)
+  // and certify the clamped point.
+  for (Index j = 0; j < m; ++j)
+    for (Index i = 0; i < n; ++i)
+      if (!known[static_cast<std::size_t>(i)])
+        X(i, j) = std::clamp(X(i, j), 0.0, 1.0);
+  for_each_handle(m, threads, [&](Index j) { Y.col(j) = Q * X.col(j); });
+  stationarity = dual = complementarity = partition = 0.0;
+  for (Index i = 0; i < n; ++i)
+  {
+    if (known[static_cast<std::size_t>(i)])
+      continue;
+    partition = std::max(partition, std::abs(X.row(i).sum() - 1.0));
+    for (Index j = 0; j < m; ++j)
+    {
+      const double w = X(i, j), lambda = Y(i, j) + mu(i);
+      if (w == 0.0)
+        dual = std::max(dual, -lambda / sy);
+      else if (w == 1.0)
+        dual = std::max(dual, lambda / sy);
+      else
+      {
+        stationarity = std::max(stationarity, std::abs(lambda) / sy);
+        complementarity = std::max(complementarity, std::abs(lambda) * std::min(w, 1.0 - w) / sy);
+      }
+    }
+  }
+  out.kkt_residual = std::max({ stationarity, dual, complementarity });
+  out.partition_error = partition;
+  out.converged = out.converged && out.kkt_residual <= o.tolerance;
+  for (const FreeSetFactor& f : factors)
+  {
+    out.factorizations += f.factorizations;
+    out.modifications += f.modifications;
+  }
+  return out;
 }
 
 [[noreturn]] void throw_not_converged(const std::string& what)
@@ -436,8 +882,10 @@ BBWResult BoundedBiharmonicWeights::compute(
   Eigen::MatrixXd W(n, m); // column-major: one handle per column
   result.iterations.assign(static_cast<std::size_t>(m), 0);
   result.factorizations.assign(static_cast<std::size_t>(m), 0);
+  result.modifications.assign(static_cast<std::size_t>(m), 0);
   result.kkt_residual.assign(static_cast<std::size_t>(m), 0.0);
   std::vector<char> handle_converged(static_cast<std::size_t>(m), 0);
+  std::vector<BoxQPWarmStart> handle_warm(coupled ? static_cast<std::size_t>(m) : 0);
   {
     ProgressReporter reporter(progress, m, 0.1, fast_end);
     const BoxQPOptions box = qp_options(o, reporter);
@@ -456,10 +904,13 @@ BBWResult BoundedBiharmonicWeights::compute(
       BoxQPWarmStart warm;
       warm.state = active_set_from_guess(X0.col(j), l, u);
       const BoxQPResult r = qp.solve(Eigen::VectorXd::Zero(n), l, u, box, &warm);
+      if (coupled) // the coupled phase starts from these factorizations
+        handle_warm[static_cast<std::size_t>(j)] = std::move(warm);
       const auto jj = static_cast<std::size_t>(j);
       W.col(j) = r.x;
       result.iterations[jj] = r.iterations;
       result.factorizations[jj] = r.factorizations;
+      result.modifications[jj] = r.modifications;
       result.kkt_residual[jj] = r.kkt_residual;
       handle_converged[jj] = r.converged;
     };
@@ -546,107 +997,33 @@ BBWResult BoundedBiharmonicWeights::compute(
     return Y;
   };
 
-  // 3. Coupled: augmented Lagrangian on partition of unity (see BBWMode::Coupled).
+  // 3. Coupled: the active-set method on the coupled problem (see BBWMode::Coupled).
   if (coupled)
   {
     phase_start = Clock::now();
     const Eigen::MatrixXd W_fast = normalized(W, true);
-    std::vector<char> known(static_cast<std::size_t>(n), 0);
-    for (Index k = 0; k < nk; ++k)
-      known[static_cast<std::size_t>(bc.vertices(k))] = 1;
-    Eigen::VectorXd rho = Eigen::VectorXd::Zero(n);
-    double gradient_scale = 0.0;
-    for (Index i = 0; i < n; ++i)
-    {
-      if (!known[static_cast<std::size_t>(i)])
-        rho(i) = o.penalty * Q_.coeff(i, i);
-      double row = 0.0;
-      for (SparseMatrix::InnerIterator it(Q_, i); it; ++it)
-        row += std::abs(it.value());
-      gradient_scale = std::max(gradient_scale, row); // bounds |Q| |w| for 0 <= w <= 1
-    }
-    const BoxConstrainedQP coupled_qp(coupled_matrix(Q_, m, rho));
-    const Index N = n * m;
-    Eigen::VectorXd l = Eigen::VectorXd::Zero(N), u = Eigen::VectorXd::Ones(N);
-    for (Index j = 0; j < m; ++j)
-      for (Index k = 0; k < nk; ++k)
-        l(j * n + bc.vertices(k)) = u(j * n + bc.vertices(k)) = bc.values(k, j);
-    const Eigen::VectorXd x0 = Eigen::Map<const Eigen::VectorXd>(W_fast.data(), N);
-
-    // Multiplier estimate from the fast weights: at the optimum (Q w_j)_i + mu_i = 0 for every
-    // handle j whose weight is free at i; take the handle with the largest weight.
-    Eigen::VectorXd mu = Eigen::VectorXd::Zero(n);
-    {
-      const Eigen::MatrixXd QW = Q_ * W_fast;
-      for (Index i = 0; i < n; ++i)
-        if (!known[static_cast<std::size_t>(i)])
-        {
-          Index j = 0;
-          W_fast.row(i).maxCoeff(&j);
-          mu(i) = -QW(i, j);
-        }
-    }
-
     ProgressReporter reporter(progress, 1000, fast_end, 1.0);
-    BoxQPOptions box = qp_options(o, reporter);
-    box.gradient_scale = gradient_scale;
-    BoxQPWarmStart warm;
-    warm.state = active_set_from_guess(x0, l, u);
-    Eigen::VectorXd b(N), x = x0;
-    double first_error = -1.0;
-    long long reported = 0;
-    bool settled = false;
-    BoxQPResult r;
-    while (result.outer_iterations < o.max_outer_iterations)
-    {
-      ++result.outer_iterations;
-      for (Index j = 0; j < m; ++j)
-        b.segment(j * n, n) = mu - rho;
-      r = coupled_qp.solve(b, l, u, box, &warm);
-      x = r.x;
-      result.coupled_iterations += r.iterations;
-      result.coupled_factorizations += r.factorizations;
-      double error = 0.0;
-      Eigen::VectorXd residual = Eigen::VectorXd::Zero(n);
-      for (Index j = 0; j < m; ++j)
-        residual += x.segment(j * n, n);
-      for (Index i = 0; i < n; ++i)
-      {
-        if (known[static_cast<std::size_t>(i)])
-          continue;
-        residual(i) -= 1.0;
-        error = std::max(error, std::abs(residual(i)));
-        mu(i) += rho(i) * residual(i);
-      }
-      result.coupled_kkt_residual = r.kkt_residual;
-      if (r.converged && error <= o.partition_tolerance)
-      {
-        settled = true;
-        break;
-      }
-      // Progress: the decrease of log(error) towards log(partition_tolerance).
-      if (first_error < 0.0)
-        first_error = std::max(error, 10.0 * o.partition_tolerance);
-      const double fraction = std::clamp(std::log(first_error / std::max(error, 1e-300)) /
-          std::log(first_error / o.partition_tolerance), 0.0, 1.0);
-      const long long now = static_cast<long long>(999.0 * fraction);
-      if (!reporter.step(std::max(0LL, now - reported)))
-        reporter.throw_if_cancelled("bounded biharmonic weights (coupled)");
-      reported = std::max(reported, now);
-    }
+    const BoxQPOptions box = qp_options(o, reporter);
+    const CoupledOutcome outcome =
+      solve_coupled(qp, bc, W_fast, handle_warm, o, box, reporter);
     reporter.finish();
     reporter.throw_if_cancelled("bounded biharmonic weights (coupled)");
-    W = Eigen::Map<const Eigen::MatrixXd>(x.data(), n, m);
-    result.max_kkt_residual = result.coupled_kkt_residual;
+    W = outcome.W;
+    result.outer_iterations = outcome.iterations;
+    result.coupled_iterations = outcome.cg_iterations;
+    result.coupled_factorizations = outcome.factorizations;
+    result.coupled_modifications = outcome.modifications;
+    result.coupled_kkt_residual = outcome.kkt_residual;
+    result.max_kkt_residual = outcome.kkt_residual;
     result.coupled_seconds = seconds_since(phase_start);
-    if (!settled)
+    if (!outcome.converged)
     {
       result.converged = false;
       if (o.require_convergence)
-        throw_not_converged("the coupled iteration did not converge in " +
-          std::to_string(result.outer_iterations) + " augmented Lagrangian iterations (KKT "
-          "residual " + fmt(r.kkt_residual) + ", partition error " +
-          fmt((row_sums(W) - Eigen::VectorXd::Ones(n)).cwiseAbs().maxCoeff()) + ")");
+        throw_not_converged("the coupled solver did not converge in " +
+          std::to_string(outcome.iterations) + " active-set iterations (KKT residual " +
+          fmt(outcome.kkt_residual) + ", partition error " + fmt(outcome.partition_error) +
+          ", " + std::to_string(outcome.violators) + " violators left)");
     }
     result.W = W;
     if (o.normalize)

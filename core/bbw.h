@@ -122,18 +122,36 @@ enum class BBWMode
   /// for the Gargoyle). Cost: one shared factorization of Q on the unknowns (the unconstrained
   /// biharmonic start of every handle), then a few factorizations per handle on its support.
   Fast,
-  /// The full problem (Eq. 8 subject to Eq. 3-6) with partition of unity enforced: an
-  /// augmented Lagrangian (Hestenes-Powell method of multipliers) on Eq. 5,
-  ///   min 1/2 sum_j w_j^T Q w_j + mu^T (sum_j w_j - 1) + 1/2 |sum_j w_j - 1|^2_R  on 0 <= w <= 1,
-  /// R = diag(penalty Q_ii), each subproblem one bound-constrained QP over all #V #handles
-  /// weights (BoxConstrainedQP, warm-started: once the active set settles an outer iteration
-  /// is one back-substitution), mu <- mu + R (sum_j w_j - 1), started from the Fast weights.
-  /// Converged when the subproblem's KKT residual (which is then the coupled problem's, with
-  /// multiplier mu) is <= tolerance and max |sum_j w_j - 1| <= partition_tolerance. Each outer
-  /// iteration contracts the partition error by about 1 / (1 + penalty / c), c the spectral
-  /// radius of diag(Q)^-1 Q (5-8 outer iterations to 1e-10 on the tests and the knight). Cost:
-  /// the Fast cost plus the subproblems' active-set iterations, each a factorization of a
-  /// matrix of the size of the total support (a few times #V): 20x the fast mode on the knight.
+  /// The full problem (Eq. 8 subject to Eq. 3-6) with partition of unity enforced, by a
+  /// primal-dual active-set method on the coupled KKT conditions
+  ///   Q w_j + mu = lambda_j (on the unknown vertices), sum_j w_j = 1,
+  ///   lambda_j >= 0 where w_j = 0, <= 0 where w_j = 1, = 0 where 0 < w_j < 1,
+  /// started from the normalized Fast weights and their factorizations. Each iteration, for the
+  /// current active sets F_j (free weights of handle j):
+  ///  1. per handle, the factorization of Q on F_j is updated (FreeSetFactor: refactored, or
+  ///     modified by row additions / deletions when few weights changed) and
+  ///     a_j = -Q(F_j, F_j)^-1 Q(F_j, N_j) w_j(N_j), the free weights for mu = 0;
+  ///  2. the multiplier mu of Eq. 5 on the vertices V with a free weight solves the Schur
+  ///     complement system S mu = sum_j a_j - (1 - sum of the bounded weights), S = sum_j
+  ///     E_j^T Q(F_j, F_j)^-1 E_j (E_j: F_j's rows of V), by conjugate gradients preconditioned
+  ///     with Q(V, V) / #handles (exactly S^-1 where every handle is free; 10-40 iterations),
+  ///     each one solve per handle, started from the last mu, to a tolerance 0.1 x the largest
+  ///     violation (0.1 x partition_tolerance once no violator is left: a final iteration
+  ///     confirms);
+  ///  3. w_j(F_j) = a_j - Q(F_j, F_j)^-1 mu, then lambda_j = Q w_j + mu (mu where no weight is
+  ///     free: the middle of the interval that signs the multipliers correctly);
+  ///  4. the violators (free weights outside [0, 1] by more than min(tolerance,
+  ///     partition_tolerance / #handles) / 2, multipliers of the wrong sign beyond tolerance / 2
+  ///     relative to max_i sum_j |Q_ij|) change sets by a block step, with BoxConstrainedQP's
+  ///     safeguard (single steps after block_attempts steps without a new best count of
+  ///     violators, or when the step returns to an active set already solved); a vertex left
+  ///     with no free weight whose bounds do not sum to 1 gets its largest weight freed.
+  /// Converged when no violator is left, the KKT residual of the coupled problem (stationarity,
+  /// sign and complementarity as in box_constrained_qp.h, on the clamped weights) is <=
+  /// tolerance and max |sum_j w_j - 1| <= partition_tolerance. Cost: per iteration one factor
+  /// update per handle (as in the Fast mode) and (#CG iterations + 2) solves per handle; the
+  /// handles' factorizations and solves run in parallel, summed in handle order (the weights do
+  /// not depend on the thread count). 30-45 iterations on the knight and the hand.
   Coupled
 };
 
@@ -153,16 +171,16 @@ struct BBWOptions
   int max_iterations = 1000;
   /// Coupled: max |sum_j w_ij - 1| at convergence, > 0. Default 1e-10.
   double partition_tolerance = 1e-10;
-  /// Coupled: augmented Lagrangian iterations allowed, >= 1. Default 100.
-  int max_outer_iterations = 100;
-  /// Coupled: penalty factor (R = penalty diag(Q)), > 0. Larger converges in fewer outer
-  /// iterations but conditions the subproblems worse. Default 1e3.
+  /// Coupled: active-set iterations of the coupled solver allowed, >= 1. Default 1000.
+  int max_outer_iterations = 1000;
+  /// Unused since the coupled mode is an active-set method (it was the augmented Lagrangian's
+  /// penalty factor); kept so that code setting it compiles. Must be finite and > 0.
   double penalty = 1e3;
   /// Throw Error(NotConverged) when a QP or the coupled iteration does not converge within its
   /// caps; false returns the unconverged weights with converged = false. Default true.
   bool require_convergence = true;
-  /// OpenMP threads for the per-handle solves (fast mode); 0 = OpenMP's default. The weights do
-  /// not depend on it. Default 0.
+  /// OpenMP threads for the per-handle solves (both modes); 0 = OpenMP's default. The weights
+  /// do not depend on it. Default 0.
   int threads = 0;
   /// Factorization backend of every QP. Default Supernodal: the QPs factor many mid-size
   /// matrices (one per active-set iteration, or a few row modifications of the last one), where
@@ -186,11 +204,14 @@ struct BBWResult
   // Fast phase (both modes): one entry per handle.
   std::vector<int> iterations;      ///< active-set iterations of handle j's QP
   std::vector<int> factorizations;  ///< factorizations of handle j's QP
+  std::vector<int> modifications;   ///< row modifications of its factorization (the other
+                                    ///< iterations, BoxQPResult::modifications)
   std::vector<double> kkt_residual; ///< relative KKT residual of handle j's QP
   // Coupled phase.
-  int outer_iterations = 0;          ///< augmented Lagrangian iterations
-  int coupled_iterations = 0;        ///< active-set iterations summed over them
-  int coupled_factorizations = 0;    ///< factorizations summed over them
+  int outer_iterations = 0;          ///< active-set iterations of the coupled solver
+  int coupled_iterations = 0;        ///< conjugate-gradient iterations summed over them
+  int coupled_factorizations = 0;    ///< factorizations in them, summed over the handles
+  int coupled_modifications = 0;     ///< factor modifications in them, summed over the handles
   double coupled_kkt_residual = 0;   ///< relative KKT residual of the coupled problem
   double fast_difference_mean = 0;   ///< coupled: Table 2's E_mean, mean |W_fast - W|
   double fast_difference_max = 0;    ///< coupled: Table 2's E_max, max |W_fast - W|

@@ -194,29 +194,16 @@ BoxQPResult BoxConstrainedQP::solve(const Eigen::VectorXd& b, const Eigen::Vecto
       s = BoxQPState::Free;
   }
 
-  SparseCholesky factor(options.backend);
-  std::vector<int> factor_rows; // A's row of each row of `factor`: its free set
-  std::vector<char> in_factor(static_cast<std::size_t>(n), 0);
-  bool have_factor = false;
+  FreeSetFactor factor(*this, options);
   if (warm && warm->owner == id_ && warm->factor.computed() &&
-    warm->factor.backend() == factor.backend() &&
+    warm->factor.backend() == factor.factor().backend() &&
     warm->factor.rows() == warm->factor_free.size())
-  {
-    factor = warm->factor;
-    factor_rows.assign(warm->factor_free.data(), warm->factor_free.data() + warm->factor_free.size());
-    for (const int i : factor_rows)
-      in_factor[static_cast<std::size_t>(i)] = 1;
-    have_factor = true;
-  }
-  // Rows changed by modifications since the last factorization; a fresh factorization is due
-  // when the settled point was computed with a modified factor that is not accurate enough.
-  Index modified_rows = 0;
-  bool force_refactor = false;
-  std::vector<int> added, removed;
+    factor.adopt(warm->factor,
+      std::vector<int>(warm->factor_free.data(), warm->factor_free.data() + warm->factor_free.size()));
 
   BoxQPResult result;
   Eigen::VectorXd x = Eigen::VectorXd::Zero(n), y(n), r(n), magnitude(n);
-  std::vector<int> free, position(static_cast<std::size_t>(n));
+  std::vector<int> free;
   std::vector<Index> violators;
   const double half_tolerance = 0.5 * options.tolerance;
 
@@ -228,21 +215,32 @@ BoxQPResult BoxConstrainedQP::solve(const Eigen::VectorXd& b, const Eigen::Vecto
         s = std::max(s, std::abs(x(i)));
     return s;
   };
-  auto scale_y = [&]() {
-    if (options.gradient_scale > 0.0)
-      return options.gradient_scale;
-    magnitude = b.cwiseAbs();
-    double s = magnitude.maxCoeff();
-    magnitude.setZero();
+  // The gradient y = A x + b and the scale s_y of its terms, in one pass over the columns of
+  // the nonzero x_j.
+  auto gradient_and_scale = [&]() {
+    y = b;
+    const bool computed = options.gradient_scale <= 0.0;
+    if (computed)
+      magnitude.setZero();
     for (Index j = 0; j < A_.outerSize(); ++j)
     {
-      const double xj = std::abs(x(j));
+      const double xj = x(j);
       if (xj == 0.0)
         continue;
-      for (SparseMatrix::InnerIterator it(A_, j); it; ++it)
-        magnitude(it.row()) += std::abs(it.value()) * xj;
+      const double axj = std::abs(xj);
+      if (computed)
+        for (SparseMatrix::InnerIterator it(A_, j); it; ++it)
+        {
+          y(it.row()) += it.value() * xj;
+          magnitude(it.row()) += std::abs(it.value()) * axj;
+        }
+      else
+        for (SparseMatrix::InnerIterator it(A_, j); it; ++it)
+          y(it.row()) += it.value() * xj;
     }
-    s = std::max(s, magnitude.maxCoeff());
+    if (!computed)
+      return options.gradient_scale;
+    const double s = std::max(b.cwiseAbs().maxCoeff(), magnitude.maxCoeff());
     return s > 0.0 ? s : 1.0;
   };
 
@@ -269,95 +267,29 @@ BoxQPResult BoxConstrainedQP::solve(const Eigen::VectorXd& b, const Eigen::Vecto
         case BoxQPState::Upper: x(i) = u(i); break;
         case BoxQPState::Fixed: x(i) = l(i); break;
         case BoxQPState::Free:
-          position[static_cast<std::size_t>(i)] = static_cast<int>(free.size());
           free.push_back(static_cast<int>(i));
           x(i) = 0.0;
           continue;
       }
-      position[static_cast<std::size_t>(i)] = -1;
     }
     if (!free.empty())
     {
-      added.clear();
-      removed.clear();
-      if (have_factor)
+      try
       {
-        for (const int i : free)
-          if (!in_factor[static_cast<std::size_t>(i)])
-            added.push_back(i);
-        for (const int i : factor_rows)
-          if (state(i) != BoxQPState::Free)
-            removed.push_back(i);
+        factor.update(free);
       }
-      const Index changes = static_cast<Index>(added.size() + removed.size());
-      if (!have_factor || changes > 0 || force_refactor)
+      catch (const Error& e)
       {
-        const auto factor_start = Clock::now();
-        // Row modifications when few rows change (see the file comment); a fresh factorization
-        // otherwise, and after modifications of a quarter of the rows in all (fill and
-        // rounding accumulate).
-        const Index nf = static_cast<Index>(free.size());
-        const bool modify = have_factor && !force_refactor && options.modify_factorizations &&
-          factor.modifiable() && changes <= std::max<Index>(8, nf / 64) &&
-          modified_rows + changes <= nf / 4;
-        try
-        {
-          if (modify)
-          {
-            factor.modify_principal(A_,
-              Eigen::Map<const Eigen::VectorXi>(added.data(), static_cast<Index>(added.size())),
-              Eigen::Map<const Eigen::VectorXi>(removed.data(), static_cast<Index>(removed.size())));
-            for (const int i : removed)
-              in_factor[static_cast<std::size_t>(i)] = 0;
-            for (const int i : added)
-              in_factor[static_cast<std::size_t>(i)] = 1;
-            factor_rows = factor.principal_rows();
-            modified_rows += changes;
-            ++result.modifications;
-            result.modified_rows += changes;
-          }
-          else
-          {
-            // A_FF is a principal submatrix of the validated A: symmetric, finite.
-            SparseCholeskySettings settings;
-            settings.trusted = true;
-            if (options.reuse_ordering)
-            {
-              settings.ordering.resize(nf);
-              Index k = 0;
-              for (Index g = 0; g < n; ++g)
-              {
-                const int p = position[static_cast<std::size_t>(ordering_(g))];
-                if (p >= 0)
-                  settings.ordering(k++) = p;
-              }
-            }
-            factor.compute_principal(
-              A_, Eigen::Map<const Eigen::VectorXi>(free.data(), nf), settings);
-            for (const int i : factor_rows)
-              in_factor[static_cast<std::size_t>(i)] = 0;
-            factor_rows = free;
-            for (const int i : factor_rows)
-              in_factor[static_cast<std::size_t>(i)] = 1;
-            modified_rows = 0;
-            force_refactor = false;
-            ++result.factorizations;
-          }
-        }
-        catch (const Error& e)
-        {
-          if (e.code() != ErrorCode::InvalidArgument)
-            throw;
-          throw Error(ErrorCode::InvalidArgument,
-            "the quadratic term A restricted to the " + std::to_string(free.size()) +
-              " free variables of active-set iteration " + std::to_string(result.iterations) +
-              " cannot be factored (" + e.what() +
-              "); A must be symmetric positive definite on the variables that are not fixed, "
-              "otherwise the problem may be unbounded below");
-        }
-        have_factor = true;
-        result.factor_seconds += seconds_since(factor_start);
+        if (e.code() != ErrorCode::InvalidArgument)
+          throw;
+        throw Error(ErrorCode::InvalidArgument,
+          "the quadratic term A restricted to the " + std::to_string(free.size()) +
+            " free variables of active-set iteration " + std::to_string(result.iterations) +
+            " cannot be factored (" + e.what() +
+            "); A must be symmetric positive definite on the variables that are not fixed, "
+            "otherwise the problem may be unbounded below");
       }
+      const std::vector<int>& factor_rows = factor.rows();
       // x_F solves A_FF x_F = -(b_F + A_FN x_N), x_F = 0 meanwhile; rows in the factor's order.
       const Index nf = static_cast<Index>(factor_rows.size());
       Eigen::VectorXd rhs(nf);
@@ -373,12 +305,11 @@ BoxQPResult BoxConstrainedQP::solve(const Eigen::VectorXd& b, const Eigen::Vecto
       for (Index k = 0; k < nf; ++k)
         x(factor_rows[static_cast<std::size_t>(k)]) = x_free(k);
     }
-    y.noalias() = A_ * x;
-    y += b;
+    const double sy_iteration = gradient_and_scale();
 
     // 2. Violators beyond half the tolerance.
     const double tx = half_tolerance * scale_x();
-    const double ty = half_tolerance * scale_y();
+    const double ty = half_tolerance * sy_iteration;
     violators.clear();
     for (Index i = 0; i < n; ++i)
     {
@@ -400,7 +331,7 @@ BoxQPResult BoxConstrainedQP::solve(const Eigen::VectorXd& b, const Eigen::Vecto
       }
     }
     result.violators = static_cast<Index>(violators.size());
-    if (violators.empty() && modified_rows > 0)
+    if (violators.empty() && factor.modified_rows() > 0)
     {
       // The solve used a modified factor: make sure rounding did not build up beyond what the
       // KKT test can absorb (stationarity on the free set far below the tolerance), else solve
@@ -410,7 +341,7 @@ BoxQPResult BoxConstrainedQP::solve(const Eigen::VectorXd& b, const Eigen::Vecto
         stationarity = std::max(stationarity, std::abs(y(i)));
       if (stationarity > 0.25 * ty)
       {
-        force_refactor = true;
+        factor.force_refactor();
         continue;
       }
     }
@@ -463,10 +394,8 @@ BoxQPResult BoxConstrainedQP::solve(const Eigen::VectorXd& b, const Eigen::Vecto
   // and certify the clamped point.
   for (Index i = 0; i < n; ++i)
     x(i) = std::min(u(i), std::max(l(i), x(i)));
-  y.noalias() = A_ * x;
-  y += b;
+  const double sy = gradient_and_scale();
   const double sx = scale_x();
-  const double sy = scale_y();
   for (Index i = 0; i < n; ++i)
   {
     if (state(i) == BoxQPState::Fixed)
@@ -513,16 +442,128 @@ BoxQPResult BoxConstrainedQP::solve(const Eigen::VectorXd& b, const Eigen::Vecto
   if (warm)
   {
     warm->state = std::move(state);
-    if (have_factor)
+    if (!factor.empty())
     {
-      warm->factor = factor;
-      warm->factor_free = Eigen::Map<const Eigen::VectorXi>(factor_rows.data(),
-        static_cast<Index>(factor_rows.size()));
+      warm->factor = factor.factor();
+      warm->factor_free = Eigen::Map<const Eigen::VectorXi>(factor.rows().data(),
+        static_cast<Index>(factor.rows().size()));
       warm->owner = id_;
     }
   }
+  result.factorizations = factor.factorizations;
+  result.modifications = factor.modifications;
+  result.modified_rows = factor.modified_rows_total;
+  result.factor_seconds = factor.seconds;
   result.seconds = seconds_since(start);
   return result;
+}
+
+FreeSetFactor::FreeSetFactor(const BoxConstrainedQP& qp, const BoxQPOptions& options)
+  : qp_(&qp)
+  , reuse_ordering_(options.reuse_ordering)
+  , modify_(options.modify_factorizations)
+  , factor_(options.backend)
+  , in_factor_(static_cast<std::size_t>(qp.size()), 0)
+  , position_(static_cast<std::size_t>(qp.size()), -1)
+{
+}
+
+void FreeSetFactor::adopt(const SparseCholesky& factor, const std::vector<int>& rows)
+{
+  for (const int i : rows_)
+    in_factor_[static_cast<std::size_t>(i)] = 0;
+  factor_ = factor;
+  rows_ = rows;
+  for (const int i : rows_)
+    in_factor_[static_cast<std::size_t>(i)] = 1;
+  modified_rows_ = 0;
+}
+
+void FreeSetFactor::update(const std::vector<int>& free)
+{
+  const auto start = Clock::now();
+  added_.clear();
+  removed_.clear();
+  for (const int i : free)
+    if (!in_factor_[static_cast<std::size_t>(i)])
+      added_.push_back(i);
+  if (!rows_.empty())
+  {
+    // Rows of the factor that left the free set: mark the free set, then scan the rows.
+    for (const int i : free)
+      position_[static_cast<std::size_t>(i)] = 1;
+    for (const int i : rows_)
+      if (position_[static_cast<std::size_t>(i)] != 1)
+        removed_.push_back(i);
+    for (const int i : free)
+      position_[static_cast<std::size_t>(i)] = -1;
+  }
+  const Index changes = static_cast<Index>(added_.size() + removed_.size());
+  if (!rows_.empty() && changes == 0 && !force_)
+    return;
+  const Index nf = static_cast<Index>(free.size());
+  const bool modify = !rows_.empty() && !force_ && modify_ && factor_.modifiable() &&
+    changes <= std::max<Index>(8, nf / 64) && modified_rows_ + changes <= nf / 4;
+  const SparseMatrix& A = qp_->matrix();
+  if (modify)
+  {
+    try
+    {
+      factor_.modify_principal(A,
+        Eigen::Map<const Eigen::VectorXi>(added_.data(), static_cast<Index>(added_.size())),
+        Eigen::Map<const Eigen::VectorXi>(removed_.data(), static_cast<Index>(removed_.size())));
+    }
+    catch (...)
+    {
+      // The failed modification forgot the factorization.
+      for (const int i : rows_)
+        in_factor_[static_cast<std::size_t>(i)] = 0;
+      rows_.clear();
+      throw;
+    }
+    for (const int i : removed_)
+      in_factor_[static_cast<std::size_t>(i)] = 0;
+    for (const int i : added_)
+      in_factor_[static_cast<std::size_t>(i)] = 1;
+    rows_ = factor_.principal_rows();
+    modified_rows_ += changes;
+    ++modifications;
+    modified_rows_total += changes;
+  }
+  else
+  {
+    // A(F, F) is a principal submatrix of the validated A: symmetric, finite.
+    SparseCholeskySettings settings;
+    settings.trusted = true;
+    if (reuse_ordering_)
+    {
+      for (Index k = 0; k < nf; ++k)
+        position_[static_cast<std::size_t>(free[static_cast<std::size_t>(k)])] = static_cast<int>(k);
+      settings.ordering.resize(nf);
+      const Eigen::VectorXi& ordering = qp_->ordering();
+      Index k = 0;
+      for (Index g = 0; g < ordering.size(); ++g)
+      {
+        const int p = position_[static_cast<std::size_t>(ordering(g))];
+        if (p >= 0)
+          settings.ordering(k++) = p;
+      }
+      for (const int i : free)
+        position_[static_cast<std::size_t>(i)] = -1;
+    }
+    // Forget the old factor first: a failure must not leave it looking current.
+    for (const int i : rows_)
+      in_factor_[static_cast<std::size_t>(i)] = 0;
+    rows_.clear();
+    factor_.compute_principal(A, Eigen::Map<const Eigen::VectorXi>(free.data(), nf), settings);
+    rows_ = free;
+    for (const int i : rows_)
+      in_factor_[static_cast<std::size_t>(i)] = 1;
+    modified_rows_ = 0;
+    force_ = false;
+    ++factorizations;
+  }
+  seconds += seconds_since(start);
 }
 
 BoxQPResult box_constrained_qp(const SparseMatrix& A, const Eigen::VectorXd& b,

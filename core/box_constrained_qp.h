@@ -194,11 +194,62 @@ public:
   /// n (0 before precompute()).
   Index size() const noexcept { return A_.rows(); }
   const Eigen::SparseMatrix<double>& matrix() const noexcept { return A_; }
+  /// The AMD ordering of A computed by precompute(): ordering()(k) is eliminated k-th.
+  const Eigen::VectorXi& ordering() const noexcept { return ordering_; }
 
 private:
   Eigen::SparseMatrix<double> A_;
   Eigen::VectorXi ordering_; ///< AMD ordering of A: ordering_(k) is eliminated k-th
   std::uint64_t id_ = 0;     ///< identifies this matrix to warm starts
+};
+
+/// The factorization of A restricted to a free set that changes from one active-set iteration
+/// to the next: a fresh factorization of A(F, F) (ordered by the restriction of the
+/// BoxConstrainedQP's AMD ordering when options.reuse_ordering), or, when few variables entered
+/// or left F, a modification of the last one by row additions / deletions
+/// (SparseCholesky::modify_principal; options.modify_factorizations, Supernodal backend with
+/// CHOLMOD): at most max(8, |F| / 64) rows at a time and |F| / 4 rows since the last fresh
+/// factorization. Used by BoxConstrainedQP::solve and by the coupled mode of bounded biharmonic
+/// weights, which keeps one per handle. Not thread-safe; solve() is const and may run
+/// concurrently with other objects' calls.
+class FreeSetFactor
+{
+public:
+  /// @p qp must outlive this object (its matrix and ordering are used by reference).
+  FreeSetFactor(const BoxConstrainedQP& qp, const BoxQPOptions& options);
+
+  /// Makes this the factorization of A(free, free), @p free ascending and non-empty (nothing
+  /// happens when it is already, unless force_refactor() was called).
+  /// @throws the errors of SparseCholesky::compute_principal / modify_principal.
+  void update(const std::vector<int>& free);
+  /// The next update() factors anew (e.g. when rounding from many modifications shows).
+  void force_refactor() noexcept { force_ = true; }
+  /// Rows modified since the last fresh factorization (0 right after one).
+  Index modified_rows() const noexcept { return modified_rows_; }
+  /// A's row of each row of the factorization: the order of solve()'s vectors.
+  const std::vector<int>& rows() const noexcept { return rows_; }
+  bool empty() const noexcept { return rows_.empty(); }
+  /// Solves A(F, F) z = rhs, rhs and z in the order of rows().
+  Eigen::VectorXd solve(const Eigen::VectorXd& rhs) const { return factor_.solve(rhs); }
+  /// Starts from a factorization of A(rows, rows) made by another FreeSetFactor of the same
+  /// BoxConstrainedQP (warm starts).
+  void adopt(const SparseCholesky& factor, const std::vector<int>& rows);
+  const SparseCholesky& factor() const noexcept { return factor_; }
+
+  int factorizations = 0;     ///< fresh factorizations so far
+  int modifications = 0;     ///< modifications so far
+  Index modified_rows_total = 0; ///< rows added or deleted by them
+  double seconds = 0;         ///< time in update()
+
+private:
+  const BoxConstrainedQP* qp_;
+  bool reuse_ordering_, modify_;
+  SparseCholesky factor_;
+  std::vector<int> rows_;
+  std::vector<char> in_factor_;
+  std::vector<int> position_, added_, removed_;
+  Index modified_rows_ = 0;
+  bool force_ = false;
 };
 
 /// One-call form: BoxConstrainedQP(A).solve(b, l, u, options), starting from the active set

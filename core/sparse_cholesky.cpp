@@ -164,13 +164,24 @@ SupernodalFactor supernodal_symbolic(
     source0[static_cast<std::size_t>(k)] = a;
     node0[static_cast<std::size_t>(a)] = static_cast<int>(k);
   }
-  auto for_each_neighbour = [&](int k, auto&& visit) {
+  // M's graph in node numbering, read from A once (the passes below read it several times).
+  std::vector<int> adjacency_start(mu + 1), adjacency;
+  adjacency.reserve(static_cast<std::size_t>(A.nonZeros()));
+  for (Index k = 0; k < m; ++k)
+  {
+    adjacency_start[static_cast<std::size_t>(k)] = static_cast<int>(adjacency.size());
     for (SparseMatrix::InnerIterator it(A, source0[static_cast<std::size_t>(k)]); it; ++it)
     {
       const int i = node0[static_cast<std::size_t>(it.row())];
-      if (i >= 0)
-        visit(i);
+      if (i >= 0 && i != k)
+        adjacency.push_back(i);
     }
+  }
+  adjacency_start[mu] = static_cast<int>(adjacency.size());
+  auto for_each_neighbour = [&](int k, auto&& visit) {
+    const int end = adjacency_start[static_cast<std::size_t>(k) + 1];
+    for (int q = adjacency_start[static_cast<std::size_t>(k)]; q < end; ++q)
+      visit(adjacency[static_cast<std::size_t>(q)]);
   };
 
   // 1. Elimination tree.
@@ -393,12 +404,8 @@ SupernodalFactor supernodal_symbolic(
       }
     };
     for (int c = c1; c < c2; ++c)
-      for (SparseMatrix::InnerIterator it(A, columns.source[static_cast<std::size_t>(c)]); it; ++it)
-      {
-        const int r = columns.node[static_cast<std::size_t>(it.row())];
-        if (r >= 0)
-          add(r);
-      }
+      for_each_neighbour(post[static_cast<std::size_t>(c)],
+        [&](int i) { add(relabel[static_cast<std::size_t>(i)]); });
     for (int child = shead[su]; child != -1; child = snext[static_cast<std::size_t>(child)])
     {
       const auto cu = static_cast<std::size_t>(child);
@@ -1184,8 +1191,9 @@ void SparseCholesky::modify_principal(
     check(add, "add", false);
   }
   // Copy on write: copies made before keep their factorization.
+  const bool shared = impl_.use_count() > 1;
   std::shared_ptr<Impl> impl = impl_;
-  if (impl.use_count() > 1 || !impl->modifiable)
+  if (shared || !impl->modifiable)
   {
     auto fresh = std::make_shared<Impl>();
     fresh->rows = impl->rows;

@@ -277,6 +277,58 @@ TEST_P(BoxQPRandom, ConvergesWithKktBelow1e10AndExactBounds)
 INSTANTIATE_TEST_SUITE_P(MMatrixAndBiLaplacian, BoxQPRandom,
   ::testing::Combine(::testing::Bool(), ::testing::Values(1u, 2u, 3u)));
 
+TEST(BoxConstrainedQP, FactorizationStrategiesAndBackendsAgree)
+{
+  // The same bi-Laplacian problems with every backend, with and without the reused ordering and
+  // the row modifications of the factorization: the solution is unique, so all must agree to
+  // rounding (1e-9 relative), satisfy the KKT conditions, and the supernodal backend with
+  // modifications must actually have modified factorizations (else this tests nothing).
+  using Backend = SparseCholesky::Backend;
+  for (const unsigned seed : { 1u, 2u })
+  {
+    const RandomProblem p = random_problem(true, seed);
+    BoxQPOptions reference_options;
+    reference_options.backend = Backend::Eigen;
+    reference_options.reuse_ordering = false;
+    reference_options.modify_factorizations = false;
+    const BoxQPResult reference = box_constrained_qp(p.A, p.b, p.l, p.u, reference_options);
+    ASSERT_TRUE(reference.converged);
+    EXPECT_EQ(reference.modifications, 0);
+    std::vector<Backend> backends = { Backend::Eigen, Backend::Supernodal };
+    if (SparseCholesky::cholmod_available())
+      backends.push_back(Backend::Cholmod);
+    for (const Backend backend : backends)
+      for (const bool reuse : { false, true })
+        for (const bool modify : { false, true })
+        {
+          BoxQPOptions options;
+          options.backend = backend;
+          options.reuse_ordering = reuse;
+          options.modify_factorizations = modify;
+          const BoxQPResult r = box_constrained_qp(p.A, p.b, p.l, p.u, options);
+          const std::string what = std::string(to_string(backend)) + (reuse ? " reuse" : "") +
+            (modify ? " modify" : "") + ", seed " + std::to_string(seed);
+          ASSERT_TRUE(r.converged) << what;
+          EXPECT_LE(r.kkt_residual, 1e-10) << what;
+          EXPECT_EQ(r.max_bound_violation, 0.0) << what;
+          EXPECT_LE((r.x - reference.x).cwiseAbs().maxCoeff(),
+            1e-9 * std::max(1.0, reference.x.cwiseAbs().maxCoeff())) << what;
+          // At most one factorization or modification per iteration.
+          EXPECT_LE(r.factorizations + r.modifications, r.iterations) << what;
+          const bool can_modify = modify && backend == Backend::Supernodal && SparseCholesky::cholmod_available();
+          if (can_modify)
+          {
+            EXPECT_GT(r.modifications, 0) << what;
+            EXPECT_GE(r.modified_rows, r.modifications) << what;
+          }
+          else
+          {
+            EXPECT_EQ(r.modifications, 0) << what;
+          }
+        }
+  }
+}
+
 TEST(BoxConstrainedQP, InfiniteBoundsGiveTheLinearSolve)
 {
   const SparseMatrix A = grid_laplacian(10, 0.5);
