@@ -49,13 +49,14 @@
 namespace bary
 {
 
+struct SparseCholeskySettings;
+
 /// Factor once, solve many right-hand sides.
 ///
 /// Copies are cheap and share the factorization (which compute() never modifies: it builds a
-/// new one). solve() is thread-safe; with the CHOLMOD backend concurrent solves on the same
+/// new one; modify_principal() copies it first when it is shared). solve() is thread-safe; with
+/// the CHOLMOD backend, and after modify_principal(), concurrent solves on the same
 /// factorization are serialized (CHOLMOD's workspace is not re-entrant).
-struct SparseCholeskySettings;
-
 class SparseCholesky
 {
 public:
