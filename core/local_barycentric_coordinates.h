@@ -19,39 +19,47 @@
 ///
 /// Solver: the ADMM of the paper's Appendix B (splitting (17), steps 1-3 with over-relaxation,
 /// shrinkage (30), projection (31), the Y-update as solves with one factorisation, residuals
-/// (26)-(27)), written as the equivalent Douglas-Rachford iteration on s = G Y M + J - lambda/mu
-/// so that it can be accelerated:
+/// (26)-(27)), written as the equivalent relaxed Douglas-Rachford iteration on
+/// s = G Y M + J - lambda / mu (with ConstraintScaling::Paper its iterates are Appendix B's:
+/// tested against a literal implementation). For speed, without changing the problem or the
+/// stopping rule:
 /// - constraint scaling (LBCOptions::scaling): the constraints X = G W + E and W = Y M + H are
 ///   multiplied by diagonal weights (sqrt(A_s) per cell, beta sqrt(m_v) per vertex), an
-///   equivalent problem whose Y-system is the stiffness plus mass matrix K + beta^2 M instead of
-///   G^T G + I: the iteration count becomes nearly independent of the mesh;
-/// - safeguarded Anderson acceleration (type II, Walker & Ni 2011) of the fixed-point map, with
-///   the acceptance test of Zhang, O'Donoghue & Boyd ("Globally convergent type-I Anderson
-///   acceleration for nonsmooth fixed-point iterations", SIAM J. Optim. 30(4), 2020): an
-///   accelerated point is kept only if its fixed-point residual is below both the last accepted
-///   one and D |g_0| (k+1)^-(1+eps); otherwise the plain (relaxed Douglas-Rachford, i.e. ADMM)
-///   step is taken, whose residual never increases. Convergence is therefore that of ADMM;
+///   equivalent problem whose Y-system is the stiffness plus lumped mass matrix K + beta^2 M
+///   instead of G^T G + I: the iteration count becomes nearly independent of the mesh size;
 /// - all #C right-hand sides of a step are solved together (row-major #free by #C blocks: each
-///   factor entry updates a whole row of weights).
+///   factor entry updates a whole row of weights), the steps are fused into three sweeps;
+/// - optional safeguarded Anderson acceleration (type II, Walker & Ni 2011) with the acceptance
+///   test of Zhang, O'Donoghue & Boyd ("Globally convergent type-I Anderson acceleration for
+///   nonsmooth fixed-point iterations", SIAM J. Optim. 30(4), 2020): an accelerated point is
+///   kept only if its fixed-point residual is below both the last accepted one and
+///   D |g_0| (k+1)^-(1+eps), otherwise the plain step is taken, whose residual never increases,
+///   so convergence is that of ADMM. Off by default: it did not reduce the iterations here.
 /// The stopping rule is the paper's: residuals (26)-(27) measured in the unscaled variables after
 /// rescaling the mesh to bounding-box diameter 1, |r_p| <= N_p primal_tolerance and
-/// |r_d| <= N_d dual_tolerance with N the residuals' dimensions.
+/// |r_d| <= N_d dual_tolerance with N the residuals' numbers of entries. (The thresholds grow
+/// like N, the residuals like sqrt(N): tighten the tolerances on large, especially 3D, meshes.)
 ///
-/// After the ADMM the weights Y M + H (exact partition of unity and reproduction, slightly
-/// negative where the ADMM has not finished) are projected, row by row, onto the exact feasible
-/// set {w >= 0, w K = b} (polish, on by default): the returned weights are >= 0 exactly and
-/// satisfy partition of unity and reproduction to rounding (~1e-15).
+/// After the ADMM, its W (>= 0 with exact zeros: the locality) is projected, row by row, onto
+/// the exact feasible set {w >= 0, w K = b} keeping its zeros (Y M + H projected onto the whole
+/// set where that is impossible): polish, on by default. The returned weights are >= 0 exactly
+/// and satisfy partition of unity and reproduction to rounding (~1e-15).
 ///
 /// Properties (discrete): partition of unity, reproduction (linear precision), non-negativity,
 /// Lagrange property at the cage vertices, linear on cage edges (2D) / barycentric on cage faces
 /// (3D); local: each point depends on few control points (paper Fig. 14-15; see
-/// locality_statistics.h); C^1 almost everywhere (relaxed TV: everywhere), no local extrema
-/// observed; not smooth across the boundary of a weight's support. A concave cage vertex's
-/// weight vanishes in the interior with unweighted TV (tau = 1, §3.2) and is small with the
-/// default weighting.
+/// locality_statistics.h); C^1 almost everywhere (relaxed TV: everywhere), not smooth across
+/// the boundary of a weight's support. With unconstrained TV (barycentric_constraints = false,
+/// tau = 1) a concave cage vertex's weight vanishes inside (§3.2); with the coupling it need not
+/// (measured in the docs).
 ///
-/// Measured (Release, one thread of a shared 2-core AMD EPYC): see
-/// docs/local-barycentric-coordinates.md.
+/// Threads: results do not depend on the thread count. An iteration has five short parallel
+/// loops: on a machine where other processes compete for the cores, libgomp's spin-waiting makes
+/// several threads much slower than one (measured 10x); use threads = 1 or
+/// OMP_WAIT_POLICY=passive there.
+///
+/// Measured (Release, one thread of a shared 2-core AMD EPYC; the authors' four reference runs
+/// 5.8-13x faster than their solver, with lower objectives): docs/local-barycentric-coordinates.md.
 
 #include "domain_mesh.h"
 #include "geodesic_heat.h"
@@ -93,9 +101,9 @@ enum class ConstraintScaling
 {
   /// As in Appendix B: X = G W + E and W = Y M + H unweighted; Y-system G^T G + I.
   Paper,
-  /// sqrt(A_s) on cell s's gradient rows, constraint_balance sqrt(m_v) on vertex v's weight row
-  /// (m_v its lumped mass); Y-system K + balance^2 M. Default (fewer iterations, independent of
-  /// the mesh size).
+  /// sqrt(A_s) on cell s's gradient rows, beta sqrt(m_v) on vertex v's weight row (m_v its
+  /// lumped mass, beta = constraint_balance / h_c); Y-system K + beta^2 M. Default (10-25 times
+  /// fewer iterations than Paper measured, independent of the mesh size).
   Lumped
 };
 

@@ -110,7 +110,7 @@ TEST(LBC, BarycentricPropertiesOn2DCages)
   {
     if (entry.name == "regular64")
       continue; // 64 controls: slow for a unit test, nothing new
-    const DomainMesh mesh = polygon_mesh(entry.cage, 600);
+    const DomainMesh mesh = polygon_mesh(entry.cage, 400);
     const LBCResult r = local_barycentric_coordinates(mesh, one_thread());
     std::printf("%-12s n=%2ld |V|=%4ld: %4d iterations, objective %.6f, %.3f s\n",
       entry.name.c_str(), static_cast<long>(entry.cage.num_controls()),
@@ -140,7 +140,7 @@ TEST(LBC, BarycentricPropertiesOnA3DCage)
 
 TEST(LBC, ResidualsDecreaseToTheTolerance)
 {
-  const DomainMesh mesh = polygon_mesh(test::star_polygon(5, 1.0, 0.5), 800);
+  const DomainMesh mesh = polygon_mesh(test::star_polygon(5, 1.0, 0.5), 400);
   LBCOptions o = one_thread();
   o.primal_tolerance = 1e-7;
   o.dual_tolerance = 1e-6;
@@ -169,9 +169,12 @@ TEST(LBC, ResidualsDecreaseToTheTolerance)
 
 TEST(LBC, ResultsDoNotDependOnTheThreadCount)
 {
-  // (3 threads on this 2-core machine: OpenMP's spinning makes it slow, so the mesh is small)
-  const DomainMesh mesh = polygon_mesh(test::u_polygon(), 250);
+  // 2 and 3 threads (3 on this 2-core machine: spinning threads make it slow, so the mesh and
+  // the iteration count are small; the check compares whole runs, polish included)
+  const DomainMesh mesh = polygon_mesh(test::u_polygon(), 200);
   LBCOptions o = one_thread();
+  o.max_iterations = 60;
+  o.require_convergence = false;
   const LBCResult a = local_barycentric_coordinates(mesh, o);
   o.threads = 2;
   const LBCResult b = local_barycentric_coordinates(mesh, o);
@@ -179,8 +182,8 @@ TEST(LBC, ResultsDoNotDependOnTheThreadCount)
   const LBCResult c = local_barycentric_coordinates(mesh, o);
   EXPECT_EQ(a.iterations, b.iterations);
   EXPECT_EQ(a.iterations, c.iterations);
-  EXPECT_EQ(a.primal_residual, b.primal_residual);
-  EXPECT_EQ(a.dual_residual, c.dual_residual);
+  EXPECT_EQ(a.primal_history, b.primal_history);
+  EXPECT_EQ(a.dual_history, c.dual_history);
   EXPECT_EQ(a.objective, b.objective);
   EXPECT_EQ((a.W - b.W).cwiseAbs().maxCoeff(), 0.0);
   EXPECT_EQ((a.W - c.W).cwiseAbs().maxCoeff(), 0.0);
@@ -322,10 +325,11 @@ Eigen::MatrixXd chambolle_pock(const DomainMesh& mesh, const Eigen::MatrixXd& ph
 {
   const int dim = static_cast<int>(mesh.V.cols());
   const Index n = mesh.control_vertex.size(), nv = mesh.V.rows(), m = static_cast<Index>(free.size());
-  const Eigen::MatrixXd Gfull = Eigen::MatrixXd(gradient_operator(mesh.V, mesh.T));
-  Eigen::MatrixXd G(Gfull.rows(), m);
+  const Eigen::SparseMatrix<double> Gfull = gradient_operator(mesh.V, mesh.T);
+  Eigen::SparseMatrix<double> select(nv, m); // picks the free columns
   for (Index j = 0; j < m; ++j)
-    G.col(j) = Gfull.col(free[static_cast<std::size_t>(j)]);
+    select.insert(free[static_cast<std::size_t>(j)], j) = 1.0;
+  const Eigen::SparseMatrix<double> G = Gfull * select, Gt = G.transpose();
   Eigen::MatrixXd Wb = Eigen::MatrixXd::Zero(nv, n);
   const Eigen::MatrixXd Bw(mesh.boundary_weights);
   for (std::size_t k = 0; k < mesh.boundary_vertices.size(); ++k)
@@ -342,7 +346,7 @@ Eigen::MatrixXd chambolle_pock(const DomainMesh& mesh, const Eigen::MatrixXd& ph
   double norm2 = 0.0;
   for (int k = 0; k < 200; ++k)
   {
-    const Eigen::MatrixXd Q = G.transpose() * (G * P) + P + P * K * K.transpose();
+    const Eigen::MatrixXd Q = Gt * (G * P) + P + P * K * K.transpose();
     norm2 = Q.norm() / P.norm();
     P = Q / Q.norm();
   }
@@ -365,7 +369,7 @@ Eigen::MatrixXd chambolle_pock(const DomainMesh& mesh, const Eigen::MatrixXd& ph
     y2 = (y2 + sigma * Wbar).cwiseMin(0.0);
     y3 += sigma * (Wbar * K - B);
     const Eigen::MatrixXd Wold = W;
-    W -= tau * (G.transpose() * y1 + y2 + y3 * K.transpose());
+    W -= tau * (Gt * y1 + y2 + y3 * K.transpose());
     Wbar = 2.0 * W - Wold;
   }
   return W;
@@ -547,7 +551,7 @@ TEST(LBC, RelaxedTVProximalRadiusMinimisesItsOneDimensionalProblem)
 
 TEST(LBC, RelaxedTVIsSmootherAndLessLocal)
 {
-  const DomainMesh mesh = polygon_mesh(test::star_polygon(5, 1.0, 0.5), 700);
+  const DomainMesh mesh = polygon_mesh(test::star_polygon(5, 1.0, 0.5), 400);
   LBCOptions o = one_thread();
   o.primal_tolerance = 1e-7;
   o.dual_tolerance = 1e-6;
@@ -573,7 +577,7 @@ TEST(LBC, RelaxedTVIsSmootherAndLessLocal)
 TEST(LBC, LocalityFunctionsAndNormalisation)
 {
   const Cage cage = test::star_polygon(5, 1.0, 0.45);
-  const DomainMesh mesh = polygon_mesh(cage, 500);
+  const DomainMesh mesh = polygon_mesh(cage, 300);
   LBCOptions o = one_thread();
   const LocalBarycentricCoordinates squared(mesh, o);
   const Eigen::MatrixXd& D = squared.normalized_distances();
@@ -634,7 +638,7 @@ TEST(LBC, BackendsAndAndersonReachTheSameOptimum)
 {
   // Different factorisations round differently, so the iterates differ by rounding amplified
   // through the nonsmooth steps: the weights and objectives agree to the stopping tolerance.
-  const DomainMesh mesh = polygon_mesh(test::u_polygon(), 400);
+  const DomainMesh mesh = polygon_mesh(test::u_polygon(), 250);
   LBCOptions o = one_thread();
   o.primal_tolerance = 1e-7;
   o.dual_tolerance = 1e-6;
