@@ -32,12 +32,17 @@
 /// close to it, w_j rises again to a small bump (prominence 0.001-0.08, up to w = 1 in a corner),
 /// in both modes, always where handle j dominates (bbw_test, Fig16).
 ///
-/// Measured (Release, one core of this 2-core machine unless stated): libigl's knight (1,822
-/// vertices, 7 bones) fast mode 0.8 s with 2 threads, 292 active-set iterations in all, max
-/// |W - W_matlab| = 1.3e-6 against the libigl authors' MATLAB active-set weights (before
-/// normalization); coupled 17 s (5 outer iterations). libigl's hand (7,234 vertices, 20 bones):
-/// fast 19.9 s on one thread, 11.1 s on two (646 iterations, KKT <= 5e-11), where libigl's
-/// active-set BBW takes ~35 s on one thread.
+/// Measured (Release, this 2-core machine shared with other jobs, so CPU time = user + sys is
+/// the reliable figure; best of 3): libigl's hand (7,234 vertices, 20 bones), fast mode 5.8 s
+/// CPU and 6.0 s wall on one thread (646 active-set iterations: 382 factorizations, 264 row
+/// modifications; KKT <= 5e-11), where libigl's active-set BBW takes ~35 s on one thread and
+/// this mode took 19.9 s with Eigen's SimplicialLDLT refactoring every iteration; coupled
+/// 14 s CPU on one thread (33 coupled active-set iterations, 437 CG iterations; E_mean 0.0024,
+/// E_max 0.20 against the normalized fast weights; partition error 1e-11, KKT 5e-11), where
+/// the previous augmented Lagrangian did not finish in 25 minutes. libigl's knight (1,822
+/// vertices, 7 bones): fast 0.4 s CPU (292 iterations), max |W - W_matlab| = 1.26e-6 against
+/// the libigl authors' MATLAB active-set weights (before normalization); coupled 2.2 s CPU
+/// (40 iterations; E_mean 0.013, E_max 0.15), previously 17 s.
 ///
 /// Edge cases: every vertex must belong to an element and every connected component must hold
 /// a fixed vertex (else Q is singular there: Error(InvalidArgument) naming a vertex); a handle
@@ -120,7 +125,9 @@ enum class BBWMode
   /// a bound-constrained QP of #V unknowns per handle, BoxConstrainedQP), handles in parallel,
   /// then every row normalized to sum to 1: the paper's §3.4 speed-up ("50 times faster"
   /// for the Gargoyle). Cost: one shared factorization of Q on the unknowns (the unconstrained
-  /// biharmonic start of every handle), then a few factorizations per handle on its support.
+  /// biharmonic start of every handle), then per handle 20-50 active-set iterations, each a
+  /// factorization of Q on the handle's support or a few row modifications of the last one
+  /// (box_constrained_qp.h).
   Fast,
   /// The full problem (Eq. 8 subject to Eq. 3-6) with partition of unity enforced, by a
   /// primal-dual active-set method on the coupled KKT conditions
