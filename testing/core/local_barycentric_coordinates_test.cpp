@@ -197,7 +197,8 @@ TEST(LBC, ResultsDoNotDependOnTheThreadCount)
 /// iterates), tau = 1 (phi = 1).
 struct LiteralADMM
 {
-  Eigen::MatrixXd G, E, J, M, H, Sinv, weight; // weight: #T by n, phi A
+  Eigen::MatrixXd G, E, J, M, H, weight; // weight: #T by n, phi A
+  Eigen::LLT<Eigen::MatrixXd> S;          // G^T G + I
   Eigen::MatrixXd W, X, Y, L1, L2;
   double mu, alpha;
   int dim;
@@ -233,11 +234,14 @@ struct LiteralADMM
       K.row(i) << V.row(mesh.control_vertex(i)), 1.0;
     for (Index j = 0; j < m; ++j)
       Bm.row(j) << V.row(free[static_cast<std::size_t>(j)]), 1.0;
-    Eigen::JacobiSVD<Eigen::MatrixXd> svd(K, Eigen::ComputeFullU | Eigen::ComputeFullV);
-    M = svd.matrixU().rightCols(n - dim - 1).transpose(); // rows: null(K^T)
-    H = Bm * K.completeOrthogonalDecomposition().pseudoInverse();
+    // rows of M: an orthonormal basis of null(K^T) (the last columns of K's full QR factor Q);
+    // H = B K^+ = B (K^T K)^-1 K^T (K has full column rank)
+    const Eigen::HouseholderQR<Eigen::MatrixXd> qr(K);
+    const Eigen::MatrixXd Q = qr.householderQ();
+    M = Q.rightCols(n - dim - 1).transpose();
+    H = Bm * (K.transpose() * K).llt().solve(K.transpose());
     J = G * H + E;
-    Sinv = (G.transpose() * G + Eigen::MatrixXd::Identity(m, m)).inverse();
+    S.compute(G.transpose() * G + Eigen::MatrixXd::Identity(m, m));
     const Eigen::VectorXd area = simplex_volumes(V, mesh.T);
     weight = area.replicate(1, n);
     Y = Eigen::MatrixXd::Zero(m, n - dim - 1);
@@ -264,7 +268,7 @@ struct LiteralADMM
     const Eigen::MatrixXd Xt = alpha * X - (alpha - 1.0) * GYMJ;
     const Eigen::MatrixXd Wt = alpha * W - (alpha - 1.0) * YMH;
     const Eigen::MatrixXd Ynew =
-      Sinv * (G.transpose() * (Xt - J + L1 / mu) + Wt - H + L2 / mu) * M.transpose();
+      S.solve((G.transpose() * (Xt - J + L1 / mu) + Wt - H + L2 / mu) * M.transpose());
     // 3. multipliers
     L1 += mu * (Xt - G * Ynew * M - J);
     L2 += mu * (Wt - Ynew * M - H);
