@@ -981,59 +981,59 @@ void SparseCholesky::compute(
 #ifdef BARYLAB_HAVE_CHOLMOD
     else
     {
-    impl->cholmod = std::make_unique<CholmodFactor>();
-    if (ordered)
-    {
-      impl->cholmod->cholmod().nmethods = 1;
-      impl->cholmod->cholmod().method[0].ordering = CHOLMOD_NATURAL;
-    }
-    impl->cholmod->compute(scaled);
-    const cholmod_factor* L = impl->cholmod->factor();
-    const int status = impl->cholmod->cholmod().status;
-    if (status < 0 || L == nullptr)
-      throw Error(status == CHOLMOD_OUT_OF_MEMORY ? ErrorCode::InvalidArgument : ErrorCode::Internal,
-        "CHOLMOD failed to factor a " + std::to_string(n) + " by " + std::to_string(n) +
-          " matrix (status " + std::to_string(status) +
-          (status == CHOLMOD_OUT_OF_MEMORY ? ", out of memory)" : ")"));
-    const int* perm = static_cast<const int*>(L->Perm);
-    auto original_row = [&](Index k) -> Index { return original(perm ? perm[k] : k); };
-    if (impl->cholmod->info() != Eigen::Success)
-    {
-      const Index minor = static_cast<Index>(L->minor);
-      throw_not_positive_definite("CHOLMOD's LL^T factorization failed at row " +
-        (minor < n ? id(original_row(minor)) : std::to_string(minor)));
-    }
-    impl->entries = static_cast<double>(impl->cholmod->cholmod().lnz);
-    impl->flops = impl->cholmod->cholmod().fl;
-    const double* x = static_cast<const double*>(L->x);
-    if (L->is_super)
-    {
-      // Supernode s: columns super[s] .. super[s+1]-1 stored as a dense column-major block of
-      // pi[s+1]-pi[s] rows at x + px[s]; its diagonal has stride nrows + 1.
-      const int* super = static_cast<const int*>(L->super);
-      const int* pi = static_cast<const int*>(L->pi);
-      const int* px = static_cast<const int*>(L->px);
-      for (std::size_t s = 0; s < L->nsuper; ++s)
+      impl->cholmod = std::make_unique<CholmodFactor>();
+      if (ordered)
       {
-        const int ncols = super[s + 1] - super[s];
-        const int nrows = pi[s + 1] - pi[s];
-        for (int j = 0; j < ncols; ++j)
+        impl->cholmod->cholmod().nmethods = 1;
+        impl->cholmod->cholmod().method[0].ordering = CHOLMOD_NATURAL;
+      }
+      impl->cholmod->compute(scaled);
+      const cholmod_factor* L = impl->cholmod->factor();
+      const int status = impl->cholmod->cholmod().status;
+      if (status < 0 || L == nullptr)
+        throw Error(status == CHOLMOD_OUT_OF_MEMORY ? ErrorCode::InvalidArgument : ErrorCode::Internal,
+          "CHOLMOD failed to factor a " + std::to_string(n) + " by " + std::to_string(n) +
+            " matrix (status " + std::to_string(status) +
+            (status == CHOLMOD_OUT_OF_MEMORY ? ", out of memory)" : ")"));
+      const int* perm = static_cast<const int*>(L->Perm);
+      auto original_row = [&](Index k) -> Index { return original(perm ? perm[k] : k); };
+      if (impl->cholmod->info() != Eigen::Success)
+      {
+        const Index minor = static_cast<Index>(L->minor);
+        throw_not_positive_definite("CHOLMOD's LL^T factorization failed at row " +
+          (minor < n ? id(original_row(minor)) : std::to_string(minor)));
+      }
+      impl->entries = static_cast<double>(impl->cholmod->cholmod().lnz);
+      impl->flops = impl->cholmod->cholmod().fl;
+      const double* x = static_cast<const double*>(L->x);
+      if (L->is_super)
+      {
+        // Supernode s: columns super[s] .. super[s+1]-1 stored as a dense column-major block of
+        // pi[s+1]-pi[s] rows at x + px[s]; its diagonal has stride nrows + 1.
+        const int* super = static_cast<const int*>(L->super);
+        const int* pi = static_cast<const int*>(L->pi);
+        const int* px = static_cast<const int*>(L->px);
+        for (std::size_t s = 0; s < L->nsuper; ++s)
         {
-          const double l = x[px[s] + j * (nrows + 1)];
-          record(l * l, original_row(super[s] + j));
+          const int ncols = super[s + 1] - super[s];
+          const int nrows = pi[s + 1] - pi[s];
+          for (int j = 0; j < ncols; ++j)
+          {
+            const double l = x[px[s] + j * (nrows + 1)];
+            record(l * l, original_row(super[s] + j));
+          }
+        }
+      }
+      else
+      {
+        const int* p = static_cast<const int*>(L->p);
+        for (Index k = 0; k < n; ++k)
+        {
+          const double l = x[p[k]];
+          record(L->is_ll ? l * l : l, original_row(k));
         }
       }
     }
-    else
-    {
-      const int* p = static_cast<const int*>(L->p);
-      for (Index k = 0; k < n; ++k)
-      {
-        const double l = x[p[k]];
-        record(L->is_ll ? l * l : l, original_row(k));
-      }
-    }
-  }
 #endif
   }
 
