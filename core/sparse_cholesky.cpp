@@ -502,12 +502,20 @@ Index supernodal_numeric(SupernodalFactor& f, const SparseMatrix& A, const Facto
       const ConstDenseBlock Ld(f.values.data() + f.value_start[du], d_height, d_columns,
         Eigen::OuterStride<>(d_height));
       DenseBlock C(update.data(), m2, m1, Eigen::OuterStride<>(m2));
-      const auto below = Ld.middleRows(p1 - d0, m2);
       const auto within = Ld.middleRows(p1 - d0, m1);
-      if (blocked)
-        C.noalias() = below * within.transpose();
-      else
-        C.noalias() = below.lazyProduct(within.transpose());
+      const auto further = Ld.middleRows(p2 - d0, m2 - m1);
+      // The lower triangle of the top m1 x m1 block (symmetric rank-k update), then the rows
+      // below it (GEMM).
+      auto top = C.topRows(m1);
+      top.triangularView<Eigen::Lower>().setZero();
+      top.selfadjointView<Eigen::Lower>().rankUpdate(within);
+      if (m2 > m1)
+      {
+        if (blocked)
+          C.bottomRows(m2 - m1).noalias() = further * within.transpose();
+        else
+          C.bottomRows(m2 - m1).noalias() = further.lazyProduct(within.transpose());
+      }
       map.resize(static_cast<std::size_t>(m2));
       for (int i = 0; i < m2; ++i)
         map[static_cast<std::size_t>(i)] = relative[static_cast<std::size_t>(rows[p1 + i])];
