@@ -3,6 +3,8 @@
 //   barylab weights --method mvc --cage CAGE --points MODEL --output OUT [--json SUMMARY]
 //   barylab weights --method bbw --mesh DOMAIN --handles HANDLES [--points MODEL] --output OUT
 //                   [--fast]
+//   barylab weights --method lbc --cage CAGE [--mesh DOMAIN | --cells N] [--points MODEL]
+//                   --output OUT [--locality squared|constant|linear] [--max-iterations N] ...
 //   barylab deform  --method mvc --cage REST --deformed-cage POSED --points MODEL --output OUT
 //                   [--weights FILE]
 //   barylab deform  --method bbw --mesh DOMAIN --handles HANDLES --points MODEL --output OUT
@@ -155,6 +157,38 @@ void add_method_options(CLI::App* cmd, WeightsParameters& p)
   bbw->add_flag("--fast", p.bbw_fast,
     "solve each handle alone, then normalize (the paper's fast mode); default: the coupled "
     "problem with partition of unity enforced");
+  auto* lbc = cmd->add_option_group("local barycentric coordinates",
+    "--method lbc (Zhang et al. 2014; defaults: the paper's)");
+  lbc->add_option("--locality", p.lbc_locality,
+       "locality function tau of the geodesic distance: squared (the paper's) | constant (plain "
+       "total variation) | linear")
+    ->default_val(p.lbc_locality)
+    ->check(CLI::IsMember({ "squared", "constant", "linear" }));
+  lbc->add_option("--relaxed-epsilon", p.lbc_relaxed_epsilon,
+       "relaxed total variation epsilon (Eq. 7-8, relative to the diameter; 0: plain TV, > 0: "
+       "C1 weights, less local)")
+    ->default_val(p.lbc_relaxed_epsilon)
+    ->check(CLI::NonNegativeNumber);
+  lbc->add_option("--primal-tolerance", p.lbc_primal_tolerance,
+       "ADMM primal stopping threshold per residual entry (Eq. 26)")
+    ->default_val(p.lbc_primal_tolerance)
+    ->check(CLI::Range(1e-15, 0.5));
+  lbc->add_option("--dual-tolerance", p.lbc_dual_tolerance,
+       "ADMM dual stopping threshold per residual entry (Eq. 27)")
+    ->default_val(p.lbc_dual_tolerance)
+    ->check(CLI::Range(1e-15, 0.5));
+  lbc->add_option("--max-iterations", p.lbc_max_iterations,
+       "ADMM iteration cap; reaching it is an error")
+    ->default_val(p.lbc_max_iterations)
+    ->check(CLI::Range(1, 1000000000));
+  lbc->add_option("--distance-normalization", p.lbc_distance_normalization,
+       "geodesic distances normalised by each control point's maximum (Eq. 12) or by one global "
+       "maximum (the authors' code): per-control-point | global")
+    ->default_val(p.lbc_distance_normalization)
+    ->check(CLI::IsMember({ "per-control-point", "global" }));
+  lbc->add_flag("--no-barycentric-constraints{false}", p.lbc_barycentric_constraints,
+    "drop partition of unity and reproduction (the paper's unconstrained TV, §3.2): not "
+    "barycentric coordinates");
 }
 
 /// BBW inputs: --cage (cage handles) or --handles with --mesh (a skeleton in a domain).
@@ -164,8 +198,10 @@ void check_bbw_inputs(const std::string& method, const std::string& cage,
 {
   if (method != "bbw")
   {
-    if (!handles.empty() || !mesh.empty())
-      throw UsageError("--handles and --mesh are for --method bbw");
+    if (!handles.empty() || (!mesh.empty() && method != "lbc"))
+      throw UsageError(method == "lbc" ? "--handles is for --method bbw"
+                                       : "--handles and --mesh are for --method bbw (--mesh also "
+                                         "for lbc)");
     const bool point_based = barylab::IsPointBasedMethod(method);
     if (point_based && !controls)
       throw UsageError("--method " + method + " takes free control points: --control-points "
@@ -243,7 +279,9 @@ void print_summary(const json& s)
     std::cerr << "barylab: solver:";
     for (const char* key : { "mesh_vertices", "mesh_cells", "fast_iterations", "outer_iterations",
            "max_kkt_residual", "max_bound_violation", "partition_error", "mean_newton_iterations",
-           "max_newton_iterations", "max_residual", "not_converged", "solve_seconds" })
+           "max_newton_iterations", "max_residual", "not_converged", "iterations",
+           "primal_residual", "dual_residual", "objective", "converged", "reproduction_error",
+           "solve_seconds" })
       if (v.contains(key))
         std::cerr << " " << key << " " << v[key].get<double>();
     std::cerr << "\n";
@@ -305,7 +343,11 @@ int run_weights(WeightsArgs a)
   if (!a.controls.empty())
     a.cage = a.controls;
   a.parameters.user_weights = read_user_weights(a.user_weights);
-  if (a.points.empty() && a.mesh.empty())
+  // Mesh-based methods with a cage and no points: the weights at the vertices of the domain
+  // mesh (made here as the method makes it, or --mesh for lbc), written as that mesh.
+  const bool mesh_based = a.parameters.method == "harmonic" || a.parameters.method == "lbc" ||
+    (a.parameters.method == "bbw" && a.handles.empty());
+  if (a.points.empty() && a.mesh.empty() && !mesh_based)
     throw UsageError("--points is required (the points to compute weights at)");
   check_output(a.output, OutputKind::Data);
   if (!a.json_path.empty())
@@ -313,7 +355,24 @@ int run_weights(WeightsArgs a)
   const bool skeleton = !a.handles.empty();
   auto cage = vtkBaryDataIO::ReadPolyData(skeleton ? a.handles : a.cage);
   vtkSmartPointer<vtkDataSet> domain = a.mesh.empty() ? nullptr : vtkBaryDataIO::Read(a.mesh);
-  auto points = a.points.empty() ? domain : vtkBaryDataIO::Read(a.points);
+  vtkSmartPointer<vtkDataSet> points;
+  if (!a.points.empty())
+    points = vtkBaryDataIO::Read(a.points);
+  else if (domain)
+    points = domain;
+  else
+  {
+    // the mesher's defaults are the methods' (deterministic: the same mesh again inside)
+    barylab::MeshParameters mp;
+    mp.cage_dimension = a.parameters.cage_dimension;
+    const int dim = barylab::CageDimension(cage, a.parameters.cage_dimension);
+    mp.target_cells = a.parameters.target_cells > 0 ? a.parameters.target_cells
+                                                    : (dim == 2 ? 3000 : 20000);
+    mp.max_cell_size = a.parameters.max_cell_size;
+    points = barylab::MeshCage(cage, nullptr, mp);
+    if (a.parameters.method == "lbc")
+      domain = points; // used as is: no second meshing
+  }
   ProgressBar bar(!a.quiet, "weights");
   json summary;
   auto result = barylab::ComputeWeights(
@@ -323,8 +382,9 @@ int run_weights(WeightsArgs a)
   if (!a.user_weights.empty())
     summary["user_weights"] = a.user_weights;
   if (domain)
-    summary["domain"] = { { "file", a.mesh } };
-  summary["points"]["file"] = a.points.empty() ? a.mesh : a.points;
+    summary["domain"] = { { "file", a.mesh.empty() ? "(meshed)" : a.mesh } };
+  summary["points"]["file"] =
+    !a.points.empty() ? a.points : !a.mesh.empty() ? a.mesh : "(the domain mesh's vertices)";
   summary["output"] = a.output;
   summary["statistics"] = barylab::WeightStatisticsJson(result, a.parameters.weights_name,
     skeleton ? nullptr : cage.Get(), -1.0, a.parameters.cage_dimension);
@@ -514,6 +574,10 @@ int run_deform(DeformArgs a)
     throw UsageError("give --cage or --control-points, not both");
   if (!a.posed_controls.empty() && !a.posed.empty())
     throw UsageError("give --deformed-cage or --deformed-control-points, not both");
+  if (a.parameters.method == "lbc" && !a.mesh.empty())
+    throw UsageError("deform --method lbc meshes the cage; for weights on a given mesh run "
+                     "'barylab weights --method lbc --mesh DOMAIN --points MODEL' and pass them "
+                     "with --weights");
   check_bbw_inputs(a.parameters.method, a.controls.empty() ? a.cage : a.controls, a.handles,
     a.mesh, !a.controls.empty());
   if (!a.user_weights.empty() && a.parameters.method != "tcc")
@@ -936,9 +1000,12 @@ int main(int argc, char** argv)
   weights->add_option("--handles", wa.handles,
     "bbw: skeleton (.tgf, or .vtp points + lines): bones and point handles");
   weights->add_option("--mesh", wa.mesh,
-    "bbw: domain: tet/triangle mesh (.vtu, .mesh) or a closed surface / polygon to mesh");
+    "bbw: domain: tet/triangle mesh (.vtu, .mesh) or a closed surface / polygon to mesh; lbc: a "
+    "tet/triangle mesh of the cage's interior, used as is (its boundary vertices include the "
+    "cage's)");
   weights->add_option("--points,-p", wa.points,
-    "points/mesh to evaluate at (bbw: default the --mesh itself)");
+    "points/mesh to evaluate at (default: bbw, lbc: the --mesh itself; harmonic, lbc, bbw with "
+    "--cage: the domain mesh made of the cage, written with its weights)");
   weights->add_option("--output,-o", wa.output, "output file (.vtp/.vtu/.vtk keep the weights)")
     ->required();
   weights->add_option("--json", wa.json_path, "write a JSON summary (counts, timings, statistics)");

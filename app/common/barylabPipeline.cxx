@@ -106,6 +106,39 @@ int OutsidePolicyFromName(const std::string& name)
     "unknown outside policy '" + name + "' (available: error, nearest, nan)");
 }
 
+int LBCLocalityFromName(const std::string& name)
+{
+  if (name == "squared")
+    return vtkBaryCoordinates::LBC_LOCALITY_SQUARED;
+  if (name == "constant")
+    return vtkBaryCoordinates::LBC_LOCALITY_CONSTANT;
+  if (name == "linear")
+    return vtkBaryCoordinates::LBC_LOCALITY_LINEAR;
+  throw bary::Error(bary::ErrorCode::InvalidArgument,
+    "unknown LBC locality function '" + name + "' (available: squared, constant, linear)");
+}
+
+int LBCNormalizationFromName(const std::string& name)
+{
+  if (name == "per-control-point")
+    return vtkBaryCoordinates::LBC_NORMALIZE_PER_CONTROL_POINT;
+  if (name == "global")
+    return vtkBaryCoordinates::LBC_NORMALIZE_GLOBAL;
+  throw bary::Error(bary::ErrorCode::InvalidArgument,
+    "unknown LBC distance normalization '" + name + "' (available: per-control-point, global)");
+}
+
+/// @p value if it lies in [lo, hi], else a bary::Error naming the parameter (the filters
+/// clamp silently; the parameter object must not).
+double checked(const char* name, double value, double lo, double hi)
+{
+  if (!(value >= lo && value <= hi))
+    throw bary::Error(bary::ErrorCode::InvalidArgument,
+      std::string(name) + " = " + std::to_string(value) + " is out of range [" +
+        std::to_string(lo) + ", " + std::to_string(hi) + "]");
+  return value;
+}
+
 /// The settings every weights filter shares, from the parameter object.
 template <class Filter>
 void Configure(Filter* filter, const WeightsParameters& p)
@@ -122,6 +155,14 @@ void Configure(Filter* filter, const WeightsParameters& p)
   filter->SetOutsidePolicy(OutsidePolicyFromName(p.outside));
   filter->SetBBWMode(p.bbw_fast ? vtkBaryCoordinates::BBW_FAST : vtkBaryCoordinates::BBW_COUPLED);
   filter->SetLambda(p.lambda);
+  filter->SetLBCLocality(LBCLocalityFromName(p.lbc_locality));
+  filter->SetLBCRelaxedEpsilon(checked("lbc relaxed epsilon", p.lbc_relaxed_epsilon, 0.0, 1e300));
+  filter->SetLBCPrimalTolerance(checked("lbc primal tolerance", p.lbc_primal_tolerance, 1e-15, 0.5));
+  filter->SetLBCDualTolerance(checked("lbc dual tolerance", p.lbc_dual_tolerance, 1e-15, 0.5));
+  filter->SetLBCMaximumIterations(
+    static_cast<int>(checked("lbc max iterations", p.lbc_max_iterations, 1, 1e9)));
+  filter->SetLBCDistanceNormalization(LBCNormalizationFromName(p.lbc_distance_normalization));
+  filter->SetLBCBarycentricConstraints(p.lbc_barycentric_constraints);
   if (p.user_weights.empty())
     filter->SetUserWeights(nullptr);
   else

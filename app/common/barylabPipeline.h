@@ -57,6 +57,14 @@ struct WeightsParameters
   // celestial coordinates
   double lambda = 2.0;               ///< SCC wrapping-sphere parameter (> 1)
   std::vector<double> user_weights;  ///< TCC s_i, one per control point (empty: none)
+  // local barycentric coordinates (defaults: the paper's, as bary::LBCOptions)
+  std::string lbc_locality = "squared"; ///< tau of §3.3: squared | constant | linear
+  double lbc_relaxed_epsilon = 0.0;  ///< relaxed total variation epsilon (0: plain TV)
+  double lbc_primal_tolerance = 1e-6; ///< ADMM primal threshold per residual entry
+  double lbc_dual_tolerance = 1e-5;  ///< ADMM dual threshold per residual entry
+  int lbc_max_iterations = 20000;    ///< ADMM iteration cap (reaching it is an error)
+  std::string lbc_distance_normalization = "per-control-point"; ///< Eq. 12: | global
+  bool lbc_barycentric_constraints = true; ///< false: §3.2's unconstrained TV
 };
 
 /// True for methods whose controls are free points (tcc, scc): they take --control-points.

@@ -210,6 +210,13 @@ int vtkBaryCageDeformation::RequestData(
       if (!parameters.UserWeights.empty())
         hasher.add(parameters.UserWeights.data(), sizeof(double) * parameters.UserWeights.size());
       hasher.add(parameters.OutsidePolicy);
+      hasher.add(parameters.LBCLocality);
+      hasher.add(parameters.LBCRelaxedEpsilon);
+      hasher.add(parameters.LBCPrimalTolerance);
+      hasher.add(parameters.LBCDualTolerance);
+      hasher.add(parameters.LBCMaximumIterations);
+      hasher.add(parameters.LBCDistanceNormalization);
+      hasher.add(parameters.LBCBarycentricConstraints);
       if (!this->WeightCache->Valid || this->WeightCache->Key != hasher.h)
       {
         this->WeightCache->Valid = false;

@@ -108,6 +108,23 @@ public:
   vtkGetMacro(Lambda, double);
   virtual void SetUserWeights(vtkDataArray* weights);
   vtkGetObjectMacro(UserWeights, vtkDataArray);
+  vtkSetClampMacro(LBCLocality, int, vtkBaryCoordinates::LBC_LOCALITY_SQUARED,
+    vtkBaryCoordinates::LBC_LOCALITY_LINEAR);
+  vtkGetMacro(LBCLocality, int);
+  vtkSetClampMacro(LBCRelaxedEpsilon, double, 0.0, VTK_DOUBLE_MAX);
+  vtkGetMacro(LBCRelaxedEpsilon, double);
+  vtkSetClampMacro(LBCPrimalTolerance, double, 1e-15, 0.5);
+  vtkGetMacro(LBCPrimalTolerance, double);
+  vtkSetClampMacro(LBCDualTolerance, double, 1e-15, 0.5);
+  vtkGetMacro(LBCDualTolerance, double);
+  vtkSetClampMacro(LBCMaximumIterations, int, 1, VTK_INT_MAX);
+  vtkGetMacro(LBCMaximumIterations, int);
+  vtkSetClampMacro(LBCDistanceNormalization, int,
+    vtkBaryCoordinates::LBC_NORMALIZE_PER_CONTROL_POINT, vtkBaryCoordinates::LBC_NORMALIZE_GLOBAL);
+  vtkGetMacro(LBCDistanceNormalization, int);
+  vtkSetMacro(LBCBarycentricConstraints, bool);
+  vtkGetMacro(LBCBarycentricConstraints, bool);
+  vtkBooleanMacro(LBCBarycentricConstraints, bool);
   ///@}
 
   ///@{
@@ -148,6 +165,13 @@ protected:
   int BBWMode = vtkBaryCoordinates::BBW_COUPLED;
   double Lambda = 2.0;
   vtkDataArray* UserWeights = nullptr;
+  int LBCLocality = vtkBaryCoordinates::LBC_LOCALITY_SQUARED;
+  double LBCRelaxedEpsilon = 0.0;
+  double LBCPrimalTolerance = 1e-6;
+  double LBCDualTolerance = 1e-5;
+  int LBCMaximumIterations = 20000;
+  int LBCDistanceNormalization = vtkBaryCoordinates::LBC_NORMALIZE_PER_CONTROL_POINT;
+  bool LBCBarycentricConstraints = true;
   vtkIdType NumberOfWeightComputations = 0;
 
 private:

@@ -24,7 +24,7 @@ vtkStandardNewMacro(vtkBaryCoordinates);
 
 namespace
 {
-const char* const kMethodNames[] = { "mvc", "harmonic", "bbw", "tcc", "scc" };
+const char* const kMethodNames[] = { "mvc", "harmonic", "bbw", "tcc", "scc", "lbc" };
 }
 
 vtkBaryCoordinates::vtkBaryCoordinates()
@@ -178,8 +178,9 @@ int vtkBaryCoordinates::RequestData(
       this->FinishOutput(output, W, columns, report);
       return 1;
     }
-    if (domain && this->Method != BBW)
-      vtkWarningMacro(<< "The domain (input 2) is used by BBW with skeleton handles only; ignored.");
+    if (domain && this->Method != BBW && this->Method != LBC)
+      vtkWarningMacro(<< "The domain (input 2) is used by BBW with skeleton handles and by LBC "
+                         "only; ignored.");
     const bool pointBased = vtkBaryMethod::IsPointBased(this->Method);
     const vtkBaryCage cage = pointBased
       ? vtkBaryConversion::ToControlPoints(cagePoly, this->CageDimension)
@@ -198,7 +199,8 @@ int vtkBaryCoordinates::RequestData(
     vtkBaryMethodReport report;
     this->UpdateProgress(0.0);
     const bary::DenseWeights W = vtkBaryMethod::Compute(cage, points, parameters, progress,
-      &report, pointBased ? vtkBaryConversion::CellEdges(input) : Eigen::MatrixXi());
+      &report, pointBased ? vtkBaryConversion::CellEdges(input) : Eigen::MatrixXi(),
+      this->Method == LBC ? domain : nullptr);
     this->FinishOutput(output, W, cage, report);
   }
   VTKBARY_CATCH_ERRORS
@@ -247,4 +249,14 @@ void vtkBaryCoordinates::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "Lambda: " << this->Lambda << "\n";
   os << indent << "UserWeights: " << (this->UserWeights ? "set" : "(none)") << "\n";
   os << indent << "BBWMode: " << (this->BBWMode == BBW_FAST ? "fast" : "coupled") << "\n";
+  static const char* const localities[] = { "squared", "constant", "linear" };
+  os << indent << "LBCLocality: " << localities[this->LBCLocality] << "\n";
+  os << indent << "LBCRelaxedEpsilon: " << this->LBCRelaxedEpsilon << "\n";
+  os << indent << "LBCPrimalTolerance: " << this->LBCPrimalTolerance << "\n";
+  os << indent << "LBCDualTolerance: " << this->LBCDualTolerance << "\n";
+  os << indent << "LBCMaximumIterations: " << this->LBCMaximumIterations << "\n";
+  os << indent << "LBCDistanceNormalization: "
+     << (this->LBCDistanceNormalization == LBC_NORMALIZE_GLOBAL ? "global" : "per control point")
+     << "\n";
+  os << indent << "LBCBarycentricConstraints: " << this->LBCBarycentricConstraints << "\n";
 }

@@ -21,8 +21,18 @@
  * points; cells ignored; 2D when they lie in a plane z = const): the domain is their convex hull,
  * component i is control point i. When input 0 has cells, Newton's warm starts follow its edges.
  *
- * BBW's solver figures (iterations, KKT residual, bound violation, partition error, times) are
- * available from GetStatistic() after an update.
+ * Local barycentric coordinates (LBC, Zhang et al. 2014) take a cage as HARMONIC does; the
+ * weights are computed on a mesh of its interior (made here with TargetNumberOfCells /
+ * MaximumCellSize / InsertPointsIntoMesh, or given on input 2 and used as is), then
+ * interpolated at the points. Properties LBCLocality ... LBCBarycentricConstraints (defaults:
+ * the paper's). A run that does not converge within LBCMaximumIterations fails the request.
+ *
+ * The solver figures of BBW (iterations, KKT residual, bound violation, partition error,
+ * times) and of LBC ("mesh_vertices", "mesh_cells", "iterations", "primal_residual",
+ * "dual_residual", "primal_threshold", "dual_threshold", "objective", "converged",
+ * "partition_error", "reproduction_error", "min_weight", "threads", "geodesic_seconds",
+ * "factor_seconds", "admm_seconds", "solve_seconds") are available from GetStatistic() after
+ * an update.
  *
  * Output: a shallow copy of input 0 with
  * - a point-data array WeightsArrayName (default "Weights") of #C components: component i is the
@@ -75,6 +85,7 @@ public:
     BBW = 2,        ///< Jacobson et al. 2011: bounded biharmonic weights (cage or skeleton handles)
     T_CELESTIAL = 3, ///< Cerveró et al.: T-celestial coordinates of free control points
     S_CELESTIAL = 4, ///< Cerveró et al.: S-celestial coordinates of free control points
+    LBC = 5,         ///< Zhang et al. 2014: local barycentric coordinates on a mesh of the cage
     NUMBER_OF_METHODS
   };
 
@@ -102,6 +113,75 @@ public:
   void SetMethodToBBW() { this->SetMethod(BBW); }
   void SetMethodToTCelestial() { this->SetMethod(T_CELESTIAL); }
   void SetMethodToSCelestial() { this->SetMethod(S_CELESTIAL); }
+  void SetMethodToLBC() { this->SetMethod(LBC); }
+  ///@}
+
+  /// Local barycentric coordinates: tau of the paper's §3.3 (Eq. 11), the locality weight as a
+  /// function of the normalised geodesic distance D to the control point (bary::LocalityFunction).
+  enum LBCLocalityFunctions
+  {
+    LBC_LOCALITY_SQUARED = 0,  ///< tau(D) = D^2, the paper's choice for all its results (default)
+    LBC_LOCALITY_CONSTANT = 1, ///< tau = 1: plain total variation (problem (5)), no distances
+    LBC_LOCALITY_LINEAR = 2    ///< tau(D) = D
+  };
+
+  /// Local barycentric coordinates: how geodesic distances are normalised to [0, 1] (Eq. 12).
+  enum LBCDistanceNormalizations
+  {
+    LBC_NORMALIZE_PER_CONTROL_POINT = 0, ///< by each control point's own maximum (Eq. 12, default)
+    LBC_NORMALIZE_GLOBAL = 1 ///< by one maximum over all control points (the authors' code)
+  };
+
+  ///@{
+  /// LBC: the locality function tau (LBCLocalityFunctions). Default LBC_LOCALITY_SQUARED.
+  vtkSetClampMacro(LBCLocality, int, LBC_LOCALITY_SQUARED, LBC_LOCALITY_LINEAR);
+  vtkGetMacro(LBCLocality, int);
+  void SetLBCLocalityToSquared() { this->SetLBCLocality(LBC_LOCALITY_SQUARED); }
+  void SetLBCLocalityToConstant() { this->SetLBCLocality(LBC_LOCALITY_CONSTANT); }
+  void SetLBCLocalityToLinear() { this->SetLBCLocality(LBC_LOCALITY_LINEAR); }
+  ///@}
+
+  ///@{
+  /// LBC: epsilon of the relaxed total variation (Eq. 7-8, §3.2), in units of 1 / (the mesh's
+  /// bounding-box diameter), >= 0. 0 (default): plain total variation (exact zeros: local
+  /// weights); > 0: globally C^1 weights, less local.
+  vtkSetClampMacro(LBCRelaxedEpsilon, double, 0.0, VTK_DOUBLE_MAX);
+  vtkGetMacro(LBCRelaxedEpsilon, double);
+  ///@}
+
+  ///@{
+  /// LBC: ADMM stopping thresholds per residual entry (Appendix B, Eq. 26-27, on the mesh
+  /// rescaled to diameter 1), range [1e-15, 0.5]. Defaults: the paper's, primal 1e-6, dual 1e-5.
+  /// The thresholds grow like the mesh size, the residuals like its square root: tighten them
+  /// on large (especially 3D) meshes.
+  vtkSetClampMacro(LBCPrimalTolerance, double, 1e-15, 0.5);
+  vtkGetMacro(LBCPrimalTolerance, double);
+  vtkSetClampMacro(LBCDualTolerance, double, 1e-15, 0.5);
+  vtkGetMacro(LBCDualTolerance, double);
+  ///@}
+
+  ///@{
+  /// LBC: cap on ADMM iterations, >= 1. Default 20000. Reaching it fails the request with a
+  /// "did not converge" error (raise it or loosen the tolerances).
+  vtkSetClampMacro(LBCMaximumIterations, int, 1, VTK_INT_MAX);
+  vtkGetMacro(LBCMaximumIterations, int);
+  ///@}
+
+  ///@{
+  /// LBC: distance normalisation (LBCDistanceNormalizations). Default
+  /// LBC_NORMALIZE_PER_CONTROL_POINT.
+  vtkSetClampMacro(LBCDistanceNormalization, int, LBC_NORMALIZE_PER_CONTROL_POINT,
+    LBC_NORMALIZE_GLOBAL);
+  vtkGetMacro(LBCDistanceNormalization, int);
+  ///@}
+
+  ///@{
+  /// LBC: enforce partition of unity and reproduction (the barycentric constraints, Eq. 16).
+  /// Off gives §3.2's "unconstrained TV" (each weight alone under its boundary values, >= 0):
+  /// not barycentric coordinates, for studying one function's shape. Default on.
+  vtkSetMacro(LBCBarycentricConstraints, bool);
+  vtkGetMacro(LBCBarycentricConstraints, bool);
+  vtkBooleanMacro(LBCBarycentricConstraints, bool);
   ///@}
 
   ///@{
@@ -125,7 +205,11 @@ public:
   ///@}
 
   ///@{
-  /// The domain of BBW with skeleton handles (input port 2, optional otherwise).
+  /// The domain (input port 2, optional): of BBW with skeleton handles; of LBC, a
+  /// triangulation (2D: triangles in the cage's plane) or tetrahedralization (3D) of the cage's
+  /// interior used as is instead of meshing the cage (each cage vertex must be one of its
+  /// boundary vertices, within 1e-6 of the cage diameter, and its boundary must lie on the
+  /// cage; the request fails naming the first cage vertex that has no mesh vertex).
   void SetDomainData(vtkDataSet* domain);
   void SetDomainConnection(vtkAlgorithmOutput* output);
   ///@}
@@ -209,8 +293,12 @@ public:
   ///@}
 
   ///@{
-  /// Threads for the evaluation; 0 (default) = all cores (OpenMP's default). Results do not
-  /// depend on it.
+  /// Threads for the evaluation; 0 (default) = all cores (OpenMP's default), except for LBC,
+  /// where 0 means one thread: its ADMM iteration is a few short parallel loops, and libgomp's
+  /// spin-waiting between them made two threads 1.3-10x slower than one on a 2-core machine
+  /// shared with other work (measured in docs/local-barycentric-coordinates.md); on an idle
+  /// machine with many cores ask for them explicitly (or set OMP_WAIT_POLICY=passive). Results
+  /// do not depend on it.
   vtkSetClampMacro(NumberOfThreads, int, 0, 1024);
   vtkGetMacro(NumberOfThreads, int);
   ///@}
@@ -257,6 +345,13 @@ protected:
   int BBWMode = BBW_COUPLED;
   double Lambda = 2.0;
   vtkDataArray* UserWeights = nullptr;
+  int LBCLocality = LBC_LOCALITY_SQUARED;
+  double LBCRelaxedEpsilon = 0.0;
+  double LBCPrimalTolerance = 1e-6;
+  double LBCDualTolerance = 1e-5;
+  int LBCMaximumIterations = 20000;
+  int LBCDistanceNormalization = LBC_NORMALIZE_PER_CONTROL_POINT;
+  bool LBCBarycentricConstraints = true;
 
   vtkIdType NumberOfInsidePoints = 0;
   vtkIdType NumberOfOutsidePoints = 0;

@@ -6,6 +6,7 @@
 #include "core/celestial_coordinates.h"
 #include "core/error.h"
 #include "core/harmonic_coordinates.h"
+#include "core/local_barycentric_coordinates.h"
 #include "core/mean_value_coordinates.h"
 #include "core/mesh_point_locator.h"
 
@@ -15,8 +16,12 @@
 #include "vtkPolyData.h"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
+#include <limits>
+#include <map>
+#include <sstream>
 
 vtkStandardNewMacro(vtkBaryMethod);
 
@@ -141,6 +146,56 @@ double enclosed_measure(const bary::Cage& cage)
   }
   return std::abs(sum) / 6.0;
 }
+
+/// The options of local barycentric coordinates from the filter parameters.
+bary::LBCOptions lbc_options(const vtkBaryMethodParameters& parameters)
+{
+  bary::LBCOptions options;
+  static const bary::LocalityFunction localities[] = { bary::LocalityFunction::Squared,
+    bary::LocalityFunction::Constant, bary::LocalityFunction::Linear };
+  options.locality = localities[std::clamp(parameters.LBCLocality, 0, 2)];
+  options.distance_normalization =
+    parameters.LBCDistanceNormalization == vtkBaryCoordinates::LBC_NORMALIZE_GLOBAL
+    ? bary::DistanceNormalization::Global
+    : bary::DistanceNormalization::PerControlPoint;
+  options.relaxed_tv_epsilon = parameters.LBCRelaxedEpsilon;
+  options.primal_tolerance = parameters.LBCPrimalTolerance;
+  options.dual_tolerance = parameters.LBCDualTolerance;
+  options.max_iterations = parameters.LBCMaximumIterations;
+  options.barycentric_constraints = parameters.LBCBarycentricConstraints;
+  // 0 = one thread: the ADMM's short parallel loops spin-wait in libgomp and were several
+  // times slower with two threads on a loaded machine (see vtkBaryCoordinates.h).
+  options.threads = parameters.NumberOfThreads > 0 ? parameters.NumberOfThreads : 1;
+  options.require_convergence = true;
+  return options;
+}
+
+/// Mesh vertices on the boundary of the simplicial mesh T (facets used by one cell), sorted.
+std::vector<int> boundary_vertices_of(const Eigen::MatrixXi& T)
+{
+  const int corners = static_cast<int>(T.cols());
+  std::map<std::array<int, 3>, int> facets;
+  for (Eigen::Index c = 0; c < T.rows(); ++c)
+    for (int skip = 0; skip < corners; ++skip)
+    {
+      std::array<int, 3> f = { -1, -1, -1 };
+      int k = 0;
+      for (int j = 0; j < corners; ++j)
+        if (j != skip)
+          f[static_cast<std::size_t>(k++)] = T(c, j);
+      std::sort(f.begin(), f.begin() + k);
+      ++facets[f];
+    }
+  std::vector<int> vertices;
+  for (const auto& entry : facets)
+    if (entry.second == 1)
+      for (int v : entry.first)
+        if (v >= 0)
+          vertices.push_back(v);
+  std::sort(vertices.begin(), vertices.end());
+  vertices.erase(std::unique(vertices.begin(), vertices.end()), vertices.end());
+  return vertices;
+}
 } // namespace
 
 bary::PolygonMeshOptions vtkBaryMethod::PolygonMeshOptions(
@@ -175,7 +230,7 @@ bool vtkBaryMethod::IsPointBased(int method)
 bary::DenseWeights vtkBaryMethod::Compute(const vtkBaryCage& cage,
   const Eigen::MatrixXd& points, const vtkBaryMethodParameters& parameters,
   const bary::ProgressCallback& progress, vtkBaryMethodReport* report,
-  const Eigen::MatrixXi& edges)
+  const Eigen::MatrixXi& edges, vtkDataSet* domain)
 {
   switch (parameters.Method)
   {
@@ -303,6 +358,45 @@ bary::DenseWeights vtkBaryMethod::Compute(const vtkBaryCage& cage,
       }
       return std::move(result.W);
     }
+    case vtkBaryCoordinates::LBC:
+    {
+      // Zhang et al. 2014 on a mesh of the cage's interior: the given one or one made here
+      // (0-0.1), the ADMM (0.1-0.95), interpolation at the points (0.95-1).
+      const auto start = Clock::now();
+      const bary::DomainMesh mesh =
+        LBCDomainMesh(cage, domain, points, parameters, slice(progress, 0, 0.1));
+      const double mesh_seconds = seconds_since(start);
+      const bary::LBCResult result = bary::local_barycentric_coordinates(
+        mesh, lbc_options(parameters), slice(progress, 0.1, 0.95));
+      const bary::MeshPointLocator locator(mesh.V, mesh.T);
+      const bary::OutsidePolicy policy = outside_policy(parameters);
+      bary::MeshPointLocator::Result at_points =
+        locator.interpolate(result.W, points, policy, slice(progress, 0.95, 1.0));
+      report_outside(report, points.rows(), at_points.outside, policy);
+      if (report)
+      {
+        auto& st = report->Statistics;
+        st.emplace_back("mesh_vertices", static_cast<double>(mesh.num_vertices()));
+        st.emplace_back("mesh_cells", static_cast<double>(mesh.num_elements()));
+        st.emplace_back("mesh_seconds", domain ? 0.0 : mesh_seconds);
+        st.emplace_back("iterations", static_cast<double>(result.iterations));
+        st.emplace_back("primal_residual", result.primal_residual);
+        st.emplace_back("dual_residual", result.dual_residual);
+        st.emplace_back("primal_threshold", result.primal_threshold);
+        st.emplace_back("dual_threshold", result.dual_threshold);
+        st.emplace_back("objective", result.objective);
+        st.emplace_back("converged", result.converged ? 1.0 : 0.0);
+        st.emplace_back("partition_error", result.partition_error);
+        st.emplace_back("reproduction_error", result.reproduction_error);
+        st.emplace_back("min_weight", result.min_weight);
+        st.emplace_back("threads", static_cast<double>(lbc_options(parameters).threads));
+        st.emplace_back("geodesic_seconds", result.geodesic_seconds);
+        st.emplace_back("factor_seconds", result.factor_seconds);
+        st.emplace_back("admm_seconds", result.admm_seconds);
+        st.emplace_back("solve_seconds", result.seconds);
+      }
+      return std::move(at_points.W);
+    }
     default:
       throw bary::Error(bary::ErrorCode::InvalidArgument,
         "unknown coordinate method " + std::to_string(parameters.Method));
@@ -380,4 +474,72 @@ bary::DenseWeights vtkBaryMethod::ComputeBBW(const bary::Skeleton& skeleton, vtk
   if (report && meshed)
     report->Statistics.emplace_back("mesh_seconds", seconds_since(start));
   return solve_bbw_and_interpolate(V, T, handles, points, parameters, progress, 0.1, report);
+}
+
+bary::DomainMesh vtkBaryMethod::LBCDomainMesh(const vtkBaryCage& cage, vtkDataSet* domain,
+  const Eigen::MatrixXd& points, const vtkBaryMethodParameters& parameters,
+  const bary::ProgressCallback& progress)
+{
+  const int dim = cage.Cage.dimension();
+  if (!domain)
+    return dim == 2
+      ? bary::mesh_polygon(cage.Cage, PolygonMeshOptions(parameters, points), progress)
+      : bary::mesh_closed_surface(cage.Cage, SurfaceMeshOptions(parameters, points), progress);
+  if (parameters.ValidateCage)
+    bary::validate_cage(cage.Cage);
+  Eigen::MatrixXd V;
+  Eigen::MatrixXi T;
+  vtkBaryConversion::ToSimplices(domain, dim, V, T);
+  if (T.cols() != dim + 1 || V.cols() != dim)
+    throw bary::Error(bary::ErrorCode::InvalidArgument,
+      std::string("the domain mesh is made of ") + (T.cols() == 4 ? "tetrahedra" : "triangles") +
+        " but the cage is " + std::to_string(dim) + "D: give " +
+        (dim == 2 ? "a triangle mesh in the cage's plane" : "a tetrahedral mesh") +
+        " of the cage's interior");
+  // Each cage vertex is the mesh's boundary vertex at its coordinates.
+  constexpr double kMatchTolerance = 1e-6; // relative to the cage diameter
+  const double diameter = cage.Cage.diameter();
+  const double tolerance = kMatchTolerance * diameter;
+  const std::vector<int> boundary = boundary_vertices_of(T);
+  const bary::Index nc = cage.Cage.num_controls();
+  Eigen::VectorXi control(nc);
+  for (bary::Index i = 0; i < nc; ++i)
+  {
+    double best = std::numeric_limits<double>::infinity();
+    int at = -1;
+    for (int v : boundary)
+    {
+      const double d = (V.row(v) - cage.Cage.V.row(i)).norm();
+      if (d < best)
+      {
+        best = d;
+        at = v;
+      }
+    }
+    if (!(best <= tolerance))
+    {
+      std::ostringstream where;
+      where.precision(7);
+      where << "(" << cage.Cage.V(i, 0);
+      for (int k = 1; k < dim; ++k)
+        where << ", " << cage.Cage.V(i, k);
+      where << ")";
+      std::ostringstream gap;
+      gap.precision(3);
+      gap << best / diameter;
+      throw bary::Error(bary::ErrorCode::InvalidArgument,
+        "the domain mesh does not fit the cage: cage vertex " + std::to_string(i) + " at " +
+          where.str() + " is not a boundary vertex of the mesh (the nearest one is " +
+          gap.str() + " x the cage diameter away, allowed 1e-6): give a mesh of this cage's "
+          "interior that has the cage vertices as vertices");
+    }
+    control(i) = at;
+    if (progress && !progress(0.5 * static_cast<double>(i + 1) / static_cast<double>(nc)))
+      throw bary::Error(bary::ErrorCode::Cancelled, "matching the domain mesh to the cage was cancelled");
+  }
+  bary::DomainMesh mesh =
+    bary::domain_mesh_from_simplices(cage.Cage, V, T, control, kMatchTolerance);
+  if (progress && !progress(1.0))
+    throw bary::Error(bary::ErrorCode::Cancelled, "matching the domain mesh to the cage was cancelled");
+  return mesh;
 }

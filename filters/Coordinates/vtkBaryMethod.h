@@ -41,6 +41,14 @@ struct vtkBaryMethodParameters
   // celestial coordinates
   double Lambda = 2.0;              ///< SCC wrapping-sphere parameter (> 1)
   std::vector<double> UserWeights;  ///< TCC s_i (one per control point); empty = none
+  // local barycentric coordinates (defaults: bary::LBCOptions')
+  int LBCLocality = 0;              ///< vtkBaryCoordinates::LBCLocalityFunctions (squared)
+  double LBCRelaxedEpsilon = 0.0;   ///< relaxed total variation epsilon (0: plain TV)
+  double LBCPrimalTolerance = 1e-6; ///< per residual entry (Eq. 26)
+  double LBCDualTolerance = 1e-5;   ///< per residual entry (Eq. 27)
+  int LBCMaximumIterations = 20000; ///< ADMM iteration cap
+  int LBCDistanceNormalization = 0; ///< vtkBaryCoordinates::LBCDistanceNormalizations
+  bool LBCBarycentricConstraints = true; ///< partition of unity and reproduction enforced
 };
 
 /// The method parameters of a filter with the standard weights settings (vtkBaryCoordinates,
@@ -62,6 +70,13 @@ vtkBaryMethodParameters vtkBaryParametersOf(Filter* filter)
   if (vtkDataArray* s = filter->GetUserWeights())
     for (vtkIdType i = 0; i < s->GetNumberOfTuples(); ++i)
       p.UserWeights.push_back(s->GetComponent(i, 0));
+  p.LBCLocality = filter->GetLBCLocality();
+  p.LBCRelaxedEpsilon = filter->GetLBCRelaxedEpsilon();
+  p.LBCPrimalTolerance = filter->GetLBCPrimalTolerance();
+  p.LBCDualTolerance = filter->GetLBCDualTolerance();
+  p.LBCMaximumIterations = filter->GetLBCMaximumIterations();
+  p.LBCDistanceNormalization = filter->GetLBCDistanceNormalization();
+  p.LBCBarycentricConstraints = filter->GetLBCBarycentricConstraints();
   return p;
 }
 
@@ -90,8 +105,6 @@ public:
   static vtkBaryMethod* New();
   vtkTypeMacro(vtkBaryMethod, vtkObject);
 
-  /// Weights (#P by #C, core control order) of @p points w.r.t. @p cage.
-  /// @throws bary::Error
   /// Domain-mesh options for @p parameters (size bound, Steiner points = @p points when
   /// InsertPointsIntoMesh). Shared by the methods and vtkBaryCageMesher.
   static bary::PolygonMeshOptions PolygonMeshOptions(
@@ -99,11 +112,30 @@ public:
   static bary::SurfaceMeshOptions SurfaceMeshOptions(
     const vtkBaryMethodParameters& parameters, const Eigen::MatrixXd& points);
 
+  /// Weights (#P by #C, core control order) of @p points w.r.t. @p cage.
   /// @p edges (#E by 2 point ids, optional): the input's mesh edges, for methods that order
   /// their work along neighbours (celestial coordinates' warm starts).
+  /// @p domain (optional, LBC only): a triangulation (2D) / tetrahedralization (3D) of the
+  /// cage's interior used as is instead of meshing the cage (see LBCDomainMesh).
+  /// @throws bary::Error
   static bary::DenseWeights Compute(const vtkBaryCage& cage, const Eigen::MatrixXd& points,
     const vtkBaryMethodParameters& parameters, const bary::ProgressCallback& progress,
-    vtkBaryMethodReport* report, const Eigen::MatrixXi& edges = Eigen::MatrixXi());
+    vtkBaryMethodReport* report, const Eigen::MatrixXi& edges = Eigen::MatrixXi(),
+    vtkDataSet* domain = nullptr);
+
+  /**
+   * The domain mesh of local barycentric coordinates for @p cage: with @p domain (triangles in
+   * a plane z = const for a 2D cage, tetrahedra for a 3D one), that mesh as is, each cage vertex
+   * matched to the mesh's boundary vertex at its coordinates (within 1e-6 of the cage diameter;
+   * bary::domain_mesh_from_simplices then checks that every boundary vertex lies on the cage);
+   * without, the cage's interior meshed as for HARMONIC (PolygonMeshOptions /
+   * SurfaceMeshOptions of @p parameters and @p points). Progress covers the meshing.
+   * @throws bary::Error(InvalidArgument) naming a cage vertex with no mesh boundary vertex
+   *   there, or a mesh of the wrong dimension; the meshers' and converters' errors
+   */
+  static bary::DomainMesh LBCDomainMesh(const vtkBaryCage& cage, vtkDataSet* domain,
+    const Eigen::MatrixXd& points, const vtkBaryMethodParameters& parameters,
+    const bary::ProgressCallback& progress);
 
   /// True for methods whose controls are free points (no cage): celestial coordinates.
   static bool IsPointBased(int method);

@@ -726,3 +726,125 @@ TEST_F(CLI, CelestialUsageAndInputErrors)
   }
   EXPECT_FALSE(fs::exists(out("w.vtp")));
 }
+
+// ---- local barycentric coordinates ------------------------------------------------------------
+
+namespace
+{
+nlohmann::json read_json(const std::string& path)
+{
+  std::ifstream in(path);
+  return nlohmann::json::parse(in);
+}
+
+/// The authors' LBC cage @p name as an .obj with only its `v` lines (their polygon, in order).
+std::string authors_vertex_only_cage(const std::string& name, const std::string& to)
+{
+  std::ifstream in(std::string(BARYLAB_SHARED_DIR) + "/lbc/cages/" + name + "-control-edgeset.obj");
+  std::ofstream o(to);
+  for (std::string line; std::getline(in, line);)
+    if (line.rfind("v ", 0) == 0)
+      o << line << "\n";
+  return to;
+}
+} // namespace
+
+TEST_F(CLI, LBCWeightsOnTheBundledCage)
+{
+  // interpolated at the model's vertices: barycentric to rounding (piecewise-linear interpolation
+  // of vertex weights that reproduce their vertex keeps reproduction)
+  const CommandResult r = run("weights --method lbc --cage " + data("cage2d.obj") + " --points " +
+    data("model2d.obj") + " --cells 800 --output " + out("l.vtp") + " --json " + out("l.json"));
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_NE(r.output.find("converged 1"), std::string::npos) << r.output;
+  const nlohmann::json s = read_json(out("l.json"));
+  EXPECT_EQ(s["method"], "lbc");
+  EXPECT_EQ(s["cage"]["control_points"], 20);
+  for (const char* key : { "mesh_vertices", "mesh_cells", "iterations", "primal_residual",
+         "dual_residual", "primal_threshold", "dual_threshold", "objective", "converged",
+         "partition_error", "reproduction_error", "geodesic_seconds", "factor_seconds",
+         "admm_seconds", "solve_seconds" })
+    EXPECT_TRUE(s["solver"].contains(key)) << key;
+  EXPECT_EQ(s["solver"]["converged"].get<double>(), 1.0);
+  EXPECT_GT(s["solver"]["iterations"].get<double>(), 0.0);
+  EXPECT_LT(s["statistics"]["partition_of_unity"]["max_error"].get<double>(), 1e-10);
+  EXPECT_LT(s["statistics"]["reproduction"]["max_error"].get<double>(), 1e-10);
+  EXPECT_GE(s["statistics"]["min_weight"].get<double>(), 0.0);
+  auto result = vtkBaryDataIO::Read(out("l.vtp"));
+  ASSERT_NE(result->GetPointData()->GetArray("Weights"), nullptr);
+  EXPECT_EQ(result->GetNumberOfPoints(), vtkBaryDataIO::Read(data("model2d.obj"))->GetNumberOfPoints());
+}
+
+TEST_F(CLI, LBCWithoutPointsWritesTheDomainMeshWithItsWeights)
+{
+  const CommandResult r = run("weights --method lbc --cage " + data("cage2d.obj") +
+    " --cells 300 --locality linear --output " + out("d.vtu") + " --json " + out("d.json") + " -q");
+  ASSERT_EQ(r.code, 0) << r.output;
+  const nlohmann::json s = read_json(out("d.json"));
+  auto mesh = vtkBaryDataIO::Read(out("d.vtu"));
+  EXPECT_EQ(mesh->GetNumberOfPoints(), s["solver"]["mesh_vertices"].get<double>());
+  EXPECT_EQ(mesh->GetNumberOfCells(), s["solver"]["mesh_cells"].get<double>());
+  ASSERT_NE(mesh->GetPointData()->GetArray("Weights"), nullptr);
+  EXPECT_EQ(mesh->GetPointData()->GetArray("Weights")->GetNumberOfComponents(), 20);
+  EXPECT_LT(s["statistics"]["reproduction"]["max_error"].get<double>(), 1e-12);
+  // the same for harmonic coordinates
+  ASSERT_EQ(run("weights --method harmonic --cage " + data("cage2d.obj") + " --cells 300 --output " +
+              out("h.vtu") + " -q").code, 0);
+  EXPECT_EQ(vtkBaryDataIO::Read(out("h.vtu"))->GetNumberOfPoints(), mesh->GetNumberOfPoints());
+}
+
+TEST_F(CLI, LBCOnTheAuthorsCagesAndTriangulation)
+{
+  const std::string dir = std::string(BARYLAB_SHARED_DIR) + "/lbc";
+  if (!fs::exists(dir + "/reference/LBClogo.mesh.obj"))
+    GTEST_SKIP() << "shared data not found in " << dir;
+  // their v-only polygon, meshed here
+  const std::string cage = authors_vertex_only_cage("LBClogo", out("logo.obj"));
+  CommandResult r = run("weights --method lbc --cage " + cage + " --cells 1000 --output " +
+    out("logo.vtu") + " --json " + out("logo.json") + " -q");
+  ASSERT_EQ(r.code, 0) << r.output;
+  nlohmann::json s = read_json(out("logo.json"));
+  EXPECT_EQ(s["cage"]["dimension"], 2);
+  EXPECT_EQ(s["cage"]["control_points"], 6);
+  EXPECT_EQ(s["solver"]["converged"].get<double>(), 1.0);
+  // their own triangulation as the domain (--mesh), weights at its vertices
+  r = run("weights --method lbc --cage " + dir + "/cages/LBClogo-control-edgeset.obj --mesh " + dir +
+    "/reference/LBClogo.mesh.obj --distance-normalization global --output " + out("ref.vtu") +
+    " --json " + out("ref.json") + " -q");
+  ASSERT_EQ(r.code, 0) << r.output;
+  s = read_json(out("ref.json"));
+  EXPECT_EQ(s["solver"]["mesh_vertices"].get<double>(), 1621);
+  EXPECT_EQ(s["points"]["count"], 1621);
+  EXPECT_LT(s["statistics"]["partition_of_unity"]["max_error"].get<double>(), 1e-12);
+  // a mesh of another cage is refused, naming the cage vertex
+  r = run("weights --method lbc --cage " + data("cage2d.obj") + " --mesh " + dir +
+    "/reference/LBClogo.mesh.obj --output " + out("bad.vtu"));
+  ExpectError(r, "cage vertex 0 at (0, -0.4) is not a boundary vertex of the mesh");
+  EXPECT_FALSE(fs::exists(out("bad.vtu")));
+}
+
+TEST_F(CLI, LBCBadInputIsAClearError)
+{
+  const std::string w = " --output " + out("w.vtu") + " --json " + out("w.json");
+  ExpectError(run("weights --method lbc --cage " + data("bad/open_cage.obj") + " --cells 300" + w),
+    "not closed: edge (");
+  ExpectError(run("weights --method lbc --cage " + data("bad/nan_cage.obj") + w), "not finite");
+  ExpectError(run("weights --method lbc --cage " + data("bad/bowtie2d.obj") + w), "not simple");
+  ExpectError(run("weights --method lbc --cage " + data("cage2d.obj") +
+                " --cells 300 --max-iterations 1" + w),
+    "did not converge in 1 iterations");
+  // points outside the cage under the default policy
+  ExpectError(run("weights --method lbc --cage " + data("cage2d.obj") + " --cells 300 --points " +
+                data("cage3d.obj") + w),
+    "outside");
+  ExpectEmptyFolder();
+  // usage errors: exit code 2
+  EXPECT_EQ(run("weights --method lbc --cage " + data("cage2d.obj") + " --locality cubic" + w).code, 2);
+  EXPECT_EQ(run("weights --method lbc --cage " + data("cage2d.obj") + " --primal-tolerance 2" + w).code, 2);
+  EXPECT_EQ(run("weights --method lbc --cage " + data("cage2d.obj") + " --handles " +
+                data("skeleton2d.tgf") + w).code, 2);
+  EXPECT_EQ(run("deform --method lbc --cage " + data("cage2d.obj") + " --deformed-cage " +
+                data("cage2d_posed.obj") + " --mesh " + data("cage2d.obj") + " --points " +
+                data("model2d.obj") + " --output " + out("d.vtp")).code, 2);
+  ExpectEmptyFolder();
+}
