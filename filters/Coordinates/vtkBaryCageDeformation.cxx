@@ -10,6 +10,7 @@
 #include "vtkCellArray.h"
 #include "vtkDataArray.h"
 #include "vtkDoubleArray.h"
+#include "vtkFieldData.h"
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
 #include "vtkObjectFactory.h"
@@ -21,6 +22,7 @@
 #include <algorithm>
 #include <cstdint>
 #include <cstring>
+#include <string>
 
 vtkStandardNewMacro(vtkBaryCageDeformation);
 
@@ -178,6 +180,49 @@ int vtkBaryCageDeformation::RequestData(
     vtkDataArray* given = this->UseInputWeights && this->WeightsArrayName
       ? input->GetPointData()->GetArray(this->WeightsArrayName)
       : nullptr;
+    // Compact (reduced) weights written by vtkBaryReduceWeights: <name>Indices/<name>Values,
+    // read when the dense array is absent; deformed with a sparse product, O(K) per point.
+    vtkDataArray* compactIndices = nullptr;
+    vtkDataArray* compactValues = nullptr;
+    if (!given && this->UseInputWeights && this->WeightsArrayName && *this->WeightsArrayName)
+    {
+      const std::string name = this->WeightsArrayName;
+      compactIndices = input->GetPointData()->GetArray((name + "Indices").c_str());
+      compactValues = input->GetPointData()->GetArray((name + "Values").c_str());
+      if (!compactIndices || !compactValues)
+        compactIndices = compactValues = nullptr;
+    }
+    if (compactIndices)
+    {
+      const std::string name = this->WeightsArrayName;
+      vtkDataArray* count =
+        input->GetFieldData()->GetArray((name + "NumberOfControlPoints").c_str());
+      if (count && count->GetNumberOfTuples() > 0 &&
+        static_cast<vtkIdType>(count->GetComponent(0, 0)) != nc)
+        throw bary::Error(bary::ErrorCode::SizeMismatch,
+          "the compact weights '" + name + "Indices'/'" + name + "Values' are for " +
+            std::to_string(static_cast<vtkIdType>(count->GetComponent(0, 0))) +
+            " control points but the cage has " + std::to_string(nc));
+      const bary::SparseWeights Ws =
+        vtkBaryConversion::FromCompactArrays(compactIndices, compactValues, nc);
+      if (Ws.rows() != input->GetNumberOfPoints())
+        throw bary::Error(bary::ErrorCode::SizeMismatch, "compact weights: wrong number of tuples");
+      this->UpdateProgress(0.5);
+      // Columns are cage point ids (like the dense array's components): the moved control
+      // points in cage point order.
+      Eigen::MatrixXd Cp(nc, dim);
+      for (vtkIdType k = 0; k < nc; ++k)
+        Cp.row(cage.ControlPointIds[static_cast<std::size_t>(k)]) =
+          this->Method == vtkBaryCoordinates::BBW ? Eigen::RowVectorXd(C.row(k) - cage.Cage.V.row(k))
+                                                  : Eigen::RowVectorXd(C.row(k));
+      const Eigen::MatrixXd X = this->Method == vtkBaryCoordinates::BBW
+        ? Eigen::MatrixXd(vtkBaryConversion::PointsToMatrix(input, dim) +
+            bary::deform_points(Ws, Cp))
+        : bary::deform_points(Ws, Cp);
+      vtkBaryConversion::SetPoints(output, X);
+      this->UpdateProgress(1.0);
+      return 1;
+    }
     if (given && given->GetNumberOfComponents() == nc)
     {
       fromInput = vtkBaryConversion::FromArray(given, cage);

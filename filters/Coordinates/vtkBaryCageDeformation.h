@@ -21,6 +21,14 @@
  * modification times — so a new rest cage or model always recomputes, and moving only the
  * deformed cage (the interactive case) never does.
  *
+ * Compact (reduced) weights: when the model has no array WeightsArrayName but carries the pair
+ * `<WeightsArrayName>Indices` / `<WeightsArrayName>Values` written by vtkBaryReduceWeights
+ * (and UseInputWeights is on), those are used, for every method (BBW blends displacements as
+ * above): a sparse product, O(K) per point instead of O(#controls). The indices must lie in
+ * [-1, #cage points) (-1 = padding) and the values be finite; field data
+ * `<WeightsArrayName>NumberOfControlPoints`, when present, must equal the cage's point count.
+ * The output then carries the compact pair (no dense array is added).
+ *
  * Output: a copy of the model with moved points; with PassWeights (default on) the weights array
  * is added too (with it off, a weights array the model already carried is still passed, like
  * every other input array). For a 2D cage the z coordinate of every model point is kept.

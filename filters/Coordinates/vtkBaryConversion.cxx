@@ -1,6 +1,7 @@
 #include "vtkBaryConversion.h"
 
 #include "core/error.h"
+#include "core/locality_statistics.h"
 
 #include "vtkCell.h"
 #include "vtkCellArray.h"
@@ -9,6 +10,7 @@
 #include "vtkCellTypes.h"
 #include "vtkDoubleArray.h"
 #include "vtkIdTypeArray.h"
+#include "vtkIntArray.h"
 #include "vtkPointData.h"
 #include "vtkUnsignedCharArray.h"
 #include "vtkUnstructuredGrid.h"
@@ -557,4 +559,97 @@ vtkSmartPointer<vtkUnstructuredGrid> vtkBaryConversion::ToUnstructuredGrid(
   grid->GetPointData()->AddArray(control);
   grid->GetPointData()->AddArray(on_cage);
   return grid;
+}
+
+int vtkBaryConversion::PointMeasures(vtkDataSet* data, Eigen::VectorXd& measure)
+{
+  measure.resize(0);
+  Eigen::MatrixXd V;
+  Eigen::MatrixXi T;
+  try
+  {
+    vtkBaryConversion::ToSimplices(data, AUTOMATIC, V, T);
+  }
+  catch (const Error&)
+  {
+    return 0; // no simplices, or other polygons: uniform
+  }
+  const bool volume = T.cols() == 4, area = T.cols() == 3 && V.cols() == 2;
+  if (!volume && !area)
+    return 0; // a curved triangle surface: not the domain of 3D weights
+  measure = bary::vertex_measures(V, T);
+  return volume ? 3 : 2;
+}
+
+int vtkBaryConversion::ToCompactArrays(
+  const bary::SparseWeights& W, vtkIntArray* indices, vtkDoubleArray* values)
+{
+  Eigen::Index K = 1;
+  for (Eigen::Index p = 0; p < W.rows(); ++p)
+    K = std::max<Eigen::Index>(K, W.outerIndexPtr()[p + 1] - W.outerIndexPtr()[p]);
+  indices->SetNumberOfComponents(static_cast<int>(K));
+  indices->SetNumberOfTuples(W.rows());
+  values->SetNumberOfComponents(static_cast<int>(K));
+  values->SetNumberOfTuples(W.rows());
+  int* ip = indices->GetPointer(0);
+  double* vp = values->GetPointer(0);
+  for (Eigen::Index p = 0; p < W.rows(); ++p)
+  {
+    Eigen::Index k = 0;
+    for (bary::SparseWeights::InnerIterator it(W, p); it; ++it, ++k)
+    {
+      ip[p * K + k] = static_cast<int>(it.col());
+      vp[p * K + k] = it.value();
+    }
+    for (; k < K; ++k)
+    {
+      ip[p * K + k] = -1;
+      vp[p * K + k] = 0.0;
+    }
+  }
+  return static_cast<int>(K);
+}
+
+bary::SparseWeights vtkBaryConversion::FromCompactArrays(
+  vtkDataArray* indices, vtkDataArray* values, vtkIdType numberOfControls)
+{
+  if (!indices || !values)
+    throw Error(ErrorCode::InvalidArgument, "compact weights need both an indices and a values array");
+  const int K = indices->GetNumberOfComponents();
+  const vtkIdType np = indices->GetNumberOfTuples();
+  if (values->GetNumberOfComponents() != K || values->GetNumberOfTuples() != np)
+    throw Error(ErrorCode::SizeMismatch,
+      "compact weights: the indices array '" + std::string(indices->GetName() ? indices->GetName() : "") +
+        "' is " + std::to_string(np) + " x " + std::to_string(K) + " but the values array is " +
+        std::to_string(values->GetNumberOfTuples()) + " x " +
+        std::to_string(values->GetNumberOfComponents()));
+  std::vector<Eigen::Triplet<double, Eigen::Index>> entries;
+  entries.reserve(static_cast<std::size_t>(np) * static_cast<std::size_t>(K));
+  std::vector<vtkIdType> seen(static_cast<std::size_t>(std::max<vtkIdType>(numberOfControls, 0)), -1);
+  for (vtkIdType p = 0; p < np; ++p)
+    for (int k = 0; k < K; ++k)
+    {
+      const double id = indices->GetComponent(p, k);
+      if (id == -1.0)
+        continue;
+      if (!(id >= 0 && id < static_cast<double>(numberOfControls)) || id != std::floor(id))
+        throw Error(ErrorCode::InvalidArgument,
+          "compact weights: point " + std::to_string(p) + " names control index " +
+            std::to_string(id) + ", outside [0, " + std::to_string(numberOfControls) + ")");
+      const auto c = static_cast<std::size_t>(id);
+      if (seen[c] == p)
+        throw Error(ErrorCode::InvalidArgument,
+          "compact weights: point " + std::to_string(p) + " names control " + std::to_string(c) +
+            " twice");
+      seen[c] = p;
+      const double w = values->GetComponent(p, k);
+      if (!std::isfinite(w))
+        throw Error(ErrorCode::NonFinite,
+          "compact weights: point " + std::to_string(p) + " has a non-finite weight (NaN or inf)");
+      entries.emplace_back(p, static_cast<Eigen::Index>(c), w);
+    }
+  bary::SparseWeights W(np, numberOfControls);
+  W.setFromTriplets(entries.begin(), entries.end());
+  W.makeCompressed();
+  return W;
 }

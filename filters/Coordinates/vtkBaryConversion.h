@@ -33,6 +33,7 @@
 class vtkDataArray;
 class vtkDataSet;
 class vtkDoubleArray;
+class vtkIntArray;
 class vtkPointSet;
 class vtkPoints;
 class vtkPolyData;
@@ -158,6 +159,34 @@ public:
   /// A simplicial mesh (#V by 2 or 3, #T by 3 or 4) as a vtkUnstructuredGrid (2D at z = @p z).
   static vtkSmartPointer<vtkUnstructuredGrid> SimplicesToGrid(
     const Eigen::MatrixXd& V, const Eigen::MatrixXi& T, double z = 0.0);
+
+  /**
+   * Per-point measures of @p data for "fractions of the domain" (vtkBaryLocalityStatistics):
+   * with tetrahedra, each point's lumped volume (bary::vertex_measures over the tetrahedra);
+   * with only triangles lying in a plane z = const, its lumped area; otherwise (no simplices,
+   * a curved triangle surface, other polygons) @p measure is left empty. Returns 3, 2 or 0
+   * accordingly. Points on no simplex get 0.
+   */
+  static int PointMeasures(vtkDataSet* data, Eigen::VectorXd& measure);
+
+  /**
+   * Sparse weights (#P by #C, CSR, columns = weights components) as the compact pair of
+   * point-data arrays written by vtkBaryReduceWeights: @p indices (vtkIntArray) and @p values
+   * (vtkDoubleArray), K components each with K = the largest row's number of entries (at least
+   * 1); row p lists its control indices in increasing order, padded with -1 (indices) and 0
+   * (values). Returns K.
+   */
+  static int ToCompactArrays(const bary::SparseWeights& W, vtkIntArray* indices,
+    vtkDoubleArray* values);
+
+  /**
+   * Inverse of ToCompactArrays: the compact pair as a #tuples by @p numberOfControls CSR matrix.
+   * Throws bary::Error: SizeMismatch (different tuple or component counts), InvalidArgument (an
+   * index outside [-1, numberOfControls), or a repeated index in a row, named), NonFinite (a
+   * NaN/inf value, named).
+   */
+  static bary::SparseWeights FromCompactArrays(
+    vtkDataArray* indices, vtkDataArray* values, vtkIdType numberOfControls);
 
   /// bary::ErrorCode carried in vtkAlgorithm's error code (vtkErrorCode::UserError + 1 + code).
   static unsigned long ToVTKErrorCode(bary::ErrorCode code);

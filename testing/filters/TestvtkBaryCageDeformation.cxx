@@ -6,8 +6,11 @@
 
 #include "vtkBaryCageDeformation.h"
 #include "vtkBaryCoordinates.h"
+#include "vtkBaryReduceWeights.h"
 
 #include "vtkDoubleArray.h"
+#include "vtkFieldData.h"
+#include "vtkIntArray.h"
 #include "vtkUnstructuredGrid.h"
 
 #include <gtest/gtest.h>
@@ -626,6 +629,143 @@ TEST(vtkBaryCageDeformation, EmptyModelWarnsAndSucceeds)
   EXPECT_EQ(d.Run(), 1) << d.Observer->AllErrors();
   EXPECT_TRUE(d.Observer->HasWarning("no points")) << d.Observer->AllWarnings();
   EXPECT_EQ(d.Output()->GetNumberOfPoints(), 0);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Compact (reduced) weights from vtkBaryReduceWeights
+// ---------------------------------------------------------------------------------------------
+
+/// The kidney model with mean value weights, reduced with @p mode at threshold 0.005 (at the
+/// default 1e-3 / 72 some points keep all 72 weights: mean value coordinates are global).
+vtkSmartPointer<vtkPointSet> ReducedKidney(vtkPolyData* model, vtkPolyData* cage, int mode,
+  double* reproductionError = nullptr)
+{
+  Deformation d(model, cage, cage);
+  EXPECT_EQ(d.Run(), 1) << d.Observer->AllErrors();
+  vtkNew<vtkBaryReduceWeights> reduce;
+  reduce->SetInputData(d.Output());
+  reduce->SetCageData(cage);
+  reduce->SetRenormalization(mode);
+  reduce->SetThreshold(0.005);
+  reduce->Update();
+  if (reproductionError)
+    *reproductionError = reduce->GetReproductionError();
+  auto out = vtkSmartPointer<vtkPointSet>::Take(vtkPointSet::SafeDownCast(
+    reduce->GetOutputDataObject(0)->NewInstance()));
+  out->ShallowCopy(reduce->GetOutputDataObject(0));
+  // mean value weights are global: the reduction drops only some of the 72
+  EXPECT_LT(reduce->GetMaximumSupport(), 72);
+  EXPECT_EQ(out->GetPointData()->GetArray("Weights"), nullptr);
+  return out;
+}
+
+/// The compact pair as a dense "Weights" array on a copy of @p compact (same reduced weights).
+vtkSmartPointer<vtkPointSet> Densified(vtkPointSet* compact, int controls)
+{
+  auto dense = vtkSmartPointer<vtkPointSet>::Take(compact->NewInstance());
+  dense->DeepCopy(compact);
+  vtkDataArray* indices = compact->GetPointData()->GetArray("WeightsIndices");
+  vtkDataArray* values = compact->GetPointData()->GetArray("WeightsValues");
+  vtkNew<vtkDoubleArray> w;
+  w->SetName("Weights");
+  w->SetNumberOfComponents(controls);
+  w->SetNumberOfTuples(compact->GetNumberOfPoints());
+  w->Fill(0.0);
+  for (vtkIdType p = 0; p < compact->GetNumberOfPoints(); ++p)
+    for (int k = 0; k < indices->GetNumberOfComponents(); ++k)
+      if (indices->GetComponent(p, k) >= 0)
+        w->SetComponent(p, static_cast<int>(indices->GetComponent(p, k)), values->GetComponent(p, k));
+  dense->GetPointData()->RemoveArray("WeightsIndices");
+  dense->GetPointData()->RemoveArray("WeightsValues");
+  dense->GetPointData()->AddArray(w);
+  return dense;
+}
+
+TEST(vtkBaryCageDeformation, CompactWeightsDeformLikeTheSameDenseWeights)
+{
+  auto model = ReadData("model3d.off");
+  auto cage = ReadData("cage3d.obj");
+  auto posed = ReadData("cage3d_posed.obj");
+  ASSERT_TRUE(model && cage && posed);
+  auto compact = ReducedKidney(model, cage, vtkBaryReduceWeights::RENORMALIZE_ROW_SUM);
+  auto dense = Densified(compact, 72);
+  Deformation a(compact, cage, posed), b(dense, cage, posed);
+  ASSERT_EQ(a.Run(), 1) << a.Observer->AllErrors();
+  ASSERT_EQ(b.Run(), 1) << b.Observer->AllErrors();
+  EXPECT_EQ(a.Computations(), 0);
+  EXPECT_EQ(b.Computations(), 0);
+  // the same sums in another order: equal to rounding (coordinates ~1)
+  EXPECT_LE(MaxPointDifference(a.Output(), b.Output()), 1e-13);
+  EXPECT_NE(a.Output()->GetPointData()->GetArray("WeightsIndices"), nullptr);
+  EXPECT_EQ(a.Output()->GetPointData()->GetArray("Weights"), nullptr);
+
+  // BBW blends displacements with compact weights too
+  a.Filter->SetMethod(vtkBaryCoordinates::BBW);
+  b.Filter->SetMethod(vtkBaryCoordinates::BBW);
+  ASSERT_EQ(a.Run(), 1) << a.Observer->AllErrors();
+  ASSERT_EQ(b.Run(), 1) << b.Observer->AllErrors();
+  EXPECT_LE(MaxPointDifference(a.Output(), b.Output()), 1e-13);
+}
+
+TEST(vtkBaryCageDeformation, CompactWeightsReproduceATranslatedCage)
+{
+  auto model = ReadData("model3d.off");
+  auto cage = ReadData("cage3d.obj");
+  ASSERT_TRUE(model && cage);
+  const double t[3] = { 0.3, -0.7, 1.1 };
+  auto shift = [&](const double* x, double* y) {
+    for (int i = 0; i < 3; ++i)
+      y[i] = x[i] + t[i];
+  };
+  auto translated = MapPoints(cage, shift);
+  auto expected = MapPoints(model, shift);
+
+  // Row sum: partition of unity is exact, so the deformation moves every point by exactly t
+  // (to rounding); the rest pose is off by at most the reproduction error.
+  double reproduction = 0;
+  auto rowsum = ReducedKidney(model, cage, vtkBaryReduceWeights::RENORMALIZE_ROW_SUM, &reproduction);
+  Deformation rest(rowsum, cage, cage), moved(rowsum, cage, translated);
+  ASSERT_EQ(rest.Run(), 1) << rest.Observer->AllErrors();
+  ASSERT_EQ(moved.Run(), 1) << moved.Observer->AllErrors();
+  const double diameter = cage->GetLength();
+  EXPECT_LE(MaxPointDifference(rest.Output(), model), reproduction * diameter * 1.0001 + 1e-12);
+  EXPECT_LE(MaxPointDifference(MapPoints(vtkPolyData::SafeDownCast(rest.Output()), shift),
+              moved.Output()),
+    1e-12);
+
+  // Affine: reproduction exact, so the translated cage gives the translated model.
+  auto affine = ReducedKidney(model, cage, vtkBaryReduceWeights::RENORMALIZE_AFFINE, &reproduction);
+  EXPECT_LT(reproduction, 1e-12);
+  Deformation restA(affine, cage, cage), movedA(affine, cage, translated);
+  ASSERT_EQ(restA.Run(), 1) << restA.Observer->AllErrors();
+  ASSERT_EQ(movedA.Run(), 1) << movedA.Observer->AllErrors();
+  EXPECT_LE(MaxPointDifference(restA.Output(), model), 1e-11);
+  EXPECT_LE(MaxPointDifference(movedA.Output(), expected), 1e-11);
+}
+
+TEST(vtkBaryCageDeformation, CompactWeightsErrors)
+{
+  auto model = ReadData("model3d.off");
+  auto cage = ReadData("cage3d.obj");
+  ASSERT_TRUE(model && cage);
+  auto compact = ReducedKidney(model, cage, vtkBaryReduceWeights::RENORMALIZE_ROW_SUM);
+  {
+    vtkNew<vtkIntArray> count;
+    count->SetName("WeightsNumberOfControlPoints");
+    count->InsertNextValue(71);
+    compact->GetFieldData()->AddArray(count);
+    Deformation d(compact, cage, cage);
+    EXPECT_EQ(d.Run(), 0);
+    EXPECT_TRUE(d.Observer->HasError("are for 71 control points but the cage has 72"))
+      << d.Observer->AllErrors();
+    compact->GetFieldData()->RemoveArray("WeightsNumberOfControlPoints");
+  }
+  {
+    compact->GetPointData()->GetArray("WeightsIndices")->SetComponent(5, 0, 72);
+    Deformation d(compact, cage, cage);
+    EXPECT_EQ(d.Run(), 0);
+    EXPECT_TRUE(d.Observer->HasError("outside [0, 72)")) << d.Observer->AllErrors();
+  }
 }
 
 } // namespace
