@@ -186,7 +186,7 @@ void add_method_options(CLI::App* cmd, WeightsParameters& p)
        "maximum (the authors' code): per-control-point | global")
     ->default_val(p.lbc_distance_normalization)
     ->check(CLI::IsMember({ "per-control-point", "global" }));
-  lbc->add_flag("--no-barycentric-constraints{false}", p.lbc_barycentric_constraints,
+  lbc->add_flag("--unconstrained-tv", p.lbc_unconstrained,
     "drop partition of unity and reproduction (the paper's unconstrained TV, §3.2): not "
     "barycentric coordinates");
 }

@@ -162,7 +162,7 @@ void Configure(Filter* filter, const WeightsParameters& p)
   filter->SetLBCMaximumIterations(
     static_cast<int>(checked("lbc max iterations", p.lbc_max_iterations, 1, 1e9)));
   filter->SetLBCDistanceNormalization(LBCNormalizationFromName(p.lbc_distance_normalization));
-  filter->SetLBCBarycentricConstraints(p.lbc_barycentric_constraints);
+  filter->SetLBCBarycentricConstraints(!p.lbc_unconstrained);
   if (p.user_weights.empty())
     filter->SetUserWeights(nullptr);
   else

@@ -64,7 +64,7 @@ struct WeightsParameters
   double lbc_dual_tolerance = 1e-5;  ///< ADMM dual threshold per residual entry
   int lbc_max_iterations = 20000;    ///< ADMM iteration cap (reaching it is an error)
   std::string lbc_distance_normalization = "per-control-point"; ///< Eq. 12: | global
-  bool lbc_barycentric_constraints = true; ///< false: §3.2's unconstrained TV
+  bool lbc_unconstrained = false;    ///< drop the barycentric constraints: §3.2's unconstrained TV
 };
 
 /// True for methods whose controls are free points (tcc, scc): they take --control-points.
