@@ -1108,6 +1108,14 @@ int main(int argc, char** argv)
   render->add_option("--size", ra.options.width, "image width")->default_val(900);
   render->add_option("--title", ra.title, "title text");
   render->add_option("--array", ra.options.weights_name, "weights array name")->default_val("Weights");
+  render->add_option("--level", ra.options.levels,
+    "draw the level set w = VALUE as a thick blue line (repeatable)");
+  render->add_flag("--influence-level", ra.options.influence_level,
+    "draw the influence level w = 1e-3 / #controls (where a weight stops being significant)");
+  render->add_option("--isolines", ra.options.isolines,
+       "isolines evenly spaced over the weight's positive range (0: none)")
+    ->default_val(ra.options.isolines)
+    ->check(CLI::Range(0, 100));
 
   DemoArgs ma;
   auto* demo = app.add_subcommand("demo", "the main job: 2D and 3D pipelines on bundled data");

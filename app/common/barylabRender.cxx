@@ -109,6 +109,21 @@ void add_weight_actors(vtkRenderer* renderer, vtkPolyData* surface, const double
     actor->GetProperty()->SetColor(0.85, 0.75, 0.6);
   }
   renderer->AddActor(actor);
+  if (colored && !options.levels.empty())
+  { // requested level sets (e.g. the influence level), blue and thick, under the isolines
+    vtkNew<vtkContourFilter> level;
+    level->SetInputData(surface);
+    for (std::size_t i = 0; i < options.levels.size(); ++i)
+      level->SetValue(static_cast<int>(i), options.levels[i]);
+    vtkNew<vtkPolyDataMapper> lm;
+    lm->SetInputConnection(level->GetOutputPort());
+    lm->ScalarVisibilityOff();
+    vtkNew<vtkActor> la;
+    la->SetMapper(lm);
+    la->GetProperty()->SetColor(0.1, 0.25, 0.95);
+    la->GetProperty()->SetLineWidth(3.0);
+    renderer->AddActor(la);
+  }
   if (!colored || options.isolines <= 0)
     return;
   vtkNew<vtkContourFilter> contour;
@@ -388,7 +403,11 @@ vtkSmartPointer<vtkRenderWindow> WeightFieldWindow(
   window->AddRenderer(renderer);
   double range[2];
   auto surface = surface_with_component(data, options, range);
-  add_weight_actors(renderer, surface, range, options, true);
+  RenderOptions drawn = options;
+  if (options.influence_level)
+    drawn.levels.push_back(
+      1e-3 / data->GetPointData()->GetArray(options.weights_name.c_str())->GetNumberOfComponents());
+  add_weight_actors(renderer, surface, range, drawn, true);
   int dimension = 3;
   double selected[3];
   bool has_selected = false;

@@ -25,6 +25,12 @@ struct RenderOptions
   int height = 700;
   int component = 0;        ///< which control point's weight to show
   int isolines = 9;         ///< isolines evenly spaced in (0, max w) (0 = none), plus w = 0 if negative
+  /// Extra level sets of the weight, drawn as thick blue lines (vtkContourFilter), e.g. the
+  /// influence level 1e-3 / #controls of local weights (the LBC paper's Fig. 4). Default none.
+  std::vector<double> levels;
+  /// Also draw the influence level 1e-3 / #controls (#controls = the weights' components), the
+  /// threshold of the significant-weight statistics. Default off.
+  bool influence_level = false;
   bool show_cage = true;
   bool offscreen = true;
   std::string title;        ///< text in the upper-left corner

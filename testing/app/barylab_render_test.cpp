@@ -18,6 +18,7 @@
 #include "vtkPolyData.h"
 #include "vtkRenderWindow.h"
 #include "vtkTesting.h"
+#include "vtkUnstructuredGrid.h"
 
 #include <gtest/gtest.h>
 
@@ -228,4 +229,37 @@ TEST(RenderImages, NoDisplayIsAClearError)
   }
   if (!keep.empty())
     setenv("DISPLAY", keep.c_str(), 1);
+}
+
+/// Local barycentric coordinates (Zhang et al. 2014) in the style of the paper's Fig. 4: one
+/// control point's weight with its influence level set w = 1e-3 / n (n control points, blue),
+/// beyond which the weight is insignificant (exactly 0 a little further). Small meshes.
+TEST(RenderImages, LBCWeightField2D)
+{
+  auto cage = vtkBaryDataIO::ReadPolyData(data("cage2d.obj"));
+  barylab::MeshParameters mp;
+  mp.target_cells = 1500;
+  auto mesh = barylab::MeshCage(cage, nullptr, mp);
+  barylab::WeightsParameters p;
+  p.method = "lbc";
+  auto weighted = barylab::ComputeWeights(mesh, cage, p, {}, nullptr, mesh);
+  barylab::RenderOptions options;
+  options.component = 14; // the left hand
+  options.influence_level = true;
+  options.title = "local barycentric coordinate of control point 14; blue: w = 1e-3/20";
+  ExpectMatchesBaseline(barylab::WeightFieldWindow(weighted, cage, options), "lbc_weight_field_2d");
+}
+
+TEST(RenderImages, LBCWeightField3D)
+{
+  auto cage = vtkBaryDataIO::ReadPolyData(data("cage3d.obj"));
+  barylab::WeightsParameters p;
+  p.method = "lbc";
+  p.target_cells = 600;
+  auto weighted = barylab::ComputeWeights(vtkBaryDataIO::Read(data("model3d.off")), cage, p);
+  barylab::RenderOptions options;
+  options.component = 36;
+  options.influence_level = true;
+  options.title = "local barycentric coordinate of control point 36; blue: w = 1e-3/72";
+  ExpectMatchesBaseline(barylab::WeightFieldWindow(weighted, cage, options), "lbc_weight_field_3d");
 }
