@@ -11,6 +11,10 @@
 //                   (--transforms POSE | --deformed-handles POSED [--pseudo-edges FILE])
 //                   [--weights FILE] [--fast]
 //   barylab stats   --input WEIGHTS_FILE [--cage CAGE] [--json] [--threshold T]
+//   barylab stats   --locality --input W1 [--input W2 ...] [--csv PREFIX] [--json]
+//                   [--json-output FILE] [--threshold T] [--no-measure]
+//   barylab reduce  --input WEIGHTS_FILE [--cage CAGE] --output OUT [--threshold T]
+//                   [--renormalize rowsum|affine|none] [--keep-dense] [--json]
 //   barylab mesh    --cage CAGE [--points MODEL] [--max-volume V | --cells N] --output DOMAIN
 //   barylab render  --input WEIGHTS_FILE [--cage CAGE] --output PNG [--control I]
 //   barylab demo    [--output-dir DIR]
@@ -29,6 +33,7 @@
 
 #include "vtkDataArray.h"
 #include "vtkDataSet.h"
+#include "vtkFieldData.h"
 #include "vtkPointData.h"
 #include "vtkPointSet.h"
 #include "vtkPolyData.h"
@@ -421,11 +426,22 @@ vtkSmartPointer<vtkDataSet> attach_weights(vtkSmartPointer<vtkDataSet> model,
     return model;
   auto weighted = vtkBaryDataIO::Read(weights_path);
   vtkDataArray* w = weighted->GetPointData()->GetArray(array.c_str());
-  if (!w)
+  // or the compact pair written by 'barylab reduce' (sparse weights)
+  vtkDataArray* wi = w ? nullptr : weighted->GetPointData()->GetArray((array + "Indices").c_str());
+  vtkDataArray* wv = w ? nullptr : weighted->GetPointData()->GetArray((array + "Values").c_str());
+  vtkDataArray* wn =
+    weighted->GetFieldData()->GetArray((array + "NumberOfControlPoints").c_str());
+  if (!w && !(wi && wv))
     throw bary::Error(bary::ErrorCode::InvalidArgument,
-      "'" + weights_path + "' has no point-data array '" + array +
-        "' (write it with 'barylab weights')");
-  if (w->GetNumberOfComponents() != components)
+      "'" + weights_path + "' has no point-data array '" + array + "' and no compact pair '" +
+        array + "Indices'/'" + array + "Values' (write them with 'barylab weights' / 'barylab reduce')");
+  if (!w && wn && wn->GetNumberOfTuples() > 0 &&
+    static_cast<vtkIdType>(wn->GetComponent(0, 0)) != components)
+    throw bary::Error(bary::ErrorCode::SizeMismatch,
+      "the compact weights in '" + weights_path + "' are for " +
+        std::to_string(static_cast<vtkIdType>(wn->GetComponent(0, 0))) + " control points but " +
+        what + " has " + std::to_string(components));
+  if (w && w->GetNumberOfComponents() != components)
     throw bary::Error(bary::ErrorCode::SizeMismatch,
       "the weights in '" + weights_path + "' have " + std::to_string(w->GetNumberOfComponents()) +
         " components but " + what + " has " + std::to_string(components));
@@ -447,7 +463,15 @@ vtkSmartPointer<vtkDataSet> attach_weights(vtkSmartPointer<vtkDataSet> model,
         "the weights in '" + weights_path + "' were computed for other points: point " +
           std::to_string(i) + " differs from '" + model_path + "'");
   }
-  model->GetPointData()->AddArray(w);
+  if (w)
+    model->GetPointData()->AddArray(w);
+  else
+  {
+    model->GetPointData()->AddArray(wi);
+    model->GetPointData()->AddArray(wv);
+    if (wn)
+      model->GetFieldData()->AddArray(wn);
+  }
   return model;
 }
 
@@ -687,15 +711,148 @@ int run_animate(AnimateArgs a)
 
 struct StatsArgs
 {
-  std::string input, cage, array = "Weights";
+  std::vector<std::string> inputs;
+  std::string cage, array = "Weights";
   double threshold = -1.0;
   bool json_out = false;
   int cage_dimension = 0;
+  // --locality
+  bool locality = false, no_measure = false;
+  std::string csv_prefix, json_file;
 };
+
+/// Column labels for several inputs: the file names without folder and extension, made unique.
+std::vector<std::string> input_labels(const std::vector<std::string>& inputs)
+{
+  std::vector<std::string> labels;
+  for (const std::string& f : inputs)
+  {
+    std::string label = fs::path(f).stem().string();
+    const std::string base = label;
+    for (int n = 2; std::find(labels.begin(), labels.end(), label) != labels.end(); ++n)
+      label = base + "_" + std::to_string(n);
+    labels.push_back(label);
+  }
+  return labels;
+}
+
+/// Writes one CSV: first column @p key (the longest series' values), then one column per input.
+void write_locality_csv(const std::string& path, const json& inputs, const char* key,
+  const char* value, const std::vector<std::string>& labels)
+{
+  std::size_t rows = 0, longest = 0;
+  for (std::size_t i = 0; i < inputs.size(); ++i)
+    if (inputs[i][key].size() > rows)
+    {
+      rows = inputs[i][key].size();
+      longest = i;
+    }
+  std::ofstream out(path);
+  if (!out)
+    throw bary::Error(bary::ErrorCode::Io, "cannot write '" + path + "'");
+  out.precision(17);
+  out << key;
+  for (const std::string& l : labels)
+    out << "," << value << "_" << l;
+  out << "\n";
+  for (std::size_t r = 0; r < rows; ++r)
+  {
+    out << inputs[longest][key][r].get<double>();
+    for (std::size_t i = 0; i < inputs.size(); ++i)
+    {
+      out << ",";
+      if (r < inputs[i][value].size())
+        out << inputs[i][value][r].get<double>();
+    }
+    out << "\n";
+  }
+  if (!out)
+    throw bary::Error(bary::ErrorCode::Io, "cannot write '" + path + "'");
+}
+
+int run_locality(const StatsArgs& a)
+{
+  if (!a.cage.empty())
+    throw UsageError("--locality needs no --cage (use 'barylab reduce --cage' for reproduction)");
+  if (!a.json_file.empty())
+    check_output(a.json_file, OutputKind::Json);
+  if (!a.csv_prefix.empty())
+  {
+    const fs::path parent = fs::path(a.csv_prefix).parent_path();
+    if (!parent.empty() && !fs::is_directory(parent))
+      throw bary::Error(bary::ErrorCode::Io,
+        "cannot write '" + a.csv_prefix + "_P.csv': folder '" + parent.string() + "' does not exist");
+  }
+  const std::vector<std::string> labels = input_labels(a.inputs);
+  json inputs = json::array();
+  for (std::size_t i = 0; i < a.inputs.size(); ++i)
+  {
+    auto data = vtkBaryDataIO::Read(a.inputs[i]);
+    json s;
+    try
+    {
+      s = barylab::LocalityStatisticsJson(data, a.array, a.threshold, !a.no_measure);
+    }
+    catch (const bary::Error& e)
+    {
+      throw bary::Error(e.code(), "'" + a.inputs[i] + "': " + e.what());
+    }
+    s["input"] = a.inputs[i];
+    s["label"] = labels[i];
+    inputs.push_back(s);
+  }
+  const std::size_t nt = inputs[0]["t"].size();
+  for (const json& s : inputs)
+    if (s["t"] != inputs[0]["t"] || s["t"].size() != nt)
+      throw bary::Error(bary::ErrorCode::Internal, "inputs sampled P(t) at different t");
+  json result;
+  result["locality"] = inputs;
+  if (!a.csv_prefix.empty())
+  {
+    write_locality_csv(a.csv_prefix + "_P.csv", inputs, "t", "P", labels);
+    write_locality_csv(a.csv_prefix + "_Q.csv", inputs, "k", "Q", labels);
+  }
+  if (!a.json_file.empty())
+    barylab::WriteJson(result, a.json_file);
+  if (a.json_out)
+  {
+    std::cout << result.dump(2) << "\n";
+    return 0;
+  }
+  for (const json& s : inputs)
+  {
+    std::cout << s["input"].get<std::string>() << ": " << s["points"] << " points x "
+              << s["controls"] << " controls\n"
+              << "  threshold " << s["threshold"].get<double>() << ", measure "
+              << s["measure"].get<std::string>() << "\n"
+              << "  support (weights > threshold per point): mean "
+              << s["mean_support"].get<double>() << ", max " << s["max_support"].get<double>()
+              << "\n  Q(k), k = 1..max support:";
+    const int kmax = static_cast<int>(s["max_support"].get<double>());
+    for (int k = 0; k < kmax && k < static_cast<int>(s["Q"].size()); ++k)
+      std::cout << " " << s["Q"][static_cast<std::size_t>(k)].get<double>();
+    std::cout << "\n  P(t) at t = 1e-6, 1e-4, 1e-2, 1:";
+    for (std::size_t j = 0; j < s["t"].size(); ++j)
+    {
+      const double t = s["t"][j].get<double>();
+      for (double want : { 1e-6, 1e-4, 1e-2, 1.0 })
+        if (std::abs(t - want) <= 1e-9 * want)
+          std::cout << " " << s["P"][j].get<double>();
+    }
+    std::cout << "\n";
+  }
+  return 0;
+}
 
 int run_stats(const StatsArgs& a)
 {
-  auto data = vtkBaryDataIO::Read(a.input);
+  if (a.locality)
+    return run_locality(a);
+  if (a.inputs.size() != 1)
+    throw UsageError("several --input files are for --locality");
+  if (!a.csv_prefix.empty() || !a.json_file.empty() || a.no_measure)
+    throw UsageError("--csv, --json-output and --no-measure go with --locality");
+  auto data = vtkBaryDataIO::Read(a.inputs.front());
   vtkSmartPointer<vtkPolyData> cage = a.cage.empty() ? nullptr : vtkBaryDataIO::ReadPolyData(a.cage);
   json s = barylab::WeightStatisticsJson(data, a.array, cage, a.threshold, a.cage_dimension);
   if (a.json_out)
@@ -716,6 +873,51 @@ int run_stats(const StatsArgs& a)
   std::cout << "weights > " << s["significant"]["threshold"] << " per point: mean "
             << s["significant"]["mean_per_point"] << ", max " << s["significant"]["max_per_point"]
             << "\n";
+  return 0;
+}
+
+struct ReduceArgs
+{
+  barylab::ReduceParameters parameters;
+  std::string input, cage, output;
+  bool json_out = false;
+};
+
+int run_reduce(const ReduceArgs& a)
+{
+  check_output(a.output, OutputKind::Data);
+  const std::string ext = vtkBaryDataIO::Extension(a.output);
+  if (ext != ".vtp" && ext != ".vtu" && ext != ".vtk")
+    throw bary::Error(bary::ErrorCode::Io,
+      "cannot write '" + a.output + "': compact weights are point-data arrays, kept only by "
+      ".vtp, .vtu or .vtk");
+  auto data = vtkBaryDataIO::Read(a.input);
+  vtkSmartPointer<vtkPolyData> cage = a.cage.empty() ? nullptr : vtkBaryDataIO::ReadPolyData(a.cage);
+  json summary;
+  auto reduced = barylab::ReduceWeights(data, cage, a.parameters, {}, &summary);
+  vtkBaryDataIO::Write(reduced, a.output);
+  summary["input"] = a.input;
+  summary["output"] = a.output;
+  if (a.json_out)
+  {
+    std::cout << summary.dump(2) << "\n";
+    return 0;
+  }
+  std::cout << "kept weights > " << summary["threshold"].get<double>() << ": K = "
+            << summary["K"] << " per point at most, " << summary["mean_support"].get<double>()
+            << " on average, of " << summary["controls"] << "\n"
+            << "renormalization            " << summary["renormalization"].get<std::string>() << "\n"
+            << "partition of unity error   " << summary["partition_error"].get<double>() << "\n"
+            << "reproduction error         "
+            << (summary["reproduction_error"].is_null()
+                   ? std::string("(give --cage)")
+                   : std::to_string(summary["reproduction_error"].get<double>()) +
+                     " (relative to the controls' diameter)")
+            << "\n"
+            << "max dropped weight sum     " << summary["max_dropped"].get<double>() << "\n"
+            << "memory                     " << 100.0 * summary["memory_fraction"].get<double>()
+            << "% of the dense array (CSR: "
+            << 100.0 * summary["csr_memory_fraction"].get<double>() << "%)\n";
   return 0;
 }
 
@@ -1032,7 +1234,8 @@ int main(int argc, char** argv)
     "point handles' rotations (paper §3.4)");
   deform->add_option("--points,-p", da.points, "model to deform");
   deform->add_option("--weights,-w", da.weights,
-    "reuse weights from a file written by 'barylab weights' (then --points is optional)");
+    "reuse weights from a file written by 'barylab weights', or the compact (sparse) ones "
+    "written by 'barylab reduce' (then --points is optional)");
   deform->add_option("--output,-o", da.output, "output file")->required();
   deform->add_option("--json", da.json_path, "write a JSON summary");
   deform->add_flag("--quiet,-q", da.quiet, "no progress bar, summary or warnings (errors still)");
@@ -1059,7 +1262,9 @@ int main(int argc, char** argv)
 
   StatsArgs sa;
   auto* stats = app.add_subcommand("stats", "property statistics of a weights file");
-  stats->add_option("--input,-i", sa.input, "file with a weights point-data array")->required();
+  stats->add_option("--input,-i", sa.inputs,
+    "file with a weights point-data array (several with --locality: --input A --input B)")
+    ->required();
   stats->add_option("--cage,-c", sa.cage, "the cage, for the reproduction error");
   stats->add_option("--array", sa.array, "weights array name")->default_val(sa.array);
   stats->add_option("--threshold", sa.threshold,
@@ -1067,6 +1272,32 @@ int main(int argc, char** argv)
   stats->add_option("--cage-dimension", sa.cage_dimension, "0 automatic, 2, 3")
     ->check(CLI::IsMember({ 0, 2, 3 }));
   stats->add_flag("--json", sa.json_out, "print JSON");
+  stats->add_flag("--locality", sa.locality,
+    "locality statistics (Zhang et al. 2014, Eq. 19-21): P(t), Q(k), mean/max support");
+  stats->add_option("--csv", sa.csv_prefix,
+    "--locality: write PREFIX_P.csv and PREFIX_Q.csv (one column per input)");
+  stats->add_option("--json-output", sa.json_file, "--locality: write the JSON to this file");
+  stats->add_flag("--no-measure", sa.no_measure,
+    "--locality: count every point the same (default: lumped area/volume on a domain mesh)");
+
+  ReduceArgs rda;
+  auto* reduce = app.add_subcommand("reduce",
+    "sparse weights: drop weights <= threshold, store <array>Indices/<array>Values (deform reads them)");
+  reduce->add_option("--input,-i", rda.input, "file with a dense weights point-data array")
+    ->required();
+  reduce->add_option("--cage,-c", rda.cage,
+    "cage / control points (point i = component i): reproduction error, needed for affine");
+  reduce->add_option("--output,-o", rda.output, "output file (.vtp, .vtu, .vtk)")->required();
+  reduce->add_option("--threshold", rda.parameters.threshold,
+    "drop weights <= T (default 1e-3 / #controls)");
+  reduce->add_option("--renormalize", rda.parameters.renormalize,
+       "rowsum: rows sum to one; affine: also reproduce the points (needs --cage); none")
+    ->default_val(rda.parameters.renormalize)
+    ->check(CLI::IsMember({ "rowsum", "affine", "none" }));
+  reduce->add_option("--array", rda.parameters.weights_name, "weights array name")
+    ->default_val(rda.parameters.weights_name);
+  reduce->add_flag("--keep-dense", rda.parameters.keep_dense, "keep the dense array too");
+  reduce->add_flag("--json", rda.json_out, "print the summary as JSON");
 
   MeshArgs mea;
   auto* mesh = app.add_subcommand("mesh", "triangulate / tetrahedralize the interior of a cage");
@@ -1143,6 +1374,8 @@ int main(int argc, char** argv)
       return run_deform(da);
     if (*stats)
       return run_stats(sa);
+    if (*reduce)
+      return run_reduce(rda);
     if (*animate)
       return run_animate(aa);
     if (*mesh)

@@ -7,6 +7,8 @@
 #include "vtkBaryErrorObserver.h"
 #include "vtkBaryDataIO.h"
 #include "vtkBaryLinearBlendSkinning.h"
+#include "vtkBaryLocalityStatistics.h"
+#include "vtkBaryReduceWeights.h"
 
 #include "core/weight_statistics.h"
 
@@ -19,9 +21,11 @@
 #include "vtkPointData.h"
 #include "vtkPointSet.h"
 #include "vtkPolyData.h"
+#include "vtkTable.h"
 #include "vtkUnstructuredGrid.h"
 
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -361,6 +365,92 @@ std::string WriteAnimation(vtkPointSet* weighted, vtkPolyData* rest_cage,
     (*summary)["seconds_per_frame"] = seconds_since(t0) / static_cast<double>(files.size());
   }
   return path;
+}
+
+nlohmann::json LocalityStatisticsJson(vtkDataSet* data, const std::string& array_name,
+  double threshold, bool use_mesh_measure)
+{
+  vtkNew<vtkBaryLocalityStatistics> filter;
+  filter->SetInputData(data);
+  filter->SetWeightsArrayName(array_name.c_str());
+  filter->SetThreshold(threshold);
+  filter->SetUseMeshMeasure(use_mesh_measure);
+  RunAlgorithm(filter, {});
+  auto column = [](vtkTable* table, const char* name) {
+    std::vector<double> v;
+    vtkDataArray* a = vtkDataArray::SafeDownCast(table->GetColumnByName(name));
+    for (vtkIdType i = 0; a && i < a->GetNumberOfTuples(); ++i)
+      v.push_back(a->GetComponent(i, 0));
+    return v;
+  };
+  nlohmann::json j;
+  j["array"] = array_name;
+  j["points"] = data->GetNumberOfPoints();
+  j["controls"] = filter->GetInfluenceTable()->GetNumberOfRows();
+  j["threshold"] = filter->GetThresholdUsed();
+  j["measure"] = filter->GetMeasureUsedAsString();
+  j["mean_support"] = filter->GetMeanSupport();
+  j["max_support"] = filter->GetMaxSupport();
+  j["t"] = column(filter->GetPTable(), "t");
+  j["P"] = column(filter->GetPTable(), "P");
+  std::vector<int> k;
+  for (double x : column(filter->GetQTable(), "k"))
+    k.push_back(static_cast<int>(x));
+  j["k"] = k;
+  j["Q"] = column(filter->GetQTable(), "Q");
+  j["influence_fraction"] = column(filter->GetInfluenceTable(), "influence_fraction");
+  return j;
+}
+
+vtkSmartPointer<vtkDataSet> ReduceWeights(vtkDataSet* weighted, vtkPolyData* cage,
+  const ReduceParameters& parameters, const RunCallbacks& callbacks, nlohmann::json* summary)
+{
+  vtkNew<vtkBaryReduceWeights> filter;
+  filter->SetInputData(weighted);
+  if (cage)
+    filter->SetCageData(cage);
+  filter->SetWeightsArrayName(parameters.weights_name.c_str());
+  filter->SetThreshold(parameters.threshold);
+  if (parameters.renormalize == "none")
+    filter->SetRenormalizationToNone();
+  else if (parameters.renormalize == "affine")
+    filter->SetRenormalizationToAffine();
+  else if (parameters.renormalize == "rowsum")
+    filter->SetRenormalizationToRowSum();
+  else
+    throw bary::Error(bary::ErrorCode::InvalidArgument,
+      "unknown renormalisation '" + parameters.renormalize + "' (rowsum, affine or none)");
+  filter->SetKeepDenseArray(parameters.keep_dense);
+  const auto t0 = std::chrono::steady_clock::now();
+  RunAlgorithm(filter, callbacks);
+  if (summary)
+  {
+    auto finite_or_null = [](double x) {
+      return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(nullptr);
+    };
+    vtkDataArray* dense = weighted->GetPointData()->GetArray(parameters.weights_name.c_str());
+    (*summary)["points"] = weighted->GetNumberOfPoints();
+    (*summary)["controls"] = dense ? dense->GetNumberOfComponents() : 0;
+    (*summary)["threshold"] = filter->GetThresholdUsed();
+    (*summary)["renormalization"] = parameters.renormalize;
+    (*summary)["K"] = filter->GetMaximumSupport();
+    (*summary)["nonzeros"] = filter->GetNumberOfNonzeros();
+    (*summary)["mean_support"] = weighted->GetNumberOfPoints() > 0
+      ? static_cast<double>(filter->GetNumberOfNonzeros()) / weighted->GetNumberOfPoints()
+      : 0.0;
+    (*summary)["partition_error"] = filter->GetPartitionError();
+    (*summary)["reproduction_error"] = finite_or_null(filter->GetReproductionError());
+    (*summary)["max_dropped"] = filter->GetMaxDropped();
+    (*summary)["memory_fraction"] = filter->GetMemoryFraction();
+    (*summary)["csr_memory_fraction"] = filter->GetCSRMemoryFraction();
+    (*summary)["arrays"] = { parameters.weights_name + "Indices",
+      parameters.weights_name + "Values" };
+    (*summary)["seconds"] = seconds_since(t0);
+  }
+  vtkSmartPointer<vtkDataSet> out;
+  out.TakeReference(vtkDataSet::SafeDownCast(filter->GetOutputDataObject(0)->NewInstance()));
+  out->ShallowCopy(filter->GetOutputDataObject(0));
+  return out;
 }
 
 nlohmann::json WeightStatisticsJson(vtkDataSet* data, const std::string& array_name,

@@ -127,6 +127,30 @@ std::string WriteAnimation(vtkPointSet* weighted, vtkPolyData* rest_cage,
 nlohmann::json WeightStatisticsJson(vtkDataSet* data, const std::string& array_name,
   vtkPolyData* cage, double threshold = -1.0, int cage_dimension = 0);
 
+/// Locality statistics (Zhang et al. 2014, §5; vtkBaryLocalityStatistics) of the weights array
+/// @p array_name of @p data: {"array", "points", "controls", "threshold", "measure" ("uniform",
+/// "area", "volume"), "mean_support", "max_support", "t", "P", "k", "Q", "influence_fraction"}.
+/// A negative @p threshold means 1e-3 / #C; with @p use_mesh_measure, points of a 2D triangle
+/// or tetrahedral mesh count with their lumped area/volume.
+nlohmann::json LocalityStatisticsJson(vtkDataSet* data, const std::string& array_name,
+  double threshold = -1.0, bool use_mesh_measure = true);
+
+/// Parameters of `barylab reduce` / vtkBaryReduceWeights.
+struct ReduceParameters
+{
+  std::string weights_name = "Weights";
+  double threshold = -1.0;           ///< negative: 1e-3 / #C
+  std::string renormalize = "rowsum"; ///< rowsum | affine | none
+  bool keep_dense = false;           ///< keep the dense array beside the compact pair
+};
+
+/// Sparse weights (vtkBaryReduceWeights): a copy of @p weighted with the dense array replaced by
+/// <name>Indices / <name>Values. @p cage (may be null) gives the reproduction error and is
+/// required for "affine". Fills @p summary with K, errors and memory.
+vtkSmartPointer<vtkDataSet> ReduceWeights(vtkDataSet* weighted, vtkPolyData* cage,
+  const ReduceParameters& parameters, const RunCallbacks& callbacks = {},
+  nlohmann::json* summary = nullptr);
+
 /// Dimension (2 or 3) of @p cage as the filters interpret it.
 int CageDimension(vtkPolyData* cage, int requested = 0);
 

@@ -5,6 +5,8 @@
 
 #include "vtkDataArray.h"
 #include "vtkDataSet.h"
+#include "vtkDoubleArray.h"
+#include "vtkNew.h"
 #include "vtkPointData.h"
 
 #include <gtest/gtest.h>
@@ -847,4 +849,200 @@ TEST_F(CLI, LBCBadInputIsAClearError)
                 data("cage2d_posed.obj") + " --mesh " + data("cage2d.obj") + " --points " +
                 data("model2d.obj") + " --output " + out("d.vtp")).code, 2);
   ExpectEmptyFolder();
+}
+
+// ---- locality statistics and sparse weights (stats --locality, reduce, deform --weights) ----
+
+namespace
+{
+/// Max |a - b| over points and coordinates.
+double MaxPointDistance(vtkDataSet* a, vtkDataSet* b)
+{
+  EXPECT_EQ(a->GetNumberOfPoints(), b->GetNumberOfPoints());
+  double worst = 0.0;
+  for (vtkIdType i = 0; i < a->GetNumberOfPoints() && i < b->GetNumberOfPoints(); ++i)
+  {
+    double x[3], y[3];
+    a->GetPoint(i, x);
+    b->GetPoint(i, y);
+    for (int k = 0; k < 3; ++k)
+      worst = std::max(worst, std::abs(x[k] - y[k]));
+  }
+  return worst;
+}
+} // namespace
+
+TEST_F(CLI, ReducedWeightsDeformLikeTheSameDenseWeights)
+{
+  ASSERT_EQ(run("weights --cage " + data("cage3d.obj") + " --points " + data("model3d.off") +
+              " --output " + out("w.vtp") + " -q")
+              .code,
+    0);
+  // mean value weights are global: a threshold of 0.005 drops a real part of them
+  const CommandResult r = run("reduce --input " + out("w.vtp") + " --cage " + data("cage3d.obj") +
+    " --output " + out("sparse.vtp") + " --threshold 0.005 --json");
+  ASSERT_EQ(r.code, 0) << r.output;
+  const nlohmann::json s = nlohmann::json::parse(r.output);
+  EXPECT_EQ(s["controls"], 72);
+  EXPECT_LT(s["K"].get<int>(), 72);
+  EXPECT_LT(s["partition_error"].get<double>(), 1e-13); // row sum
+  EXPECT_GT(s["max_dropped"].get<double>(), 0.0);
+  EXPECT_NEAR(s["memory_fraction"].get<double>(), 12.0 * s["K"].get<int>() / (8.0 * 72), 1e-15);
+  auto sparse = vtkBaryDataIO::Read(out("sparse.vtp"));
+  EXPECT_EQ(sparse->GetPointData()->GetArray("Weights"), nullptr);
+  vtkDataArray* indices = sparse->GetPointData()->GetArray("WeightsIndices");
+  vtkDataArray* values = sparse->GetPointData()->GetArray("WeightsValues");
+  ASSERT_NE(indices, nullptr);
+  ASSERT_NE(values, nullptr);
+  EXPECT_EQ(indices->GetNumberOfComponents(), s["K"].get<int>());
+
+  // The same reduced weights as a dense array, written by the test itself.
+  vtkNew<vtkDoubleArray> dense;
+  dense->SetName("Weights");
+  dense->SetNumberOfComponents(72);
+  dense->SetNumberOfTuples(sparse->GetNumberOfPoints());
+  dense->Fill(0.0);
+  for (vtkIdType p = 0; p < sparse->GetNumberOfPoints(); ++p)
+    for (int k = 0; k < indices->GetNumberOfComponents(); ++k)
+      if (indices->GetComponent(p, k) >= 0)
+        dense->SetComponent(p, static_cast<int>(indices->GetComponent(p, k)), values->GetComponent(p, k));
+  auto densified = vtkSmartPointer<vtkDataSet>::Take(sparse->NewInstance());
+  densified->DeepCopy(sparse);
+  densified->GetPointData()->RemoveArray("WeightsIndices");
+  densified->GetPointData()->RemoveArray("WeightsValues");
+  densified->GetPointData()->AddArray(dense);
+  vtkBaryDataIO::Write(densified, out("densified.vtp"));
+
+  const std::string deform = "deform --cage " + data("cage3d.obj") + " --deformed-cage " +
+    data("cage3d_posed.obj") + " --output ";
+  for (const char* name : { "sparse", "densified", "w" })
+  {
+    const CommandResult d = run(deform + out(std::string(name) + "_posed.vtp") + " --weights " +
+      out(std::string(name) + ".vtp"));
+    ASSERT_EQ(d.code, 0) << d.output;
+    EXPECT_NE(d.output.find("weights from the input"), std::string::npos) << d.output;
+  }
+  // with --points too (the compact pair is attached to the model)
+  ASSERT_EQ(run(deform + out("sparse_posed2.vtp") + " --weights " + out("sparse.vtp") +
+              " --points " + data("model3d.off") + " -q")
+              .code,
+    0);
+  auto a = vtkBaryDataIO::Read(out("sparse_posed.vtp"));
+  auto b = vtkBaryDataIO::Read(out("densified_posed.vtp"));
+  auto c = vtkBaryDataIO::Read(out("w_posed.vtp"));
+  auto a2 = vtkBaryDataIO::Read(out("sparse_posed2.vtp"));
+  EXPECT_LE(MaxPointDistance(a, b), 1e-12); // same weights, sums in another order
+  EXPECT_LE(MaxPointDistance(a, a2), 0.0);
+  // against the full weights: |x_r - x| <= ||w_r - w||_1 max_i |c'_i - o| <= about
+  // 2 max_dropped x (the posed cage's bounding-box diagonal)
+  auto posed = vtkBaryDataIO::Read(data("cage3d_posed.obj"));
+  EXPECT_LE(MaxPointDistance(a, c), 2.01 * s["max_dropped"].get<double>() * posed->GetLength());
+  EXPECT_GT(MaxPointDistance(a, c), 0.0);
+}
+
+TEST_F(CLI, ReduceAffineAndErrors)
+{
+  ASSERT_EQ(run("weights --cage " + data("cage3d.obj") + " --points " + data("model3d.off") +
+              " --output " + out("w.vtp") + " -q")
+              .code,
+    0);
+  const CommandResult r = run("reduce --input " + out("w.vtp") + " --cage " + data("cage3d.obj") +
+    " --output " + out("affine.vtp") + " --threshold 0.005 --renormalize affine --json");
+  ASSERT_EQ(r.code, 0) << r.output;
+  const nlohmann::json s = nlohmann::json::parse(r.output);
+  EXPECT_LT(s["partition_error"].get<double>(), 1e-12);
+  EXPECT_LT(s["reproduction_error"].get<double>(), 1e-12);
+  const CommandResult t = run("reduce --input " + out("w.vtp") + " --output " + out("t.vtp"));
+  ASSERT_EQ(t.code, 0) << t.output;
+  EXPECT_NE(t.output.find("of the dense array"), std::string::npos) << t.output;
+
+  ExpectError(run("reduce --input " + out("w.vtp") + " --output " + out("x.vtp") +
+                " --renormalize affine"),
+    "affine renormalisation needs the control points");
+  ExpectError(run("reduce --input " + out("w.vtp") + " --output " + out("x.vtp") + " --array Nope"),
+    "no point-data array 'Nope'");
+  ExpectError(run("reduce --input " + out("w.vtp") + " --cage " + data("cage2d.obj") +
+                " --output " + out("x.vtp")),
+    "the cage has 20 points");
+  ExpectError(run("reduce --input " + out("w.vtp") + " --output " + out("x.obj")), "x.obj");
+  EXPECT_FALSE(fs::exists(out("x.vtp")));
+  EXPECT_EQ(run("reduce --input " + out("w.vtp") + " --output " + out("x.vtp") +
+              " --renormalize maybe")
+              .code,
+    2);
+  // compact weights for another cage
+  ExpectError(run("deform --cage " + data("cage2d.obj") + " --deformed-cage " +
+                data("cage2d_posed.obj") + " --weights " + out("t.vtp") + " --output " + out("d.vtp")),
+    "are for 72 control points but the cage");
+}
+
+TEST_F(CLI, LocalityStatisticsOfTwoMethodsOnTheBundled2DCage)
+{
+  for (const char* method : { "mvc", "harmonic" })
+    ASSERT_EQ(run(std::string("weights --method ") + method + " --cage " + data("cage2d.obj") +
+                " --points " + data("model2d.obj") + " --output " + out(std::string(method) + ".vtp") +
+                " -q")
+                .code,
+      0)
+      << method;
+  const CommandResult r = run("stats --locality --input " + out("mvc.vtp") + " --input " +
+    out("harmonic.vtp") + " --json --csv " + out("cmp") + " --json-output " + out("cmp.json"));
+  ASSERT_EQ(r.code, 0) << r.output;
+  const nlohmann::json j = nlohmann::json::parse(r.output);
+  ASSERT_EQ(j["locality"].size(), 2u);
+  std::ifstream file(out("cmp.json"));
+  EXPECT_EQ(nlohmann::json::parse(file), j);
+  for (const nlohmann::json& s : j["locality"])
+  {
+    SCOPED_TRACE(s["label"].get<std::string>());
+    EXPECT_EQ(s["controls"], 20);
+    EXPECT_EQ(s["measure"], "area"); // model2d.obj is a planar triangle mesh
+    EXPECT_DOUBLE_EQ(s["threshold"].get<double>(), 1e-3 / 20);
+    // Q(1) = 1: the weights sum to one, so one of the 20 is >= 1/20 > threshold, everywhere
+    const auto& Q = s["Q"];
+    ASSERT_EQ(Q.size(), 20u);
+    EXPECT_NEAR(Q[0].get<double>(), 1.0, 1e-12);
+    double sum = 0.0;
+    for (std::size_t k = 0; k < Q.size(); ++k)
+    {
+      sum += Q[k].get<double>();
+      if (k > 0)
+        EXPECT_LE(Q[k].get<double>(), Q[k - 1].get<double>()); // non-increasing
+    }
+    EXPECT_NEAR(sum, s["mean_support"].get<double>(), 1e-9); // mean support = sum_k Q(k)
+    EXPECT_LE(s["max_support"].get<double>(), 20.0);
+    EXPECT_GE(s["mean_support"].get<double>(), 1.0);
+    const auto& P = s["P"];
+    ASSERT_EQ(P.size(), s["t"].size());
+    for (std::size_t i = 0; i < P.size(); ++i)
+    {
+      // in [0, 1] up to the rounding of measure-weighted sums
+      EXPECT_GE(P[i].get<double>(), 0.0);
+      EXPECT_LE(P[i].get<double>(), 1.0 + 1e-12);
+      if (i > 0)
+        EXPECT_GE(P[i].get<double>(), P[i - 1].get<double>() - 1e-15); // a CDF in t
+    }
+  }
+  // harmonic coordinates are a convex combination (0 <= w <= 1): P(1) = 1
+  EXPECT_NEAR(j["locality"][1]["P"].back().get<double>(), 1.0, 1e-12);
+  EXPECT_EQ(j["locality"][0]["t"], j["locality"][1]["t"]);
+
+  std::ifstream pcsv(out("cmp_P.csv")), qcsv(out("cmp_Q.csv"));
+  std::string header;
+  ASSERT_TRUE(std::getline(pcsv, header));
+  EXPECT_EQ(header, "t,P_mvc,P_harmonic");
+  ASSERT_TRUE(std::getline(qcsv, header));
+  EXPECT_EQ(header, "k,Q_mvc,Q_harmonic");
+  int rows = 0;
+  for (std::string line; std::getline(qcsv, line);)
+    ++rows;
+  EXPECT_EQ(rows, 20);
+
+  // text output and errors
+  const CommandResult t = run("stats --locality --input " + out("mvc.vtp"));
+  ASSERT_EQ(t.code, 0) << t.output;
+  EXPECT_NE(t.output.find("mean"), std::string::npos) << t.output;
+  EXPECT_EQ(run("stats --input " + out("mvc.vtp") + " --input " + out("harmonic.vtp")).code, 2);
+  ExpectError(run("stats --locality --input " + out("mvc.vtp") + " --array Nope"),
+    "no point-data array 'Nope'");
 }
