@@ -990,6 +990,74 @@ def off_text(V, F):
 
 # ---------------------------------------------------------------------------
 
+# Picture for the viewer's 2D image mode ---------------------------------------
+IMAGE2D_SIZE = 256          # pixels per side of gingerbread.png
+IMAGE2D_MARGIN = 0.05       # the picture covers the cage's bounding box enlarged by 5% per side
+
+
+def png_bytes(width, height, rgb_rows):
+    """A minimal truecolour PNG (standard library only: zlib, struct)."""
+    import struct
+    import zlib
+
+    def chunk(kind, payload):
+        body = kind + payload
+        return struct.pack(">I", len(payload)) + body + struct.pack(">I", zlib.crc32(body) & 0xFFFFFFFF)
+
+    raw = b"".join(b"\x00" + bytes(row) for row in rgb_rows)
+    return (b"\x89PNG\r\n\x1a\n"
+            + chunk(b"IHDR", struct.pack(">IIBBBBB", width, height, 8, 2, 0, 0, 0))
+            + chunk(b"IDAT", zlib.compress(raw, 9))
+            + chunk(b"IEND", b""))
+
+
+def gingerbread_picture(P):
+    """A gingerbread man drawn over his cage, for texture warping: brown dough inside the cage,
+    white icing along the limbs, eyes, mouth and buttons, a thin grid every 0.1 units so the
+    deformation shows, a blue checkerboard outside. Pixel (i, j) (i = column, j = row from the
+    top) sits at the world point the viewer maps it to: the square image covers the cage's
+    bounding box enlarged by IMAGE2D_MARGIN per side, centred, aspect kept (it covers the box)."""
+    xs = [p[0] for p in P]
+    ys = [p[1] for p in P]
+    w = (max(xs) - min(xs)) * (1 + 2 * IMAGE2D_MARGIN)
+    h = (max(ys) - min(ys)) * (1 + 2 * IMAGE2D_MARGIN)
+    side = max(w, h)
+    cx, cy = 0.5 * (max(xs) + min(xs)), 0.5 * (max(ys) + min(ys))
+    n = IMAGE2D_SIZE
+    features = [((-0.09, 0.70), 0.035, (40, 25, 15)),    # eyes
+                ((0.09, 0.70), 0.035, (40, 25, 15)),
+                ((0.0, 0.22), 0.04, (200, 30, 40)),      # buttons
+                ((0.0, 0.02), 0.04, (40, 140, 60)),
+                ((0.0, -0.18), 0.04, (60, 80, 200))]
+    rows = []
+    for j in range(n):
+        row = []
+        y = cy + side * (0.5 - (j + 0.5) / n)
+        for i in range(n):
+            x = cx + side * ((i + 0.5) / n - 0.5)
+            if point_in_polygon((x, y), P):
+                colour = (181, 110, 50)
+                if abs(abs(x) - 0.62) < 0.03 and 0.1 < y < 0.36:       # icing on the arms
+                    colour = (250, 250, 245)
+                if abs(y + 0.75) < 0.025 and 0.05 < abs(x) < 0.42:     # icing on the legs
+                    colour = (250, 250, 245)
+                mouth = math.hypot(x, y - 0.66)
+                if abs(mouth - 0.1) < 0.015 and y < 0.62:
+                    colour = (120, 40, 30)
+                for (fx, fy), r, c in features:
+                    if math.hypot(x - fx, y - fy) < r:
+                        colour = c
+                gx, gy = x * 10 - round(x * 10), y * 10 - round(y * 10)
+                if min(abs(gx), abs(gy)) < 0.06:
+                    colour = tuple(int(0.75 * v) for v in colour)
+            else:
+                checker = (int(math.floor(x * 5)) + int(math.floor(y * 5))) % 2
+                colour = (200, 220, 245) if checker else (225, 235, 250)
+            row.extend(colour)
+        rows.append(row)
+    return png_bytes(n, n, rows)
+
+
 def main(argv):
     out_dir = argv[1] if len(argv) > 1 else os.path.dirname(os.path.abspath(__file__))
     files = {}
@@ -1079,6 +1147,11 @@ def main(argv):
     for name in sorted(files):
         with open(os.path.join(out_dir, name), "w", encoding="ascii", newline="\n") as fh:
             fh.write(files[name])
+    picture = gingerbread_picture(cage2d)
+    with open(os.path.join(out_dir, "gingerbread.png"), "wb") as fh:
+        fh.write(picture)
+    summary.append("gingerbread.png: %d x %d pixels over cage2d's bounding box + %d%%"
+                   % (IMAGE2D_SIZE, IMAGE2D_SIZE, round(100 * IMAGE2D_MARGIN)))
     for line in summary:
         print(line)
     for name in sorted(files):

@@ -35,7 +35,8 @@ int main(int argc, char* argv[])
   parser.addHelpOption();
   parser.addVersionOption();
   parser.addPositionalArgument("files", "CONTROLS MODEL [DOMAIN]: a cage, skeleton (.tgf) or "
-                                        "control points; the model; for a skeleton the domain",
+                                        "control points; the model (or a PNG/JPEG picture with a 2D "
+                                        "cage: image mode); for a skeleton the domain",
     "[CONTROLS MODEL [DOMAIN]]");
   QCommandLineOption example("example",
     "open a bundled example: " + barylab::viewer::ViewerWindow::ExampleNames().join(", "), "NAME");
@@ -46,7 +47,7 @@ int main(int argc, char* argv[])
                                   "BBW transforms); 'example' for the example's pose",
     "FILE");
   QCommandLineOption session("session", "load a saved session", "FILE");
-  QCommandLineOption field("field", "weight | gradient", "F");
+  QCommandLineOption field("field", "weight | gradient | image", "F");
   QCommandLineOption logScale("log", "logarithmic colour scale");
   QCommandLineOption clip("clip", "clip 3D models by a plane normal to x");
   QCommandLineOption screenshot("screenshot", "compute, write the window to PNG and quit", "PNG");
@@ -97,7 +98,9 @@ int main(int argc, char* argv[])
   if (parser.isSet(pose))
     parser.value(pose) == "example" ? window.applyExamplePose() : window.loadPose(parser.value(pose));
   if (parser.isSet(field))
-    parser.value(field).startsWith("grad") ? window.showGradientNorm() : window.showWeight();
+    parser.value(field).startsWith("grad")    ? window.showGradientNorm()
+      : parser.value(field).startsWith("image") ? window.showImage()
+                                                : window.showWeight();
   if (parser.isSet(logScale))
     window.setLogScale(true);
   if (parser.isSet(clip))

@@ -5,10 +5,18 @@
 #include "core/error.h"
 #include "core/skeleton.h"
 
+#include "vtkImageData.h"
+#include "vtkImageReader2.h"
+#include "vtkImageReader2Factory.h"
+#include "vtkFloatArray.h"
+#include "vtkTexture.h"
+#include "barylabPipeline.h"
 #include "vtkActor.h"
 #include "vtkCamera.h"
 #include "vtkCellArray.h"
 #include "vtkClipPolyData.h"
+#include "vtkCellType.h"
+#include "vtkGenericCell.h"
 #include "vtkColorTransferFunction.h"
 #include "vtkContourFilter.h"
 #include "vtkDataArray.h"
@@ -23,6 +31,7 @@
 #include "vtkMath.h"
 #include "vtkPlane.h"
 #include "vtkPointData.h"
+#include "vtkPointSet.h"
 #include "vtkPoints.h"
 #include "vtkPolyData.h"
 #include "vtkPolyDataMapper.h"
@@ -31,9 +40,12 @@
 #include "vtkScalarBarActor.h"
 #include "vtkSphereSource.h"
 #include "vtkTextActor.h"
+#include "vtkTableBasedClipDataSet.h"
 #include "vtkTextProperty.h"
+#include "vtkUnstructuredGrid.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 
 namespace barylab
@@ -246,7 +258,179 @@ void add_controls(vtkRenderer* renderer, vtkPolyData* controls, vtkPoints* posed
   if (selected->GetNumberOfPoints() > 0)
     add_spheres(renderer, selected, 2.0 * radius, red);
 }
+
+/// True when @p data has cells of dimension 3 (a tetrahedral or other volume mesh).
+bool has_volume_cells(vtkDataSet* data)
+{
+  vtkNew<vtkGenericCell> cell;
+  for (vtkIdType c = 0; c < data->GetNumberOfCells(); ++c)
+  {
+    switch (data->GetCellType(c))
+    {
+      case VTK_TETRA:
+      case VTK_HEXAHEDRON:
+      case VTK_WEDGE:
+      case VTK_PYRAMID:
+      case VTK_VOXEL:
+        return true;
+      case VTK_VERTEX:
+      case VTK_POLY_VERTEX:
+      case VTK_LINE:
+      case VTK_POLY_LINE:
+      case VTK_TRIANGLE:
+      case VTK_TRIANGLE_STRIP:
+      case VTK_QUAD:
+      case VTK_POLYGON:
+        break;
+      default:
+        data->GetCell(c, cell);
+        if (cell->GetCellDimension() == 3)
+          return true;
+    }
+  }
+  return false;
+}
+
+/// The plane of the clipping options through @p bounds.
+vtkSmartPointer<vtkPlane> clip_plane(const double b[6], const SceneOptions& options)
+{
+  const int a = std::clamp(options.clip_axis, 0, 2);
+  double origin[3] = { 0.5 * (b[0] + b[1]), 0.5 * (b[2] + b[3]), 0.5 * (b[4] + b[5]) };
+  origin[a] = b[2 * a] + std::clamp(options.clip_position, 0.0, 1.0) * (b[2 * a + 1] - b[2 * a]);
+  double normal[3] = { 0.0, 0.0, 0.0 };
+  normal[a] = 1.0;
+  auto plane = vtkSmartPointer<vtkPlane>::New();
+  plane->SetOrigin(origin);
+  plane->SetNormal(normal);
+  return plane;
+}
+
+/// A volume mesh cut open by the clipping plane: its cells below the plane (VTK's table-based
+/// clip, cells cut exactly), the field on the cut face interpolated linearly inside the cells,
+/// then the surface of what is left. "vtkOriginalPointIds" is not kept (the clip makes points).
+vtkSmartPointer<vtkPolyData> sliced_volume(vtkDataSet* weighted, vtkDataArray* weights,
+  vtkPoints* posed_points, const SceneOptions& options, bool gradient)
+{
+  auto volume = vtkSmartPointer<vtkDataSet>::Take(weighted->NewInstance());
+  volume->CopyStructure(weighted);
+  auto w = vtkSmartPointer<vtkDoubleArray>::New();
+  w->SetName("weight");
+  w->SetNumberOfTuples(weighted->GetNumberOfPoints());
+  for (vtkIdType i = 0; i < weighted->GetNumberOfPoints(); ++i)
+    w->SetValue(i, weights->GetComponent(i, options.component));
+  volume->GetPointData()->AddArray(w);
+  volume->GetPointData()->SetActiveScalars("weight");
+  if (gradient)
+  {
+    // the 3D gradient of the volume's field (on the rest geometry), not the surface's
+    vtkNew<vtkGradientFilter> filter;
+    filter->SetInputData(volume);
+    filter->SetInputScalars(vtkDataObject::FIELD_ASSOCIATION_POINTS, "weight");
+    filter->SetResultArrayName("weight_gradient");
+    filter->Update();
+    vtkDataArray* g =
+      vtkDataSet::SafeDownCast(filter->GetOutput())->GetPointData()->GetArray("weight_gradient");
+    auto norm = vtkSmartPointer<vtkDoubleArray>::New();
+    norm->SetName("gradient_norm");
+    norm->SetNumberOfTuples(volume->GetNumberOfPoints());
+    for (vtkIdType i = 0; i < volume->GetNumberOfPoints(); ++i)
+    {
+      double v[3];
+      g->GetTuple(i, v);
+      norm->SetValue(i, vtkMath::Norm(v));
+    }
+    volume->GetPointData()->AddArray(norm);
+    volume->GetPointData()->SetActiveScalars("gradient_norm");
+  }
+  if (auto* set = vtkPointSet::SafeDownCast(volume); set && posed_points)
+  {
+    vtkNew<vtkPoints> moved;
+    moved->DeepCopy(posed_points);
+    set->SetPoints(moved);
+  }
+  double b[6];
+  volume->GetBounds(b);
+  vtkNew<vtkTableBasedClipDataSet> clip;
+  clip->SetInputData(volume);
+  clip->SetClipFunction(clip_plane(b, options));
+  clip->SetOutputPointsPrecision(vtkAlgorithm::DOUBLE_PRECISION);
+  clip->InsideOutOn(); // keep the part below the plane: the slider sweeps it through the model
+  vtkNew<vtkDataSetSurfaceFilter> surface;
+  surface->SetInputConnection(clip->GetOutputPort());
+  surface->Update();
+  auto poly = vtkSmartPointer<vtkPolyData>::New();
+  poly->DeepCopy(surface->GetOutput());
+  poly->GetPointData()->SetActiveScalars(gradient ? "gradient_norm" : "weight");
+  return poly;
+}
 } // namespace
+
+bool IsPictureFile(const std::string& path)
+{
+  std::string suffix = path.substr(path.find_last_of('.') == std::string::npos ? path.size()
+                                                                               : path.find_last_of('.'));
+  std::transform(suffix.begin(), suffix.end(), suffix.begin(),
+    [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  for (const char* known : { ".png", ".jpg", ".jpeg", ".bmp", ".tif", ".tiff", ".pnm", ".ppm" })
+    if (suffix == known)
+      return true;
+  return false;
+}
+
+vtkSmartPointer<vtkImageData> ReadPicture(const std::string& path)
+{
+  vtkSmartPointer<vtkImageReader2> reader;
+  reader.TakeReference(vtkImageReader2Factory::CreateImageReader2(path.c_str()));
+  if (!reader)
+    throw Error(ErrorCode::Io, "cannot read '" + path + "' as a picture (PNG, JPEG, BMP, TIFF, PNM)");
+  reader->SetFileName(path.c_str());
+  reader->Update();
+  auto image = vtkSmartPointer<vtkImageData>::New();
+  image->ShallowCopy(reader->GetOutput());
+  int dims[3];
+  image->GetDimensions(dims);
+  if (dims[0] < 1 || dims[1] < 1 || !image->GetPointData()->GetScalars())
+    throw Error(ErrorCode::Io, "'" + path + "' holds no picture (empty or unreadable)");
+  return image;
+}
+
+vtkSmartPointer<vtkDataSet> TexturedCageMesh(vtkPolyData* cage, vtkImageData* picture, int target_cells)
+{
+  if (!picture)
+    throw Error(ErrorCode::InvalidArgument, "no picture for the image mode");
+  int dims[3];
+  picture->GetDimensions(dims);
+  if (dims[0] < 1 || dims[1] < 1)
+    throw Error(ErrorCode::InvalidArgument, "the picture is empty");
+  double b[6];
+  cage->GetBounds(b);
+  const double extent = std::max(b[1] - b[0], b[3] - b[2]);
+  if (!(extent > 0.0) || b[5] - b[4] > 1e-9 * extent)
+    throw Error(ErrorCode::InvalidArgument,
+      "the image mode needs a 2D cage (a polygon in the z = 0 plane)");
+  MeshParameters mesh;
+  mesh.cage_dimension = 2;
+  mesh.target_cells = target_cells;
+  vtkSmartPointer<vtkUnstructuredGrid> grid = MeshCage(cage, nullptr, mesh);
+  // the picture covers the box enlarged by 5% per side, centred, aspect kept
+  const double margin = 0.05;
+  const double w = (b[1] - b[0]) * (1.0 + 2.0 * margin), h = (b[3] - b[2]) * (1.0 + 2.0 * margin);
+  const double aspect = static_cast<double>(dims[0]) / static_cast<double>(dims[1]);
+  const double width = std::max(w, h * aspect), height = width / aspect;
+  const double x0 = 0.5 * (b[0] + b[1]) - 0.5 * width, y0 = 0.5 * (b[2] + b[3]) - 0.5 * height;
+  vtkNew<vtkFloatArray> tc;
+  tc->SetName("TextureCoordinates");
+  tc->SetNumberOfComponents(2);
+  tc->SetNumberOfTuples(grid->GetNumberOfPoints());
+  for (vtkIdType i = 0; i < grid->GetNumberOfPoints(); ++i)
+  {
+    double p[3];
+    grid->GetPoint(i, p);
+    tc->SetTuple2(i, (p[0] - x0) / width, (p[1] - y0) / height);
+  }
+  grid->GetPointData()->SetTCoords(tc);
+  return grid;
+}
 
 SceneInfo BuildScene(vtkRenderer* renderer, vtkDataSet* weighted, vtkPoints* posed_points,
   vtkPolyData* controls, vtkPoints* posed_controls, const SceneOptions& options)
@@ -292,22 +476,44 @@ SceneInfo BuildScene(vtkRenderer* renderer, vtkDataSet* weighted, vtkPoints* pos
     surface->SetPoints(moved);
   }
 
+  if (options.field == SceneOptions::Field::Image)
+  {
+    // 2D image mode: the picture warped by the deformation (texture coordinates of the rest
+    // mesh on the posed points), the controls on top; no colour map, no level sets
+    if (!options.texture || !surface->GetPointData()->GetTCoords())
+      throw Error(ErrorCode::InvalidArgument,
+        "the image view needs a picture: open a picture as the model (image mode)");
+    vtkNew<vtkTexture> texture;
+    texture->SetInputData(options.texture);
+    texture->InterpolateOn();
+    vtkNew<vtkPolyDataMapper> mapper;
+    mapper->SetInputData(surface);
+    mapper->ScalarVisibilityOff();
+    vtkNew<vtkActor> actor;
+    actor->SetMapper(mapper);
+    actor->SetTexture(texture);
+    actor->GetProperty()->LightingOff();
+    renderer->AddActor(actor);
+    info.shown_points = surface->GetNumberOfPoints();
+    if (controls && options.show_controls)
+      add_controls(renderer, controls, posed_controls, options);
+    return info;
+  }
+
   vtkSmartPointer<vtkPolyData> shown = surface;
-  if (options.clip && options.dimension == 3)
+  if (options.clip && options.dimension == 3 && has_volume_cells(weighted))
+  {
+    // a volume mesh is sliced: the cut face shows the field inside
+    shown = sliced_volume(weighted, weights, posed_points, options, gradient);
+    info.sliced_volume = true;
+  }
+  else if (options.clip && options.dimension == 3)
   {
     double b[6];
     surface->GetBounds(b);
-    const int a = std::clamp(options.clip_axis, 0, 2);
-    double origin[3] = { 0.5 * (b[0] + b[1]), 0.5 * (b[2] + b[3]), 0.5 * (b[4] + b[5]) };
-    origin[a] = b[2 * a] + std::clamp(options.clip_position, 0.0, 1.0) * (b[2 * a + 1] - b[2 * a]);
-    double normal[3] = { 0.0, 0.0, 0.0 };
-    normal[a] = 1.0;
-    vtkNew<vtkPlane> plane;
-    plane->SetOrigin(origin);
-    plane->SetNormal(normal);
     vtkNew<vtkClipPolyData> clip;
     clip->SetInputData(surface);
-    clip->SetClipFunction(plane);
+    clip->SetClipFunction(clip_plane(b, options));
     clip->InsideOutOn(); // keep the part below the plane: the slider sweeps it through the model
     clip->Update();
     shown = clip->GetOutput();

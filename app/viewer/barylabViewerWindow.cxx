@@ -91,6 +91,8 @@ const Example kExamples[] = {
   { "gingerbread-bbw", "skeleton2d.tgf", "model2d.obj", "cage2d.obj", "bbw", "skeleton2d_pose.txt",
     3 },
   { "heart-scc", "heart_controls.obj", "heart.off", "", "scc", "heartbeat/frame_05.obj", 0 },
+  // 2D image mode: a picture as the model, warped as a texture by the cage
+  { "gingerbread-image", "cage2d.obj", "gingerbread.png", "", "mvc", "cage2d_posed.obj", 14 },
 };
 
 std::string to_std(const QString& s)
@@ -313,7 +315,7 @@ void ViewerWindow::buildUi()
   auto* display = new QGroupBox("Display");
   auto* displayForm = new QFormLayout(display);
   this->FieldBox = new QComboBox;
-  this->FieldBox->addItems({ "weight", "gradient norm" });
+  this->FieldBox->addItems({ "weight", "gradient norm", "image" });
   this->LogBox = new QCheckBox("logarithmic colour scale");
   this->IsolineBox = new QSpinBox;
   this->IsolineBox->setRange(0, 50);
@@ -335,7 +337,7 @@ void ViewerWindow::buildUi()
   layout->addWidget(display);
   connect(this->FieldBox, QOverload<int>::of(&QComboBox::currentIndexChanged), this, [this](int i) {
     if (!this->Updating)
-      i == 0 ? this->showWeight() : this->showGradientNorm();
+      i == 0 ? this->showWeight() : i == 1 ? this->showGradientNorm() : this->showImage();
   });
   connect(this->LogBox, &QCheckBox::toggled, this, [this](bool on) {
     if (!this->Updating)
@@ -569,7 +571,9 @@ void ViewerWindow::syncPanel()
       l->setText(value.is_string() ? QString::fromStdString(value.get<std::string>())
                                    : QString::number(value.get<double>(), 'g', 17));
   }
-  this->FieldBox->setCurrentIndex(this->Options.field == SceneOptions::Field::Weight ? 0 : 1);
+  this->FieldBox->setCurrentIndex(this->Options.field == SceneOptions::Field::Weight ? 0
+      : this->Options.field == SceneOptions::Field::GradientNorm                  ? 1
+                                                                                 : 2);
   this->LogBox->setChecked(this->Options.log_scale);
   this->IsolineBox->setValue(this->Options.isolines);
   this->InfluenceBox->setChecked(this->Options.influence_level);
@@ -626,6 +630,7 @@ bool ViewerWindow::openInputs(const Inputs& given)
   }
   vtkSmartPointer<vtkPolyData> controls;
   vtkSmartPointer<vtkDataSet> model, domain;
+  vtkSmartPointer<vtkImageData> picture;
   try
   {
     if (is_skeleton_file(in.controls) && in.domain.isEmpty())
@@ -633,7 +638,14 @@ bool ViewerWindow::openInputs(const Inputs& given)
         "the skeleton '" + to_std(in.controls) +
           "' needs a domain to mesh (a polygon, closed surface or tet mesh) as third file");
     controls = vtkBaryDataIO::ReadPolyData(to_std(in.controls));
-    model = vtkBaryDataIO::Read(to_std(in.model));
+    if (IsPictureFile(to_std(in.model)))
+    {
+      // 2D image mode: the model is the cage's interior meshed, carrying the picture
+      picture = ReadPicture(to_std(in.model));
+      model = TexturedCageMesh(controls, picture);
+    }
+    else
+      model = vtkBaryDataIO::Read(to_std(in.model));
     if (!vtkPointSet::SafeDownCast(model))
       throw bary::Error(bary::ErrorCode::Io, "'" + to_std(in.model) + "' does not hold a point set");
     if (!in.domain.isEmpty())
@@ -657,6 +669,12 @@ bool ViewerWindow::openInputs(const Inputs& given)
   this->Options.component = 0;
   this->Options.dimension = this->modelDimension();
   this->Options.clip = false;
+  this->Picture = picture;
+  this->Options.texture = picture;
+  if (picture)
+    this->Options.field = SceneOptions::Field::Image;
+  else if (this->Options.field == SceneOptions::Field::Image)
+    this->Options.field = SceneOptions::Field::Weight;
   this->CameraNeedsReset = true;
   if (is_skeleton_file(in.controls) && this->Parameters.method != "bbw")
     this->Parameters.method = "bbw";
@@ -999,6 +1017,19 @@ void ViewerWindow::showWeight()
   this->updateScene();
 }
 
+void ViewerWindow::showImage()
+{
+  if (!this->Picture)
+  {
+    this->reportError("no picture: open a cage and a picture (PNG/JPEG) as the model for the image mode");
+    this->syncPanel();
+    return;
+  }
+  this->Options.field = SceneOptions::Field::Image;
+  this->syncPanel();
+  this->updateScene();
+}
+
 void ViewerWindow::showGradientNorm()
 {
   this->Options.field = SceneOptions::Field::GradientNorm;
@@ -1059,8 +1090,11 @@ void ViewerWindow::updateScene()
   SceneOptions options = this->Options;
   options.controls = this->shownKind();
   options.weights_name = this->Parameters.weights_name;
+  options.texture = this->Picture;
   const auto title = [&](const std::string& method) {
-    std::string t = method + (options.field == SceneOptions::Field::Weight ? ": weight" : ": |grad w|");
+    std::string t = method + (options.field == SceneOptions::Field::Weight ? ": weight"
+        : options.field == SceneOptions::Field::GradientNorm              ? ": |grad w|"
+                                                                          : ": picture");
     if (this->ControlList->currentItem())
       t += " of " + to_std(this->ControlList->currentItem()->text());
     return t;
@@ -1428,7 +1462,9 @@ bool ViewerWindow::saveSession(const QString& path)
     s["parameters"] = ParametersToJson(this->Parameters);
     s["compare_method"] = to_std(this->CompareMethod);
     s["selected"] = this->Options.component;
-    s["view"] = { { "field", this->Options.field == SceneOptions::Field::Weight ? "weight" : "gradient_norm" },
+    s["view"] = { { "field", this->Options.field == SceneOptions::Field::Weight ? "weight"
+          : this->Options.field == SceneOptions::Field::GradientNorm            ? "gradient_norm"
+                                                                                : "image" },
       { "log_scale", this->Options.log_scale }, { "isolines", this->Options.isolines },
       { "influence_level", this->Options.influence_level }, { "clip", this->Options.clip },
       { "clip_axis", this->Options.clip_axis }, { "clip_position", this->Options.clip_position } };
@@ -1483,8 +1519,10 @@ bool ViewerWindow::loadSession(const QString& path)
     in.pose = QString::fromStdString(i.value("pose_file", ""));
     parameters = ParametersFromJson(s.value("parameters", json::object()));
     const json v = s.value("view", json::object());
-    options.field = v.value("field", "weight") == "weight" ? SceneOptions::Field::Weight
-                                                           : SceneOptions::Field::GradientNorm;
+    const std::string field = v.value("field", "weight");
+    options.field = field == "image" ? SceneOptions::Field::Image
+      : field == "weight"            ? SceneOptions::Field::Weight
+                                     : SceneOptions::Field::GradientNorm;
     options.log_scale = v.value("log_scale", false);
     options.isolines = v.value("isolines", 9);
     options.influence_level = v.value("influence_level", true);
@@ -1511,6 +1549,9 @@ bool ViewerWindow::loadSession(const QString& path)
   const bool clip = s.value("view", json::object()).value("clip", false);
   options.component = 0;
   this->Options = options;
+  this->Options.texture = this->Picture;
+  if (this->Options.field == SceneOptions::Field::Image && !this->Picture)
+    this->Options.field = SceneOptions::Field::Weight;
   this->Options.dimension = this->modelDimension();
   this->Options.clip = clip;
   this->PendingPose = pose;

@@ -13,6 +13,7 @@
 
 #include "vtkCallbackCommand.h"
 #include "vtkDataSet.h"
+#include "vtkImageData.h"
 #include "vtkPoints.h"
 #include "vtkPointSet.h"
 #include "vtkPolyData.h"
@@ -134,6 +135,8 @@ public slots:
   void selectControl(int component);
   void showWeight();
   void showGradientNorm();
+  /// 2D image mode: the picture warped by the deformation (needs a picture as the model).
+  void showImage();
   void setLogScale(bool on);
   void setIsolines(int count);
   void setInfluenceLevel(bool on);
@@ -198,6 +201,7 @@ private:
   QString ComputedCompare;
   QString CompareMethod;
   SceneOptions Options;
+  vtkSmartPointer<vtkImageData> Picture; ///< the 2D image mode's picture (null otherwise)
   SceneInfo Info;
   vtkSmartPointer<vtkDataSet> Model;
   vtkSmartPointer<vtkPolyData> Controls;
