@@ -1,0 +1,293 @@
+// The LBC paper's Table 1 analog (Zhang et al. 2014, §5): memory and deformation time per frame
+// of local barycentric coordinates stored sparsely (weights <= 1e-3 / n dropped, rows
+// renormalised to sum to one) against dense mean value coordinates at the same points.
+//
+// Cases: the LBC authors' four 2D cages with their triangulations (../shared/data/lbc; skipped
+// with a message when absent) and the bundled 3D kidney cage (data/cage3d.obj, 72 controls,
+// tetrahedralized here). LBC weights are computed on the domain mesh (one thread), then
+// interpolated linearly at a regular grid of points inside the domain (about 50,000: the "dense
+// model"), and reduced there; mean value coordinates are evaluated at the same points.
+// Benchmark Table1/<case>/<mode> times one deformation frame, x' = W c' (mode 0: dense MVC,
+// Eigen dense product; mode 1: sparse LBC, CSR product), and reports memory, supports and
+// errors as counters. Run on one thread (OMP_NUM_THREADS=1); see docs/benchmarks.md.
+#include "core/cage.h"
+#include "core/cage_deformation.h"
+#include "core/domain_mesh.h"
+#include "core/local_barycentric_coordinates.h"
+#include "core/locality_statistics.h"
+#include "core/mean_value_coordinates.h"
+#include "core/mesh_point_locator.h"
+
+#include <benchmark/benchmark.h>
+
+#include <chrono>
+#include <cmath>
+#include <fstream>
+#include <map>
+#include <memory>
+#include <random>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace
+{
+using bary::Index;
+
+const char* kCases[] = { "Gil_Gecko", "LBClogo", "cactus", "woody", "kidney3d" };
+constexpr double kTargetPoints = 50000;
+
+double seconds_since(std::chrono::steady_clock::time_point t0)
+{
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+struct Case
+{
+  bool ok = false;
+  std::string error;
+  int n = 0;
+  Index mesh_vertices = 0;
+  bary::Points P;          // the dense model: grid points inside the domain
+  bary::DenseWeights Wmvc; // dense mean value coordinates at P
+  bary::ReducedWeights lbc; // LBC at P, reduced at 1e-3 / n, row sum
+  bary::LocalityStatistics lbc_stats, mvc_stats;
+  Eigen::MatrixXd C1;       // a moved cage (one frame)
+  double lbc_seconds = 0, mvc_seconds = 0;
+};
+
+/// v / f / l lines of an OBJ (1-based indices, "a/b/c" forms allowed).
+void read_obj(const std::string& path, std::vector<std::vector<double>>& v,
+  std::vector<std::vector<int>>& f, std::vector<int>& l)
+{
+  std::ifstream in(path);
+  std::string line;
+  while (std::getline(in, line))
+  {
+    std::istringstream s(line);
+    std::string tag, item;
+    s >> tag;
+    if (tag == "v")
+    {
+      std::vector<double> x;
+      double c;
+      while (s >> c)
+        x.push_back(c);
+      v.push_back(x);
+    }
+    else if (tag == "f" || tag == "l")
+    {
+      std::vector<int> ids;
+      while (s >> item)
+        ids.push_back(std::stoi(item.substr(0, item.find('/'))) - 1);
+      if (tag == "f")
+        f.push_back(ids);
+      else
+        l = ids;
+    }
+  }
+}
+
+/// Regular grid points inside the mesh (about kTargetPoints), as located by the mesh.
+bary::Points grid_inside(const bary::DomainMesh& mesh, const bary::MeshPointLocator& locator)
+{
+  const int dim = mesh.dimension();
+  const double measure = bary::vertex_measures(mesh.V, mesh.T).sum();
+  const double h = std::pow(measure / kTargetPoints, 1.0 / dim);
+  const Eigen::RowVectorXd lo = mesh.V.colwise().minCoeff(), hi = mesh.V.colwise().maxCoeff();
+  std::vector<double> inside;
+  const int nx = static_cast<int>((hi(0) - lo(0)) / h) + 1, ny = static_cast<int>((hi(1) - lo(1)) / h) + 1,
+            nz = dim == 3 ? static_cast<int>((hi(2) - lo(2)) / h) + 1 : 1;
+  for (int k = 0; k < nz; ++k)
+    for (int j = 0; j < ny; ++j)
+      for (int i = 0; i < nx; ++i)
+      {
+        double x[3] = { lo(0) + (i + 0.5) * h, lo(1) + (j + 0.5) * h,
+          dim == 3 ? lo(2) + (k + 0.5) * h : 0.0 };
+        const bary::MeshPointLocator::Location where = locator.locate(x);
+        if (where.inside && where.distance == 0.0)
+          inside.insert(inside.end(), x, x + dim);
+      }
+  bary::Points P(static_cast<Index>(inside.size()) / dim, dim);
+  for (Index r = 0; r < P.rows(); ++r)
+    for (int d = 0; d < dim; ++d)
+      P(r, d) = inside[static_cast<std::size_t>(r * dim + d)];
+  return P;
+}
+
+Case make_case(int which)
+{
+  Case c;
+  const std::string name = kCases[which];
+  bary::Cage cage;      // for MVC: polygon order (2D) / triangles (3D)
+  bary::DomainMesh mesh;
+  std::vector<int> order; // 2D: cage polygon position k -> control (column) order[k]
+  if (which < 4)
+  {
+    const std::string dir = std::string(BARYLAB_SHARED_DIR) + "/lbc/";
+    std::vector<std::vector<double>> v, cv;
+    std::vector<std::vector<int>> t, unused;
+    std::vector<int> loop, none;
+    read_obj(dir + "reference/" + name + ".mesh.obj", v, t, none);
+    read_obj(dir + "cages/" + name + "-control-edgeset.obj", cv, unused, loop);
+    std::ifstream control(dir + "reference/" + name + ".ctrl_idx.txt");
+    if (v.empty() || cv.empty() || !control)
+    {
+      c.error = "the LBC authors' data not found in " + dir;
+      return c;
+    }
+    Eigen::MatrixXd V(static_cast<Index>(v.size()), 2);
+    for (std::size_t k = 0; k < v.size(); ++k)
+      V.row(static_cast<Index>(k)) << v[k][0], v[k][1];
+    Eigen::MatrixXi T(static_cast<Index>(t.size()), 3);
+    for (std::size_t k = 0; k < t.size(); ++k)
+      T.row(static_cast<Index>(k)) << t[k][0], t[k][1], t[k][2];
+    bary::Cage controls;
+    controls.V.resize(static_cast<Index>(cv.size()), 2);
+    for (std::size_t k = 0; k < cv.size(); ++k)
+      controls.V.row(static_cast<Index>(k)) << cv[k][0], cv[k][1];
+    std::vector<int> ids;
+    for (int id; control >> id;)
+      ids.push_back(id);
+    mesh = bary::domain_mesh_from_simplices(controls, V, T,
+      Eigen::Map<const Eigen::VectorXi>(ids.data(), static_cast<Index>(ids.size())), 1e-9);
+    // the control polygon in the order of its 'l' line (closed: last = first)
+    if (loop.size() > 1 && loop.front() == loop.back())
+      loop.pop_back();
+    order = loop.empty() ? std::vector<int>() : loop;
+    if (order.size() != cv.size())
+    {
+      order.resize(cv.size());
+      for (std::size_t k = 0; k < cv.size(); ++k)
+        order[k] = static_cast<int>(k);
+    }
+    cage.V.resize(controls.V.rows(), 2);
+    for (std::size_t k = 0; k < order.size(); ++k)
+      cage.V.row(static_cast<Index>(k)) = controls.V.row(order[k]);
+  }
+  else
+  {
+    std::vector<std::vector<double>> v;
+    std::vector<std::vector<int>> f;
+    std::vector<int> none;
+    read_obj(std::string(BARYLAB_DATA_DIR) + "/cage3d.obj", v, f, none);
+    cage.V.resize(static_cast<Index>(v.size()), 3);
+    for (std::size_t k = 0; k < v.size(); ++k)
+      cage.V.row(static_cast<Index>(k)) << v[k][0], v[k][1], v[k][2];
+    cage.F.resize(static_cast<Index>(f.size()), 3);
+    for (std::size_t k = 0; k < f.size(); ++k)
+      cage.F.row(static_cast<Index>(k)) << f[k][0], f[k][1], f[k][2];
+    bary::SurfaceMeshOptions so;
+    so.target_cells = 5000;
+    mesh = bary::mesh_closed_surface(cage, so);
+  }
+  c.n = static_cast<int>(cage.V.rows());
+  c.mesh_vertices = mesh.V.rows();
+
+  // LBC on the domain mesh (the paper's defaults; the authors' distance normalisation and
+  // tolerances for their cages, as in bench_local_barycentric_coordinates)
+  bary::LBCOptions o;
+  o.threads = 1;
+  o.require_convergence = false;
+  if (which < 4)
+  {
+    o.distance_normalization = bary::DistanceNormalization::Global;
+    o.primal_tolerance = 1e-7;
+    o.dual_tolerance = 1e-6;
+  }
+  auto t0 = std::chrono::steady_clock::now();
+  const bary::LBCResult lbc = bary::local_barycentric_coordinates(mesh, o);
+  c.lbc_seconds = seconds_since(t0);
+
+  // the dense model: grid points inside; LBC interpolated there (piecewise linear on the mesh)
+  const bary::MeshPointLocator locator(mesh.V, mesh.T);
+  c.P = grid_inside(mesh, locator);
+  const bary::DenseWeights Wlbc = locator.interpolate(lbc.W, c.P).W;
+  c.lbc_stats = bary::locality_statistics(Wlbc);
+  // columns in control order for both: MVC of the polygon in 'l' order, permuted back
+  t0 = std::chrono::steady_clock::now();
+  const bary::DenseWeights Wpoly = bary::mean_value_coordinates(cage, c.P);
+  c.mvc_seconds = seconds_since(t0);
+  const bary::Points controlsInOrder = [&] {
+    bary::Points X(cage.V.rows(), cage.V.cols());
+    for (Index k = 0; k < cage.V.rows(); ++k)
+      X.row(order.empty() ? k : order[static_cast<std::size_t>(k)]) = cage.V.row(k);
+    return X;
+  }();
+  if (order.empty())
+    c.Wmvc = Wpoly;
+  else
+  {
+    c.Wmvc.resize(Wpoly.rows(), Wpoly.cols());
+    for (Index k = 0; k < Wpoly.cols(); ++k)
+      c.Wmvc.col(order[static_cast<std::size_t>(k)]) = Wpoly.col(k);
+  }
+  c.mvc_stats = bary::locality_statistics(c.Wmvc);
+  c.lbc = bary::reduce_weights(Wlbc, -1.0, bary::Renormalization::RowSum, &controlsInOrder, &c.P);
+
+  // one frame: every control moved by up to 5% of the cage's size (fixed seed)
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  const double size = (controlsInOrder.colwise().maxCoeff() - controlsInOrder.colwise().minCoeff()).norm();
+  c.C1 = controlsInOrder;
+  for (Index k = 0; k < c.C1.size(); ++k)
+    c.C1.data()[k] += 0.05 * size * u(rng);
+  c.ok = true;
+  return c;
+}
+
+const Case& get_case(int which)
+{
+  static std::map<int, std::unique_ptr<Case>> cache;
+  auto& slot = cache[which];
+  if (!slot)
+    slot = std::make_unique<Case>(make_case(which));
+  return *slot;
+}
+
+/// Arguments: case (kCases), mode (0: dense MVC, 1: sparse LBC).
+void Table1(benchmark::State& state)
+{
+  Eigen::setNbThreads(1);
+  const int which = static_cast<int>(state.range(0));
+  const bool sparse = state.range(1) == 1;
+  const Case& c = get_case(which);
+  if (!c.ok)
+  {
+    state.SkipWithError(c.error.c_str());
+    return;
+  }
+  bary::Points X;
+  for (auto _ : state)
+  {
+    X = sparse ? bary::deform_points(c.lbc.W, c.C1) : bary::deform_points(c.Wmvc, c.C1);
+    benchmark::DoNotOptimize(X.data());
+    benchmark::ClobberMemory();
+  }
+  const double P = static_cast<double>(c.P.rows());
+  const double dense_bytes = 8.0 * P * c.n;
+  // CSR: 8-byte value + 4-byte column per entry, 4-byte row offsets (bary::ReducedWeights)
+  const double csr_bytes = 12.0 * static_cast<double>(c.lbc.nonzeros) + 4.0 * (P + 1);
+  state.counters["n"] = c.n;
+  state.counters["points"] = P;
+  state.counters["mesh_vertices"] = static_cast<double>(c.mesh_vertices);
+  state.counters["dense_bytes"] = dense_bytes;
+  state.counters["sparse_bytes"] = csr_bytes;
+  state.counters["memory_pct"] = 100.0 * c.lbc.memory_fraction;
+  state.counters["lbc_mean_support"] = c.lbc_stats.mean_support;
+  state.counters["lbc_max_support"] = c.lbc_stats.max_support;
+  state.counters["mvc_mean_support"] = c.mvc_stats.mean_support;
+  state.counters["partition_err"] = c.lbc.partition_error;
+  state.counters["repro_err"] = c.lbc.reproduction_error;
+  state.counters["max_dropped"] = c.lbc.max_dropped;
+  state.counters["lbc_s"] = c.lbc_seconds;
+  state.counters["mvc_s"] = c.mvc_seconds;
+  state.SetLabel(std::string(kCases[which]) + (sparse ? ", sparse LBC" : ", dense MVC"));
+}
+BENCHMARK(Table1)
+  ->ArgsProduct({ { 0, 1, 2, 3, 4 }, { 0, 1 } })
+  ->Unit(benchmark::kMicrosecond);
+
+} // namespace
+
+BENCHMARK_MAIN();
