@@ -139,7 +139,7 @@ void add_method_options(CLI::App* cmd, WeightsParameters& p)
     ->check(CLI::IsMember({ 0, 2, 3 }));
   cmd->add_option("--weights-name", p.weights_name, "name of the weights point-data array")
     ->default_val(p.weights_name);
-  auto* mesh = cmd->add_option_group("domain mesh", "mesh-based methods (harmonic)");
+  auto* mesh = cmd->add_option_group("domain mesh", "mesh-based methods (harmonic, bbw, lbc)");
   mesh->add_option("--cells", p.target_cells,
        "approximate number of cells of the domain mesh (0: 3000 in 2D, 20000 in 3D)")
     ->default_val(0)

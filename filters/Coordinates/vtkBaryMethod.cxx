@@ -366,8 +366,23 @@ bary::DenseWeights vtkBaryMethod::Compute(const vtkBaryCage& cage,
       const bary::DomainMesh mesh =
         LBCDomainMesh(cage, domain, points, parameters, slice(progress, 0, 0.1));
       const double mesh_seconds = seconds_since(start);
-      const bary::LBCResult result = bary::local_barycentric_coordinates(
-        mesh, lbc_options(parameters), slice(progress, 0.1, 0.95));
+      bary::LBCResult result;
+      try
+      {
+        result = bary::local_barycentric_coordinates(
+          mesh, lbc_options(parameters), slice(progress, 0.1, 0.95));
+      }
+      catch (const bary::Error& e)
+      {
+        if (e.code() != bary::ErrorCode::NotConverged)
+          throw;
+        // the core's advice names core options; name the filter's (and the command line's)
+        std::string message = e.what();
+        message = message.substr(0, message.find("; raise"));
+        throw bary::Error(bary::ErrorCode::NotConverged,
+          message + "; raise LBCMaximumIterations (--max-iterations) or loosen "
+                    "LBCPrimalTolerance / LBCDualTolerance (--primal-tolerance, --dual-tolerance)");
+      }
       const bary::MeshPointLocator locator(mesh.V, mesh.T);
       const bary::OutsidePolicy policy = outside_policy(parameters);
       bary::MeshPointLocator::Result at_points =
@@ -378,7 +393,7 @@ bary::DenseWeights vtkBaryMethod::Compute(const vtkBaryCage& cage,
         auto& st = report->Statistics;
         st.emplace_back("mesh_vertices", static_cast<double>(mesh.num_vertices()));
         st.emplace_back("mesh_cells", static_cast<double>(mesh.num_elements()));
-        st.emplace_back("mesh_seconds", domain ? 0.0 : mesh_seconds);
+        st.emplace_back("mesh_seconds", mesh_seconds); // meshing, or matching a given mesh
         st.emplace_back("iterations", static_cast<double>(result.iterations));
         st.emplace_back("primal_residual", result.primal_residual);
         st.emplace_back("dual_residual", result.dual_residual);

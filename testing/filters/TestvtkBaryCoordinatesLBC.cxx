@@ -343,6 +343,8 @@ TEST(vtkBaryCoordinatesLBC, NonConvergenceIsAnError)
   lbc.Filter->SetLBCMaximumIterations(1);
   EXPECT_EQ(lbc.Run(), 0);
   EXPECT_TRUE(lbc.Observer->HasError("did not converge in 1 iterations")) << lbc.Observer->AllErrors();
+  EXPECT_TRUE(lbc.Observer->HasError("raise LBCMaximumIterations (--max-iterations)"))
+    << lbc.Observer->AllErrors();
 }
 
 TEST(vtkBaryCoordinatesLBC, ProgressAndCancel)
