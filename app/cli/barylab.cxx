@@ -911,8 +911,7 @@ int run_reduce(const ReduceArgs& a)
             << "reproduction error         "
             << (summary["reproduction_error"].is_null()
                    ? std::string("(give --cage)")
-                   : std::to_string(summary["reproduction_error"].get<double>()) +
-                     " (relative to the controls' diameter)")
+                   : summary["reproduction_error"].dump() + " (relative to the controls' diameter)")
             << "\n"
             << "max dropped weight sum     " << summary["max_dropped"].get<double>() << "\n"
             << "memory                     " << 100.0 * summary["memory_fraction"].get<double>()

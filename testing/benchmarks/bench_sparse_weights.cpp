@@ -52,6 +52,10 @@ struct Case
   bary::DenseWeights Wmvc; // dense mean value coordinates at P
   bary::ReducedWeights lbc; // LBC at P, reduced at 1e-3 / n, row sum
   bary::LocalityStatistics lbc_stats, mvc_stats;
+  bary::LocalityStatistics lbc_vertex_stats; // on the domain mesh's vertices (lumped measures)
+  bary::ReducedWeights lbc_affine;          // the same reduction with Renormalization::Affine
+  int lbc_iterations = 0;
+  bool lbc_converged = false;
   Eigen::MatrixXd C1;       // a moved cage (one frame)
   double lbc_seconds = 0, mvc_seconds = 0;
 };
@@ -198,6 +202,9 @@ Case make_case(int which)
   auto t0 = std::chrono::steady_clock::now();
   const bary::LBCResult lbc = bary::local_barycentric_coordinates(mesh, o);
   c.lbc_seconds = seconds_since(t0);
+  c.lbc_iterations = lbc.iterations;
+  c.lbc_converged = lbc.converged;
+  c.lbc_vertex_stats = bary::locality_statistics(lbc.W, -1.0, bary::vertex_measures(mesh.V, mesh.T));
 
   // the dense model: grid points inside; LBC interpolated there (piecewise linear on the mesh)
   const bary::MeshPointLocator locator(mesh.V, mesh.T);
@@ -224,6 +231,8 @@ Case make_case(int which)
   }
   c.mvc_stats = bary::locality_statistics(c.Wmvc);
   c.lbc = bary::reduce_weights(Wlbc, -1.0, bary::Renormalization::RowSum, &controlsInOrder, &c.P);
+  c.lbc_affine =
+    bary::reduce_weights(Wlbc, -1.0, bary::Renormalization::Affine, &controlsInOrder, &c.P);
 
   // one frame: every control moved by up to 5% of the cage's size (fixed seed)
   std::mt19937_64 rng(11);
@@ -281,6 +290,14 @@ void Table1(benchmark::State& state)
   state.counters["repro_err"] = c.lbc.reproduction_error;
   state.counters["max_dropped"] = c.lbc.max_dropped;
   state.counters["lbc_s"] = c.lbc_seconds;
+  state.counters["lbc_iterations"] = c.lbc_iterations;
+  state.counters["lbc_converged"] = c.lbc_converged;
+  state.counters["lbc_vertex_mean_support"] = c.lbc_vertex_stats.mean_support;
+  state.counters["lbc_vertex_max_support"] = c.lbc_vertex_stats.max_support;
+  state.counters["affine_partition_err"] = c.lbc_affine.partition_error;
+  state.counters["affine_repro_err"] = c.lbc_affine.reproduction_error;
+  state.counters["affine_min_w"] = c.lbc_affine.min_weight;
+  state.counters["min_w"] = c.lbc.min_weight;
   state.counters["mvc_s"] = c.mvc_seconds;
   state.SetLabel(std::string(kCases[which]) + (sparse ? ", sparse LBC" : ", dense MVC"));
 }
