@@ -295,10 +295,11 @@ public:
   ///@{
   /// Threads for the evaluation; 0 (default) = all cores (OpenMP's default), except for LBC,
   /// where 0 means one thread: its ADMM iteration is a few short parallel loops, and libgomp's
-  /// spin-waiting between them made two threads 1.3-10x slower than one on a 2-core machine
-  /// shared with other work (measured in docs/local-barycentric-coordinates.md); on an idle
-  /// machine with many cores ask for them explicitly (or set OMP_WAIT_POLICY=passive). Results
-  /// do not depend on it.
+  /// spin-waiting between them made two threads 3.5-11x slower than one on a 2-core machine
+  /// shared with other builds (the authors' gecko: 1.9 s vs 20.8 s; 1.7 s with two threads and
+  /// OMP_WAIT_POLICY=passive; docs/local-barycentric-coordinates.md). On an idle machine with
+  /// many cores ask for threads explicitly, with OMP_WAIT_POLICY=passive in the environment.
+  /// Results do not depend on it.
   vtkSetClampMacro(NumberOfThreads, int, 0, 1024);
   vtkGetMacro(NumberOfThreads, int);
   ///@}

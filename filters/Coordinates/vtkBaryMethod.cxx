@@ -509,8 +509,8 @@ bary::DomainMesh vtkBaryMethod::LBCDomainMesh(const vtkBaryCage& cage, vtkDataSe
     throw bary::Error(bary::ErrorCode::InvalidArgument,
       std::string("the domain mesh is made of ") + (T.cols() == 4 ? "tetrahedra" : "triangles") +
         " but the cage is " + std::to_string(dim) + "D: give " +
-        (dim == 2 ? "a triangle mesh in the cage's plane" : "a tetrahedral mesh") +
-        " of the cage's interior");
+        (dim == 2 ? "a triangulation of the cage's interior, in its plane"
+                  : "a tetrahedralization of the cage's interior"));
   // Each cage vertex is the mesh's boundary vertex at its coordinates.
   constexpr double kMatchTolerance = 1e-6; // relative to the cage diameter
   const double diameter = cage.Cage.diameter();
