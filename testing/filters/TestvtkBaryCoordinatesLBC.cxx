@@ -7,6 +7,7 @@
 // error paths (a cage vertex missing from the domain mesh, non-convergence, a wrong domain).
 #include "filters_test_utils.h"
 
+#include "vtkBaryCageDeformation.h"
 #include "vtkBaryCageMesher.h"
 #include "vtkBaryConversion.h"
 #include "vtkBaryCoordinates.h"
@@ -374,4 +375,40 @@ TEST(vtkBaryCoordinatesLBC, ProgressAndCancel)
   cancelled.Filter->AddObserver(vtkCommand::ProgressEvent, abort);
   EXPECT_EQ(cancelled.Run(), 0);
   EXPECT_TRUE(cancelled.Observer->HasError("cancelled")) << cancelled.Observer->AllErrors();
+}
+
+TEST(vtkBaryCoordinatesLBC, CageDeformationRecomputesWhenAnLBCParameterChanges)
+{
+  // vtkBaryCageDeformation shares the settings (vtkBaryParametersOf) and keys its weight cache
+  // on them: the posed cage alone reuses the weights, an LBC parameter recomputes them.
+  auto cage = ReadData("cage2d.obj");
+  auto posed = ReadData("cage2d_posed.obj");
+  ASSERT_TRUE(cage && posed);
+  vtkNew<vtkBaryCageDeformation> deform;
+  vtkNew<ErrorObserver> observer;
+  observer->Attach(deform);
+  deform->SetMethod(vtkBaryCoordinates::LBC);
+  deform->SetTargetNumberOfCells(300);
+  deform->SetInputData(Samples(cage, cage, 20, false));
+  deform->SetRestCageData(cage);
+  deform->SetDeformedCageData(posed);
+  ASSERT_EQ(RunPipeline(deform), 1) << observer->AllErrors();
+  EXPECT_EQ(deform->GetNumberOfWeightComputations(), 1);
+  // the cage vertices (Lagrange) move exactly onto the posed cage's
+  vtkPointSet* out = deform->GetOutput();
+  double worst = 0;
+  for (vtkIdType i = 0; i < 20; ++i)
+  {
+    double a[3], b[3];
+    out->GetPoint(out->GetNumberOfPoints() - 20 + i, a);
+    posed->GetPoint(i, b);
+    worst = std::max(worst, std::hypot(a[0] - b[0], a[1] - b[1]));
+  }
+  EXPECT_LE(worst, 1e-12);
+  deform->SetLBCLocality(vtkBaryCoordinates::LBC_LOCALITY_CONSTANT);
+  ASSERT_EQ(RunPipeline(deform), 1) << observer->AllErrors();
+  EXPECT_EQ(deform->GetNumberOfWeightComputations(), 2);
+  deform->SetLBCDualTolerance(1e-6);
+  ASSERT_EQ(RunPipeline(deform), 1) << observer->AllErrors();
+  EXPECT_EQ(deform->GetNumberOfWeightComputations(), 3);
 }
