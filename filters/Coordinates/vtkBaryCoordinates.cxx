@@ -178,6 +178,9 @@ int vtkBaryCoordinates::RequestData(
       this->FinishOutput(output, W, columns, report);
       return 1;
     }
+    if (domain && this->Method == LBC && this->InsertPointsIntoMesh)
+      vtkWarningMacro(<< "InsertPointsIntoMesh is ignored: LBC uses the domain mesh (input 2) as "
+                         "is; the points are interpolated on it.");
     if (domain && this->Method != BBW && this->Method != LBC)
       vtkWarningMacro(<< "The domain (input 2) is used by BBW with skeleton handles and by LBC "
                          "only; ignored.");

@@ -306,6 +306,10 @@ TEST(vtkBaryCoordinatesLBC, AuthorsTriangulationOnInputTwo)
     lbc.Filter->GetStatistic("iterations"), lbc.Filter->GetStatistic("solve_seconds"), diff);
   EXPECT_LT(diff, 0.01);
   EXPECT_TRUE(lbc.Observer->Warnings.empty()) << lbc.Observer->AllWarnings();
+  // meshing settings do not apply to a given mesh: said, not silently dropped
+  lbc.Filter->InsertPointsIntoMeshOn();
+  ASSERT_EQ(lbc.Run(), 1) << lbc.Observer->AllErrors();
+  EXPECT_TRUE(lbc.Observer->HasWarning("InsertPointsIntoMesh is ignored")) << lbc.Observer->AllWarnings();
 }
 
 TEST(vtkBaryCoordinatesLBC, CageVertexMissingFromTheDomainMeshIsNamed)
