@@ -240,7 +240,7 @@ TEST(vtkBaryCoordinatesLBC, ResultsDoNotDependOnTheThreadCount)
   bary::DenseWeights first;
   for (int threads : { 1, 2, 0 })
   {
-    LBC lbc(points, cage, 1500);
+    LBC lbc(points, cage, 600);
     lbc.Filter->SetNumberOfThreads(threads);
     ASSERT_EQ(lbc.Run(), 1) << lbc.Observer->AllErrors();
     std::printf("[ info ] NumberOfThreads %d: ADMM %.3f s, total %.3f s (%.0f iterations)\n",
