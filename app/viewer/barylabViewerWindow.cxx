@@ -1,6 +1,7 @@
 #include "barylabViewerWindow.h"
 
 #include "barylabRender.h"
+#include "barylabViewerLocality.h"
 #include "barylabViewerParameters.h"
 
 #include "vtkBaryConversion.h"
@@ -14,6 +15,7 @@
 #include <QCheckBox>
 #include <QComboBox>
 #include <QDialog>
+#include <QDockWidget>
 #include <QDoubleSpinBox>
 #include <QElapsedTimer>
 #include <QFileDialog>
@@ -234,6 +236,18 @@ void ViewerWindow::buildUi()
   this->CompareView->hide();
   this->setCentralWidget(splitter);
 
+  // locality charts (P(t), Q(k)), hidden until asked for
+  this->Locality = new LocalityPanel(this);
+  this->LocalityDock = new QDockWidget("Locality statistics", this);
+  this->LocalityDock->setObjectName("locality_dock");
+  this->LocalityDock->setWidget(this->Locality);
+  this->addDockWidget(Qt::BottomDockWidgetArea, this->LocalityDock);
+  this->LocalityDock->hide();
+  connect(this->LocalityDock, &QDockWidget::visibilityChanged, this, [this](bool visible) {
+    if (visible)
+      this->updateLocality();
+  });
+
   this->InteractorCallback = vtkSmartPointer<vtkCallbackCommand>::New();
   this->InteractorCallback->SetCallback(&ViewerWindow::OnInteractorEvent);
   this->InteractorCallback->SetClientData(this);
@@ -443,6 +457,7 @@ void ViewerWindow::buildUi()
   file->addAction("Save p&ose...", this, &ViewerWindow::savePoseDialog);
   file->addAction("Save &deformed model...", this, &ViewerWindow::saveDeformedDialog, QKeySequence("Ctrl+D"));
   file->addAction("Save screens&hot...", this, &ViewerWindow::saveScreenshotDialog, QKeySequence("Ctrl+Shift+S"));
+  file->addAction("&Export locality statistics (PNG, CSV)...", this, &ViewerWindow::exportLocalityDialog);
   file->addSeparator();
   file->addAction("&Quit", this, &QWidget::close, QKeySequence::Quit);
   QMenu* edit = this->menuBar()->addMenu("&Edit");
@@ -464,6 +479,8 @@ void ViewerWindow::buildUi()
   view->addAction("Previous control", this,
     [this]() { this->selectControl(this->Options.component - 1); }, QKeySequence("P"));
   view->addAction("Reset &camera", this, &ViewerWindow::resetCamera, QKeySequence("Ctrl+R"));
+  view->addAction("Locality &statistics (P, Q)", this,
+    [this]() { this->showLocality(!this->isLocalityShown()); }, QKeySequence("S"));
 }
 
 void ViewerWindow::buildParameterPanel()
@@ -988,6 +1005,8 @@ void ViewerWindow::finishCompute(const ComputeResult& result)
                               .arg(stats.value("max_weight", 0.0), 0, 'g', 3)
                               .arg(stats["partition_of_unity"].value("max_error", 0.0), 0, 'g', 2)
                               .arg(stats["significant"].value("mean_per_point", 0.0), 0, 'g', 3));
+  if (this->isLocalityShown())
+    this->updateLocality();
   this->statusBar()->showMessage(QString("Computed %1 weights in %2 s.")
                                    .arg(QString::fromStdString(this->Computed.method))
                                    .arg(result.seconds, 0, 'f', 3));
@@ -1685,6 +1704,99 @@ void ViewerWindow::saveDeformedDialog()
     "Model (*.vtp *.vtu *.vtk *.obj *.stl *.ply *.off)");
   if (!path.isEmpty())
     this->saveDeformedModel(path);
+}
+
+const json& ViewerWindow::localityStatistics() const
+{
+  return this->Locality->statistics();
+}
+
+bool ViewerWindow::isLocalityShown() const
+{
+  return this->LocalityDock && this->LocalityDock->isVisible();
+}
+
+void ViewerWindow::updateLocality()
+{
+  json all = json::array();
+  try
+  {
+    const std::pair<vtkDataSet*, std::string> shown[] = {
+      { this->Weighted, this->Computed.method },
+      { this->CompareWeighted, to_std(this->ComputedCompare) } };
+    for (const auto& [data, method] : shown)
+      if (data)
+      {
+        json s = LocalityStatisticsJson(data, this->Computed.weights_name);
+        s["method"] = method;
+        all.push_back(std::move(s));
+      }
+  }
+  catch (const std::exception& e)
+  {
+    this->reportError(QString("locality statistics: ") + e.what());
+    all = json::array();
+  }
+  this->Locality->setStatistics(all);
+}
+
+void ViewerWindow::showLocality(bool on)
+{
+  if (on)
+  {
+    this->LocalityDock->show();
+    this->updateLocality(); // also when it was visible already
+  }
+  else
+    this->LocalityDock->hide();
+}
+
+bool ViewerWindow::exportLocalityCsv(const QString& prefix)
+{
+  try
+  {
+    this->updateLocality();
+    this->Locality->writeCsv(to_std(prefix));
+  }
+  catch (const std::exception& e)
+  {
+    this->reportError(QString::fromStdString(e.what()));
+    return false;
+  }
+  this->statusBar()->showMessage("Wrote " + prefix + "_P.csv and " + prefix + "_Q.csv");
+  return true;
+}
+
+bool ViewerWindow::exportLocalityPng(const QString& path)
+{
+  try
+  {
+    this->updateLocality();
+    if (this->Locality->statistics().empty())
+      throw bary::Error(bary::ErrorCode::InvalidArgument,
+        "no locality statistics to export: compute weights first");
+    this->Locality->writePng(to_std(path));
+  }
+  catch (const std::exception& e)
+  {
+    this->reportError(QString::fromStdString(e.what()));
+    return false;
+  }
+  this->statusBar()->showMessage("Wrote " + path);
+  return true;
+}
+
+void ViewerWindow::exportLocalityDialog()
+{
+  const QString path = QFileDialog::getSaveFileName(this, "Export locality statistics",
+    "locality.png", "PNG chart and CSV tables (*.png)");
+  if (path.isEmpty())
+    return;
+  QString prefix = path;
+  if (prefix.endsWith(".png", Qt::CaseInsensitive))
+    prefix.chop(4);
+  if (this->exportLocalityPng(prefix + ".png"))
+    this->exportLocalityCsv(prefix);
 }
 
 void ViewerWindow::saveScreenshotDialog()

@@ -25,6 +25,7 @@
 #include <vector>
 
 class QCheckBox;
+class QDockWidget;
 class QComboBox;
 class QDoubleSpinBox;
 class QVBoxLayout;
@@ -41,6 +42,7 @@ namespace barylab
 {
 namespace viewer
 {
+class LocalityPanel;
 
 /// The files a session works on.
 struct Inputs
@@ -107,6 +109,12 @@ public:
   vtkRenderer* renderer() const { return this->Renderer; }
   vtkRenderer* compareRenderer() const { return this->CompareRenderer; }
 
+  /// The locality charts (P(t), Q(k)) and the statistics they show (an array of
+  /// barylab::LocalityStatisticsJson objects with "method"; empty before showLocality()).
+  LocalityPanel* localityPanel() const { return this->Locality; }
+  const nlohmann::json& localityStatistics() const;
+  bool isLocalityShown() const;
+
   /// Interactive (default): errors also open a message box. Off for tests and --screenshot.
   void setInteractive(bool on) { this->Interactive = on; }
   /// Synchronous: compute() runs in the calling thread (--screenshot, scripts).
@@ -144,6 +152,13 @@ public slots:
   void setClipAxis(int axis);
   void setClipPosition(double fraction);
   void resetCamera();
+  /// Shows (computing them) or hides the locality charts P(t), Q(k) of the shown method and
+  /// the comparison method (the LBC paper's Fig. 14-15).
+  void showLocality(bool on = true);
+  /// PREFIX_P.csv and PREFIX_Q.csv (columns as `barylab stats --locality --csv`).
+  bool exportLocalityCsv(const QString& prefix);
+  /// Both charts side by side, 1000 x 420 pixels.
+  bool exportLocalityPng(const QString& path);
 
   /// Moves control @p id (cage / control point / skeleton joint) to (x, y, z); undoable.
   void setControlPosition(int id, double x, double y, double z);
@@ -174,6 +189,7 @@ private slots:
   void savePoseDialog();
   void saveDeformedDialog();
   void saveScreenshotDialog();
+  void exportLocalityDialog();
 
 private:
   void finishCompute(const ComputeResult& result);
@@ -185,6 +201,7 @@ private:
   void updateDeformation();
   void updateScene();
   void renderViews();
+  void updateLocality();
   void pushUndo();
   void moveControlLive(int id, const double x[3]);
   int modelDimension() const;
@@ -201,6 +218,8 @@ private:
   QString ComputedCompare;
   QString CompareMethod;
   SceneOptions Options;
+  LocalityPanel* Locality = nullptr;
+  QDockWidget* LocalityDock = nullptr;
   vtkSmartPointer<vtkImageData> Picture; ///< the 2D image mode's picture (null otherwise)
   SceneInfo Info;
   vtkSmartPointer<vtkDataSet> Model;

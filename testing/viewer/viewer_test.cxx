@@ -4,6 +4,7 @@
 // missing baseline fails and leaves the image in BARYLAB_TEST_OUTPUT_DIR/images.
 
 #include "barylabPipeline.h"
+#include "barylabViewerLocality.h"
 #include "barylabViewerParameters.h"
 #include "barylabViewerScene.h"
 #include "barylabViewerWindow.h"
@@ -21,6 +22,9 @@
 #include <QSurfaceFormat>
 #include <QTest>
 #include <QTimer>
+#include <QtCharts/QChart>
+#include <QtCharts/QChartView>
+#include <QtCharts/QLineSeries>
 #include <QFile>
 
 #include <QVTKOpenGLNativeWidget.h>
@@ -344,6 +348,94 @@ private slots:
     QVERIFY(w->sceneOptions().field == barylab::viewer::SceneOptions::Field::Image);
     QVERIFY(max_difference(w->deformedModel(), vtkPointSet::SafeDownCast(w->weighted())) > 0.05);
     QCOMPARE(w->errors().size(), 0);
+  }
+
+  void localityCharts()
+  {
+    // nothing computed yet: exporting says so, nothing breaks
+    QVERIFY(!w->exportLocalityPng(output("locality_empty.png")));
+    QCOMPARE(w->errors().size(), 1);
+    loadAndWait("gingerbread-mvc");
+    w->setCompareMethod("harmonic");
+    w->compute();
+    QVERIFY(w->waitForComputation(60000));
+    QVERIFY2(w->compareWeighted() != nullptr, qPrintable(w->errors().join("; ")));
+    QVERIFY(!w->isLocalityShown());
+    w->showLocality(true);
+    QVERIFY(w->isLocalityShown());
+    const nlohmann::json& stats = w->localityStatistics();
+    QCOMPARE(static_cast<int>(stats.size()), 2);
+    QCOMPARE(QString::fromStdString(stats[0]["method"]), QString("mvc"));
+    QCOMPARE(QString::fromStdString(stats[1]["method"]), QString("harmonic"));
+    for (const auto& s : stats)
+    {
+      // Eq. 19-21: P in [0, 1] and non-decreasing in t; Q(1) = 1 inside the cage (the weights
+      // sum to one, so some weight exceeds 1e-3/n); Q non-increasing; sum_k Q(k) = mean support
+      const auto& P = s["P"];
+      const auto& Q = s["Q"];
+      QCOMPARE(static_cast<int>(Q.size()), 20);
+      for (std::size_t j = 0; j < P.size(); ++j)
+      {
+        QVERIFY(P[j].get<double>() >= 0.0 && P[j].get<double>() <= 1.0 + 1e-12); // measure sums round
+        if (j > 0)
+          QVERIFY(P[j].get<double>() >= P[j - 1].get<double>() - 1e-15);
+      }
+      QVERIFY(std::abs(Q[0].get<double>() - 1.0) < 1e-12);
+      double sum = 0.0;
+      for (std::size_t j = 0; j < Q.size(); ++j)
+      {
+        sum += Q[j].get<double>();
+        if (j > 0)
+          QVERIFY(Q[j].get<double>() <= Q[j - 1].get<double>() + 1e-15);
+      }
+      QVERIFY(std::abs(sum - s["mean_support"].get<double>()) < 1e-9);
+    }
+    // the charts show one curve per method: P over t > 0 (log axis), Q over k = 1..n
+    auto* p_chart = w->localityPanel()->pChart()->chart();
+    auto* q_chart = w->localityPanel()->qChart()->chart();
+    QCOMPARE(p_chart->series().size(), 2);
+    QCOMPARE(q_chart->series().size(), 2);
+    auto* q_mvc = qobject_cast<QtCharts::QLineSeries*>(q_chart->series()[0]);
+    QVERIFY(q_mvc != nullptr);
+    QCOMPARE(q_mvc->count(), 20);
+    QCOMPARE(q_mvc->at(3).y(), stats[0]["Q"][3].get<double>());
+
+    // CSV: the statistics' numbers, one column per method
+    const QString prefix = output("locality");
+    QVERIFY(w->exportLocalityCsv(prefix));
+    QFile pcsv(prefix + "_P.csv"), qcsv(prefix + "_Q.csv");
+    QVERIFY(pcsv.open(QIODevice::ReadOnly | QIODevice::Text));
+    QVERIFY(qcsv.open(QIODevice::ReadOnly | QIODevice::Text));
+    const QStringList prows = QString(pcsv.readAll()).split('\n', Qt::SkipEmptyParts);
+    const QStringList qrows = QString(qcsv.readAll()).split('\n', Qt::SkipEmptyParts);
+    QCOMPARE(prows.first(), QString("t,P_mvc,P_harmonic"));
+    QCOMPARE(qrows.first(), QString("k,Q_mvc,Q_harmonic"));
+    QCOMPARE(prows.size(), static_cast<int>(stats[0]["t"].size()) + 1);
+    QCOMPARE(qrows.size(), 21);
+    const QStringList row5 = qrows[5].split(',');
+    QCOMPARE(row5[0].toInt(), 5);
+    QCOMPARE(row5[2].toDouble(), stats[1]["Q"][4].get<double>());
+
+    // PNG: both charts, compared with the baseline like the views
+    const QString png = output("locality.png");
+    QVERIFY(w->exportLocalityPng(png));
+    QCOMPARE(QImage(png).size(), QSize(1000, 420));
+    const std::string outdir = std::string(BARYLAB_TEST_OUTPUT_DIR) + "/images";
+    QDir().mkpath(QString::fromStdString(outdir));
+    const std::string baseline = std::string(BARYLAB_BASELINE_DIR) + "/viewer_locality_chart.png";
+    vtkNew<vtkTesting> testing;
+    testing->AddArgument("-V");
+    testing->AddArgument(baseline.c_str());
+    testing->AddArgument("-T");
+    testing->AddArgument(outdir.c_str());
+    QFile::remove(QString::fromStdString(outdir + "/viewer_locality_chart.png"));
+    QFile::copy(png, QString::fromStdString(outdir + "/viewer_locality_chart.png"));
+    const int result = testing->RegressionTest(png.toStdString(), 10.0);
+    QVERIFY2(result == vtkTesting::PASSED,
+      qPrintable(QString::fromStdString("chart differs from " + baseline + " (see " + outdir + ")")));
+    w->showLocality(false);
+    QVERIFY(!w->isLocalityShown());
+    QCOMPARE(w->errors().size(), 1);
   }
 
   void exampleComputesInWorker()
