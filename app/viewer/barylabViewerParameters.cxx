@@ -47,6 +47,68 @@ ParameterField field(const std::string& key, const std::string& label, Kind kind
   };
   return f;
 }
+/// The TCC user weights s_i (Eq. 8) as a String row: "1, 2.5, 1" (commas or spaces); an
+/// empty text means none. Sessions may also hold a JSON array.
+ParameterField user_weights_field()
+{
+  ParameterField f;
+  f.key = "user_weights";
+  f.label = "User weights s_i (TCC)";
+  f.kind = Kind::String;
+  f.tooltip = "T-celestial coordinates' user weights s_i >= 0 (Eq. 8), one per control point, "
+              "separated by commas or spaces; empty: all zero (Eq. 7). (Command line: "
+              "--user-weights FILE with the same numbers.)";
+  f.methods = { "tcc" };
+  f.get = [](const WeightsParameters& p) {
+    std::ostringstream out;
+    out.precision(17);
+    for (std::size_t i = 0; i < p.user_weights.size(); ++i)
+      out << (i ? ", " : "") << p.user_weights[i];
+    return json(out.str());
+  };
+  f.set = [](WeightsParameters& p, const json& value) {
+    std::vector<double> weights;
+    if (value.is_array())
+    {
+      for (const json& v : value)
+      {
+        if (!v.is_number())
+          throw bary::Error(bary::ErrorCode::InvalidArgument,
+            "parameter 'user_weights': " + v.dump() + " is not a number");
+        weights.push_back(v.get<double>());
+      }
+    }
+    else if (value.is_string())
+    {
+      std::string text = value.get<std::string>();
+      std::replace(text.begin(), text.end(), ',', ' ');
+      std::istringstream in(text);
+      std::string token;
+      while (in >> token)
+      {
+        std::size_t used = 0;
+        double v = 0.0;
+        try
+        {
+          v = std::stod(token, &used);
+        }
+        catch (const std::exception&)
+        {
+          used = 0;
+        }
+        if (used != token.size())
+          throw bary::Error(bary::ErrorCode::InvalidArgument,
+            "parameter 'user_weights': '" + token + "' is not a number");
+        weights.push_back(v);
+      }
+    }
+    else
+      throw bary::Error(bary::ErrorCode::InvalidArgument,
+        "parameter 'user_weights': " + value.dump() + " is neither a list of numbers nor text");
+    p.user_weights = std::move(weights);
+  };
+  return f;
+}
 } // namespace
 
 bool ParameterField::AppliesTo(const std::string& method) const
@@ -110,6 +172,7 @@ const std::vector<ParameterField>& WeightsParameterFields()
     field("lbc_unconstrained", "Unconstrained TV", Kind::Bool,
       &WeightsParameters::lbc_unconstrained, "--unconstrained-tv",
       "drop partition of unity and reproduction (§3.2): not barycentric coordinates", { "lbc" }),
+    user_weights_field(),
   };
   return fields;
 }
@@ -129,8 +192,6 @@ json ParametersToJson(const WeightsParameters& parameters)
   j["method"] = parameters.method;
   for (const ParameterField& f : WeightsParameterFields())
     j[f.key] = f.get(parameters);
-  if (!parameters.user_weights.empty())
-    j["user_weights"] = parameters.user_weights;
   return j;
 }
 
@@ -147,8 +208,6 @@ WeightsParameters ParametersFromJson(const json& j, WeightsParameters base)
   for (const ParameterField& f : WeightsParameterFields())
     if (j.contains(f.key))
       f.set(base, j[f.key]);
-  if (j.contains("user_weights"))
-    base.user_weights = j["user_weights"].get<std::vector<double>>();
   return base;
 }
 

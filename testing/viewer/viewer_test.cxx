@@ -438,6 +438,63 @@ private slots:
     QCOMPARE(w->errors().size(), 1);
   }
 
+  void celestialUserWeights()
+  {
+    loadAndWait("heart-scc");
+    w->setMethod("tcc");
+    QVERIFY(w->findChild<QWidget*>("user_weights") != nullptr);
+    // text in the panel: commas or spaces; a wrong entry is refused with its name
+    QVERIFY(w->setParameter("user_weights", "1, 2 3"));
+    QCOMPARE(w->parameters().user_weights, (std::vector<double>{ 1.0, 2.0, 3.0 }));
+    QVERIFY(!w->setParameter("user_weights", "1, x"));
+    QVERIFY2(w->errors().last().contains("'x' is not a number"), qPrintable(w->errors().last()));
+    QCOMPARE(w->parameters().user_weights.size(), std::size_t(3));
+    // sessions: the text round-trips, an older session's JSON array is read too
+    const auto json = barylab::viewer::ParametersToJson(w->parameters());
+    QCOMPARE(barylab::viewer::ParametersFromJson(json).user_weights, w->parameters().user_weights);
+    nlohmann::json old = json;
+    old["user_weights"] = { 4.0, 5.0 };
+    QCOMPARE(barylab::viewer::ParametersFromJson(old).user_weights, (std::vector<double>{ 4.0, 5.0 }));
+
+    // computing: s_i = 0 for all is T-celestial without user weights (Eq. 7); s_0 = 1 changes
+    // them
+    const int n = static_cast<int>(w->controls()->GetNumberOfPoints());
+    const auto weights_with = [&](const std::vector<double>& s) {
+      barylab::WeightsParameters p = w->parameters();
+      p.user_weights = s;
+      w->setParameters(p);
+      w->compute();
+      [[maybe_unused]] const bool done = w->waitForComputation(60000);
+      vtkSmartPointer<vtkDataArray> W = w->weighted()->GetPointData()->GetArray("Weights");
+      return W;
+    };
+    auto none = weights_with({});
+    auto ones = weights_with(std::vector<double>(static_cast<std::size_t>(n), 0.0));
+    std::vector<double> bumped(static_cast<std::size_t>(n), 0.0);
+    bumped[0] = 1.0;
+    auto five = weights_with(bumped);
+    QVERIFY2(w->errors().size() == 1, qPrintable(w->errors().join("; ")));
+    double same = 0.0, changed = 0.0, partition = 0.0;
+    for (vtkIdType i = 0; i < none->GetNumberOfTuples(); ++i)
+    {
+      double sum = 0.0;
+      for (int c = 0; c < n; ++c)
+      {
+        same = std::max(same, std::abs(none->GetComponent(i, c) - ones->GetComponent(i, c)));
+        changed = std::max(changed, std::abs(none->GetComponent(i, c) - five->GetComponent(i, c)));
+        sum += five->GetComponent(i, c);
+      }
+      partition = std::max(partition, std::abs(sum - 1.0));
+    }
+    QVERIFY2(same < 1e-9, qPrintable(QString::number(same)));
+    QVERIFY2(changed > 1e-3, qPrintable(QString::number(changed)));
+    QVERIFY2(partition < 1e-8, qPrintable(QString::number(partition)));
+    // the wrong number of s_i is the filter's error, shown, and the app stays usable
+    weights_with({ 1.0, 2.0 });
+    QCOMPARE(w->errors().size(), 2);
+    QVERIFY(w->hasWeights());
+  }
+
   void exampleComputesInWorker()
   {
     QSignalSpy finished(w.get(), &ViewerWindow::computeFinished);
