@@ -59,7 +59,10 @@
 
 #include <nlohmann/json.hpp>
 
+#include <Eigen/Geometry>
+
 #include <chrono>
+#include <cmath>
 #include <fstream>
 #include <sstream>
 
@@ -401,7 +404,32 @@ void ViewerWindow::buildUi()
   deformButtons->addWidget(resetButton);
   deformButtons->addWidget(undoButton);
   deformLayout->addLayout(deformButtons);
+  auto* twistRow = new QHBoxLayout;
+  this->TwistAngleBox = new QDoubleSpinBox;
+  this->TwistAngleBox->setObjectName("twist_angle");
+  this->TwistAngleBox->setRange(-360.0, 360.0);
+  this->TwistAngleBox->setSuffix(" deg");
+  this->TwistAngleBox->setSingleStep(5.0);
+  this->TwistAngleBox->setToolTip("BBW: rotation of the selected handle about its centre (2D: about "
+                                  "z; 3D bone: about its axis)");
+  this->TwistScaleBox = new QDoubleSpinBox;
+  this->TwistScaleBox->setObjectName("twist_scale");
+  this->TwistScaleBox->setRange(0.05, 20.0);
+  this->TwistScaleBox->setDecimals(3);
+  this->TwistScaleBox->setSingleStep(0.05);
+  this->TwistScaleBox->setValue(1.0);
+  this->TwistScaleBox->setToolTip("BBW: uniform scale of the selected handle about its centre");
+  auto* twistButton = new QPushButton("Rotate/scale handle");
+  twistButton->setObjectName("twist_apply");
+  twistRow->addWidget(this->TwistAngleBox);
+  twistRow->addWidget(this->TwistScaleBox);
+  twistRow->addWidget(twistButton);
+  deformLayout->addLayout(twistRow);
   layout->addWidget(deform);
+  connect(twistButton, &QPushButton::clicked, this, [this]() {
+    this->setHandleTwist(this->Options.component, this->TwistAngleBox->value(),
+      this->TwistScaleBox->value());
+  });
   connect(this->MoveIdBox, QOverload<int>::of(&QSpinBox::valueChanged), this, [this](int id) {
     if (this->PosedControls && id >= 0 && id < this->PosedControls->GetNumberOfPoints())
     {
@@ -463,6 +491,14 @@ void ViewerWindow::buildUi()
   QMenu* edit = this->menuBar()->addMenu("&Edit");
   edit->addAction("&Undo move", this, &ViewerWindow::undo, QKeySequence::Undo);
   edit->addAction("&Reset pose", this, &ViewerWindow::resetPose, QKeySequence("Ctrl+Shift+R"));
+  const auto twist_by = [this](double degrees, double factor) {
+    const HandleTwist t = this->handleTwist(this->Options.component);
+    this->setHandleTwist(this->Options.component, t.angle_degrees + degrees, t.scale * factor);
+  };
+  edit->addAction("Rotate handle +15 deg", this, [twist_by]() { twist_by(15.0, 1.0); }, QKeySequence("]"));
+  edit->addAction("Rotate handle -15 deg", this, [twist_by]() { twist_by(-15.0, 1.0); }, QKeySequence("["));
+  edit->addAction("Scale handle x1.1", this, [twist_by]() { twist_by(0.0, 1.1); }, QKeySequence("+"));
+  edit->addAction("Scale handle /1.1", this, [twist_by]() { twist_by(0.0, 1.0 / 1.1); }, QKeySequence("-"));
   QMenu* compute = this->menuBar()->addMenu("&Compute");
   compute->addAction("&Compute weights", this, &ViewerWindow::compute, QKeySequence("F5"));
   compute->addAction("C&ancel", this, &ViewerWindow::cancel, QKeySequence("Ctrl+."));
@@ -683,6 +719,7 @@ bool ViewerWindow::openInputs(const Inputs& given)
   this->CompareDeformed = nullptr;
   this->PosedControls = copy_points(controls->GetPoints());
   this->UndoStack.clear();
+  this->Twists.clear();
   this->Options.component = 0;
   this->Options.dimension = this->modelDimension();
   this->Options.clip = false;
@@ -984,6 +1021,13 @@ void ViewerWindow::finishCompute(const ComputeResult& result)
     this->PosedControls->GetNumberOfPoints() != this->Controls->GetNumberOfPoints())
     this->PosedControls = copy_points(this->Controls->GetPoints());
   this->PendingPose = nullptr;
+  if (!this->PendingTwists.empty())
+    this->Twists = std::move(this->PendingTwists);
+  this->PendingTwists.clear();
+  if (!this->Twists.empty() &&
+    (this->shownKind() != ControlKind::Skeleton ||
+      static_cast<int>(this->Twists.size()) != this->componentCount()))
+    this->Twists.clear();
   if (this->PendingSelection >= 0)
     this->Options.component = this->PendingSelection;
   this->PendingSelection = -1;
@@ -1200,6 +1244,8 @@ void ViewerWindow::updateDeformation()
     this->Controls->GetPoint(i, b);
     moved = a[0] != b[0] || a[1] != b[1] || a[2] != b[2];
   }
+  for (const HandleTwist& t : this->Twists)
+    moved = moved || !t.IsIdentity();
   if (!moved)
     return;
   try
@@ -1210,22 +1256,7 @@ void ViewerWindow::updateDeformation()
       vtkPointSet* model = vtkPointSet::SafeDownCast(weighted);
       if (this->shownKind() == ControlKind::Skeleton)
       {
-        const int dim = this->modelDimension();
-        const bary::Skeleton s = vtkBaryConversion::ToSkeleton(this->Controls, dim);
-        const Eigen::MatrixXd posed = vtkBaryConversion::ToMatrix(this->PosedControls, dim);
-        std::vector<Eigen::MatrixXd> pose;
-        for (Eigen::MatrixXd T : bary::transforms_from_joints(s, posed))
-        {
-          if (dim == 2)
-          { // lift [A | t] (2 x 3) to 3 x 4, as the command line does
-            Eigen::MatrixXd L = Eigen::MatrixXd::Zero(3, 4);
-            L.topLeftCorner(2, 2) = T.leftCols(2);
-            L.block(0, 3, 2, 1) = T.col(2);
-            L(2, 2) = 1.0;
-            T = L;
-          }
-          pose.push_back(T);
-        }
+        const std::vector<Eigen::MatrixXd> pose = this->skeletonTransforms();
         return Skin(model, pose, p);
       }
       vtkNew<vtkPolyData> posed;
@@ -1245,10 +1276,95 @@ void ViewerWindow::updateDeformation()
   }
 }
 
+std::vector<Eigen::MatrixXd> ViewerWindow::skeletonTransforms() const
+{
+  const int dim = this->modelDimension();
+  const bary::Skeleton s = vtkBaryConversion::ToSkeleton(this->Controls, dim);
+  const Eigen::MatrixXd posed = vtkBaryConversion::ToMatrix(this->PosedControls, dim);
+  std::vector<Eigen::MatrixXd> pose;
+  int handle = 0;
+  for (Eigen::MatrixXd T : bary::transforms_from_joints(s, posed))
+  {
+    if (dim == 2)
+    { // lift [A | t] (2 x 3) to 3 x 4, as the command line does
+      Eigen::MatrixXd L = Eigen::MatrixXd::Zero(3, 4);
+      L.topLeftCorner(2, 2) = T.leftCols(2);
+      L.block(0, 3, 2, 1) = T.col(2);
+      L(2, 2) = 1.0;
+      T = L;
+    }
+    const HandleTwist twist = this->handleTwist(handle);
+    if (!twist.IsIdentity())
+    {
+      // centre and axis at the current pose: a point handle's joint, a bone's first joint
+      const bool bone = handle >= s.P.size();
+      const int joint = bone ? s.BE(handle - s.P.size(), 0) : s.P(handle);
+      Eigen::Vector3d c = Eigen::Vector3d::Zero(), axis = Eigen::Vector3d::UnitZ();
+      c.head(dim) = posed.row(joint).transpose();
+      if (dim == 3 && bone)
+      {
+        Eigen::Vector3d d = Eigen::Vector3d::Zero();
+        d.head(3) = (posed.row(s.BE(handle - s.P.size(), 1)) - posed.row(joint)).transpose();
+        if (d.norm() > 0.0)
+          axis = d.normalized();
+      }
+      const double pi = 3.14159265358979323846;
+      const Eigen::Matrix3d M = twist.scale *
+        Eigen::AngleAxisd(twist.angle_degrees * pi / 180.0, axis).toRotationMatrix();
+      Eigen::MatrixXd U(3, 4);
+      U.leftCols(3) = M * T.leftCols(3);
+      U.col(3) = M * T.col(3) + c - M * c;
+      if (dim == 2)
+        U.row(2) << 0.0, 0.0, 1.0, 0.0; // stays in the plane
+      T = U;
+    }
+    pose.push_back(T);
+    ++handle;
+  }
+  return pose;
+}
+
+HandleTwist ViewerWindow::handleTwist(int handle) const
+{
+  if (handle < 0 || handle >= static_cast<int>(this->Twists.size()))
+    return {};
+  return this->Twists[static_cast<std::size_t>(handle)];
+}
+
+bool ViewerWindow::setHandleTwist(int handle, double angle_degrees, double scale)
+{
+  if (!this->Weighted || this->shownKind() != ControlKind::Skeleton)
+  {
+    this->reportError("rotating / scaling a handle needs BBW weights of a skeleton (compute bbw "
+                      "with a .tgf skeleton first); move cage and control points instead");
+    return false;
+  }
+  const int n = this->componentCount();
+  if (handle < 0 || handle >= n)
+  {
+    this->reportError(QString("handle %1 does not exist (the skeleton has %2 handles)").arg(handle).arg(n));
+    return false;
+  }
+  if (!(scale > 0.0) || !std::isfinite(scale) || !std::isfinite(angle_degrees))
+  {
+    this->reportError(QString("the scale of a handle must be a number > 0 and the angle finite "
+                              "(got %1, %2)").arg(scale).arg(angle_degrees));
+    return false;
+  }
+  this->pushUndo();
+  this->Twists.resize(static_cast<std::size_t>(n));
+  this->Twists[static_cast<std::size_t>(handle)] = { angle_degrees, scale };
+  this->updateDeformation();
+  this->updateScene();
+  this->statusBar()->showMessage(QString("Handle %1 rotated by %2 deg, scaled by %3.")
+                                   .arg(handle).arg(angle_degrees).arg(scale));
+  return true;
+}
+
 void ViewerWindow::pushUndo()
 {
   if (this->PosedControls)
-    this->UndoStack.push_back(copy_points(this->PosedControls));
+    this->UndoStack.push_back({ copy_points(this->PosedControls), this->Twists });
 }
 
 void ViewerWindow::moveControlLive(int id, const double x[3])
@@ -1285,6 +1401,7 @@ void ViewerWindow::resetPose()
     return;
   this->pushUndo();
   this->PosedControls = copy_points(this->Controls->GetPoints());
+  this->Twists.clear();
   this->updateDeformation();
   this->updateScene();
 }
@@ -1296,7 +1413,8 @@ void ViewerWindow::undo()
     this->statusBar()->showMessage("Nothing to undo.");
     return;
   }
-  this->PosedControls = this->UndoStack.back();
+  this->PosedControls = this->UndoStack.back().points;
+  this->Twists = this->UndoStack.back().twists;
   this->UndoStack.pop_back();
   this->updateDeformation();
   this->updateScene();
@@ -1361,10 +1479,42 @@ bool ViewerWindow::savePose(const QString& path)
   }
   try
   {
-    vtkNew<vtkPolyData> posed;
-    posed->DeepCopy(this->Controls);
-    posed->SetPoints(copy_points(this->PosedControls));
-    vtkBaryDataIO::Write(posed, to_std(path));
+    if (this->Weighted && this->shownKind() == ControlKind::Skeleton &&
+      QFileInfo(path).suffix().toLower() == "txt")
+    {
+      // BBW: the per-handle transforms (joints and rotations / scales), BaryLab pose text that
+      // `barylab deform --transforms` and File > Load pose read
+      const int dim = this->modelDimension();
+      std::ofstream out(to_std(path));
+      out.precision(17);
+      out << "# BaryLab pose: one affine transform per handle (weights column order), "
+          << (dim == 2 ? "a00 a01 t0 a10 a11 t1" : "a00 a01 a02 t0 a10 a11 a12 t1 a20 a21 a22 t2")
+          << "\n";
+      for (const Eigen::MatrixXd& T : this->skeletonTransforms())
+      {
+        for (int r = 0; r < dim; ++r)
+        {
+          for (int c = 0; c < dim; ++c)
+            out << T(r, c) << ' ';
+          out << T(r, 3) << (r + 1 < dim ? ' ' : '\n');
+        }
+      }
+      if (!out)
+        throw bary::Error(bary::ErrorCode::Io, "cannot write '" + to_std(path) + "'");
+    }
+    else
+    {
+      if (!this->Twists.empty())
+        for (const HandleTwist& t : this->Twists)
+          if (!t.IsIdentity())
+            throw bary::Error(bary::ErrorCode::InvalidArgument,
+              "handles are rotated / scaled: save the pose as transforms (a .txt file), posed "
+              "joints cannot hold rotations");
+      vtkNew<vtkPolyData> posed;
+      posed->DeepCopy(this->Controls);
+      posed->SetPoints(copy_points(this->PosedControls));
+      vtkBaryDataIO::Write(posed, to_std(path));
+    }
   }
   catch (const std::exception& e)
   {
@@ -1496,6 +1646,10 @@ bool ViewerWindow::saveSession(const QString& path)
         pose.push_back({ p[0], p[1], p[2] });
       }
     s["pose"] = pose;
+    json twists = json::array();
+    for (const HandleTwist& t : this->Twists)
+      twists.push_back({ t.angle_degrees, t.scale });
+    s["handle_twists"] = twists;
     WriteJson(s, to_std(path));
   }
   catch (const std::exception& e)
@@ -1514,6 +1668,7 @@ bool ViewerWindow::loadSession(const QString& path)
   WeightsParameters parameters;
   SceneOptions options = this->Options;
   vtkSmartPointer<vtkPoints> pose;
+  std::vector<HandleTwist> twists;
   try
   {
     std::ifstream file(to_std(path));
@@ -1554,6 +1709,9 @@ bool ViewerWindow::loadSession(const QString& path)
       for (const json& p : s["pose"])
         pose->InsertNextPoint(p.at(0).get<double>(), p.at(1).get<double>(), p.at(2).get<double>());
     }
+    if (s.contains("handle_twists") && s["handle_twists"].is_array())
+      for (const json& t : s["handle_twists"])
+        twists.push_back({ t.at(0).get<double>(), t.at(1).get<double>() });
   }
   catch (const std::exception& e)
   {
@@ -1574,6 +1732,7 @@ bool ViewerWindow::loadSession(const QString& path)
   this->Options.dimension = this->modelDimension();
   this->Options.clip = clip;
   this->PendingPose = pose;
+  this->PendingTwists = twists;
   this->PendingSelection = s.value("selected", 0);
   this->syncPanel();
   this->compute();

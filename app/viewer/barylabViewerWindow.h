@@ -54,6 +54,16 @@ struct Inputs
   QString pose;     ///< the example's pose file (cage, control points or transforms)
 };
 
+/// A rotation and uniform scale of one BBW handle about its posed centre (a point handle's
+/// position, a bone's first joint), applied after the pose that the joints give: 2D about z;
+/// 3D about the bone's axis (a twist), for point handles about z.
+struct HandleTwist
+{
+  double angle_degrees = 0.0;
+  double scale = 1.0;
+  bool IsIdentity() const { return angle_degrees == 0.0 && scale == 1.0; }
+};
+
 /// What one computation produced (worker thread result).
 struct ComputeResult
 {
@@ -102,6 +112,8 @@ public:
   const QStringList& errors() const { return this->Errors; }
   double lastComputeSeconds() const { return this->LastSeconds; }
   std::size_t undoDepth() const { return this->UndoStack.size(); }
+  /// BBW handle @p handle's rotation / scale (identity when none or out of range).
+  HandleTwist handleTwist(int handle) const;
   /// The equivalent `barylab weights ...` command line.
   QString commandLine() const;
   QVTKOpenGLNativeWidget* view() const { return this->View; }
@@ -163,6 +175,10 @@ public slots:
   /// Moves control @p id (cage / control point / skeleton joint) to (x, y, z); undoable.
   void setControlPosition(int id, double x, double y, double z);
   void resetPose();
+  /// BBW (skeleton shown): rotates handle @p handle (weights component) by @p angle_degrees and
+  /// scales it by @p scale about its posed centre (HandleTwist); undoable. False with an error
+  /// for other controls, a handle out of range or a scale that is not > 0.
+  bool setHandleTwist(int handle, double angle_degrees, double scale);
   void undo();
   /// The example's pose, or a pose file: posed cage / control points, or BBW transforms.
   bool loadPose(const QString& path);
@@ -199,6 +215,8 @@ private:
   void reportError(const QString& message);
   void updateControlList();
   void updateDeformation();
+  /// The skeleton's per-handle 3 x 4 transforms at the current pose (joints, then twists).
+  std::vector<Eigen::MatrixXd> skeletonTransforms() const;
   void updateScene();
   void renderViews();
   void updateLocality();
@@ -230,7 +248,16 @@ private:
   vtkSmartPointer<vtkPoints> PosedControls;
   vtkSmartPointer<vtkPointSet> Deformed;
   vtkSmartPointer<vtkPointSet> CompareDeformed;
-  std::vector<vtkSmartPointer<vtkPoints>> UndoStack;
+  struct PoseState
+  {
+    vtkSmartPointer<vtkPoints> points;
+    std::vector<HandleTwist> twists;
+  };
+  std::vector<PoseState> UndoStack;
+  std::vector<HandleTwist> Twists; ///< per BBW handle (empty: none)
+  std::vector<HandleTwist> PendingTwists;
+  QDoubleSpinBox* TwistAngleBox = nullptr;
+  QDoubleSpinBox* TwistScaleBox = nullptr;
   // pending state applied when a computation finishes (session load)
   vtkSmartPointer<vtkPoints> PendingPose;
   int PendingSelection = -1;

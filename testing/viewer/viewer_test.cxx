@@ -9,7 +9,9 @@
 #include "barylabViewerScene.h"
 #include "barylabViewerWindow.h"
 
+#include "vtkBaryConversion.h"
 #include "vtkBaryDataIO.h"
+#include "core/skeleton.h"
 
 #include <QApplication>
 #include <QDir>
@@ -713,6 +715,94 @@ private slots:
     QVERIFY(max_difference(w->deformedModel(), rest) == 0.0);
     QVERIFY2(w->errors().isEmpty(), qPrintable(w->errors().join("; ")));
     qInfo("gingerbread bbw (fast): %.3f s", w->lastComputeSeconds());
+  }
+
+  void handleRotateScale()
+  {
+    // only BBW handles rotate: before any skeleton weights it is refused with a message
+    QVERIFY(!w->setHandleTwist(0, 30.0, 1.0));
+    QCOMPARE(w->errors().size(), 1);
+    QVERIFY(w->openFiles({ data("skeleton2d.tgf"), data("model2d.obj"), data("cage2d.obj") }));
+    QVERIFY(w->setParameter("bbw_fast", true));
+    w->compute();
+    QVERIFY(w->waitForComputation(60000));
+    QVERIFY2(w->hasWeights(), qPrintable(w->errors().join("; ")));
+    auto* rest = vtkPointSet::SafeDownCast(w->weighted());
+    vtkDataArray* W = rest->GetPointData()->GetArray("Weights");
+    // bone 0's first joint, the centre of its rotation
+    const bary::Skeleton skeleton = vtkBaryConversion::ToSkeleton(w->controls(), 2);
+    double c[3];
+    w->controls()->GetPoint(skeleton.BE(0, 0), c);
+    // Eq. 1 with one transform away from the identity: x' = x + w_0 (T_0 x - x),
+    // T_0 x = c + s R (x - c)
+    const auto check = [&](double degrees, double scale) {
+      const double a = degrees * 3.14159265358979323846 / 180.0;
+      double worst = 0.0, largest = 0.0;
+      vtkPointSet* posed = w->deformedModel();
+      for (vtkIdType i = 0; i < rest->GetNumberOfPoints(); ++i)
+      {
+        double x[3], y[3];
+        rest->GetPoint(i, x);
+        posed->GetPoint(i, y);
+        const double dx = x[0] - c[0], dy = x[1] - c[1];
+        const double tx = c[0] + scale * (std::cos(a) * dx - std::sin(a) * dy);
+        const double ty = c[1] + scale * (std::sin(a) * dx + std::cos(a) * dy);
+        const double w0 = W->GetComponent(i, 0);
+        const double ex = x[0] + w0 * (tx - x[0]), ey = x[1] + w0 * (ty - x[1]);
+        worst = std::max(worst, std::hypot(y[0] - ex, y[1] - ey));
+        largest = std::max(largest, std::hypot(y[0] - x[0], y[1] - x[1]));
+      }
+      return std::make_pair(worst, largest);
+    };
+    QVERIFY(w->setHandleTwist(0, 90.0, 1.0));
+    auto [err90, moved90] = check(90.0, 1.0);
+    QVERIFY2(err90 < 1e-9, qPrintable(QString::number(err90)));
+    QVERIFY2(moved90 > 0.05, qPrintable(QString::number(moved90)));
+    QVERIFY(w->setHandleTwist(0, -30.0, 1.5));
+    QCOMPARE(w->handleTwist(0).scale, 1.5);
+    auto [err30, moved30] = check(-30.0, 1.5);
+    QVERIFY2(err30 < 1e-9, qPrintable(QString::number(err30)));
+    QVERIFY(moved30 > 0.05);
+    // bad values are refused, nothing changes
+    QVERIFY(!w->setHandleTwist(0, 10.0, 0.0));
+    QVERIFY(!w->setHandleTwist(99, 10.0, 1.0));
+    QCOMPARE(w->errors().size(), 3);
+    QCOMPARE(w->handleTwist(0).angle_degrees, -30.0);
+
+    // the pose as transforms: handle 0's [sR | c - sR c], the others the identity
+    const QString pose = output("twisted_pose.txt");
+    QVERIFY(w->savePose(pose));
+    const auto T = vtkBaryDataIO::ReadPose(pose.toStdString(), 8, &skeleton);
+    QCOMPARE(static_cast<int>(T.size()), 8);
+    const double a = -30.0 * 3.14159265358979323846 / 180.0;
+    Eigen::MatrixXd expected = Eigen::MatrixXd::Zero(3, 4);
+    expected.topLeftCorner(2, 2) << 1.5 * std::cos(a), -1.5 * std::sin(a), 1.5 * std::sin(a),
+      1.5 * std::cos(a);
+    expected(2, 2) = 1.0;
+    const Eigen::Vector2d cc(c[0], c[1]);
+    expected.block(0, 3, 2, 1) = cc - expected.topLeftCorner(2, 2) * cc;
+    QVERIFY2((T[0] - expected).norm() < 1e-12, qPrintable(QString::number((T[0] - expected).norm())));
+    QVERIFY((T[3] - Eigen::MatrixXd::Identity(3, 4)).norm() < 1e-12);
+    // joints alone cannot hold a rotation: a posed-skeleton file is refused
+    QVERIFY(!w->savePose(output("twisted_pose.vtp")));
+    QCOMPARE(w->errors().size(), 4);
+
+    // sessions keep the rotation / scale
+    const QString session = output("twist_session.json");
+    QVERIFY(w->saveSession(session));
+    std::unique_ptr<ViewerWindow> other(this->makeWindow());
+    QVERIFY(other->loadSession(session));
+    QVERIFY(other->waitForComputation(60000));
+    QCOMPARE(other->handleTwist(0).angle_degrees, -30.0);
+    QCOMPARE(other->handleTwist(0).scale, 1.5);
+    QVERIFY(max_difference(other->deformedModel(), w->deformedModel()) < 1e-9);
+
+    // undo takes back one step at a time, reset clears everything
+    w->undo();
+    QCOMPARE(w->handleTwist(0).angle_degrees, 90.0);
+    w->resetPose();
+    QVERIFY(w->handleTwist(0).IsIdentity());
+    QCOMPARE(max_difference(w->deformedModel(), rest), 0.0);
   }
 
   void sessionRoundTrip()
