@@ -51,8 +51,12 @@ int main(int argc, char* argv[])
   QCommandLineOption logScale("log", "logarithmic colour scale");
   QCommandLineOption clip("clip", "clip 3D models by a plane normal to x");
   QCommandLineOption screenshot("screenshot", "compute, write the window to PNG and quit", "PNG");
+  QCommandLineOption locality("locality",
+    "with --screenshot: also write the locality charts P(t), Q(k) to PREFIX.png and the curves "
+    "to PREFIX_P.csv, PREFIX_Q.csv",
+    "PREFIX");
   parser.addOptions({ example, method, compare, control, pose, session, field, logScale, clip,
-    screenshot });
+    screenshot, locality });
   parser.process(app);
 
   const bool batch = parser.isSet(screenshot);
@@ -113,6 +117,10 @@ int main(int argc, char* argv[])
   if (!window.hasWeights())
     return fail("nothing was computed: give CONTROLS MODEL, --example or --session");
   if (!window.saveScreenshot(parser.value(screenshot)))
+    return fail(errors.join("; "));
+  if (parser.isSet(locality) &&
+    !(window.exportLocalityPng(parser.value(locality) + ".png") &&
+      window.exportLocalityCsv(parser.value(locality))))
     return fail(errors.join("; "));
   return 0;
 }
