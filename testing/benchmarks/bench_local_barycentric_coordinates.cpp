@@ -2,7 +2,10 @@
 // control vertices and weights, ../shared/data/lbc) solved again on one thread, with the
 // objective of both weight sets evaluated by BaryLab; 2D iteration counts against mesh size;
 // 3D cages meshed with TetGen at a few sizes, next to BBW and harmonic coordinates on the same
-// meshes. See docs/local-barycentric-coordinates.md for the results and how they were taken.
+// meshes; the paper's Table 2 analog (LBCTable2: LBC next to BBW fast and coupled, the cage as
+// handles, on the authors' four triangulations, the bundled 2D and 3D cages and three simple 3D
+// cages). See docs/benchmarks.md and docs/local-barycentric-coordinates.md for the results and
+// how they were taken.
 #include "core/bbw.h"
 #include "core/domain_mesh.h"
 #include "core/harmonic_coordinates.h"
@@ -345,6 +348,220 @@ void LBC3D(benchmark::State& state)
 BENCHMARK(LBC3D)
   ->ArgsProduct({ { 0, 1, 2 }, { 1000, 5000, 20000 }, { 0 } })
   ->ArgsProduct({ { 0, 1, 2 }, { 1000, 5000 }, { 1 } })
+  ->Unit(benchmark::kMillisecond)
+  ->Iterations(1);
+
+// --- the paper's Table 2 analog: LBC next to BBW on the same meshes ----------------------------
+
+/// data/cage2d.obj (`v x y 0` lines, the polygon in order) or data/cage3d.obj (`v`, `f` lines).
+bary::Cage bundled_cage(bool three_d)
+{
+  std::ifstream in(std::string(BARYLAB_DATA_DIR) + (three_d ? "/cage3d.obj" : "/cage2d.obj"));
+  std::vector<Eigen::RowVector3d> v;
+  std::vector<Eigen::RowVector3i> f;
+  std::string line;
+  while (std::getline(in, line))
+  {
+    std::istringstream s(line);
+    std::string tag;
+    s >> tag;
+    if (tag == "v")
+    {
+      double x, y, z;
+      s >> x >> y >> z;
+      v.emplace_back(x, y, z);
+    }
+    else if (tag == "f")
+    {
+      int a, b, c;
+      s >> a >> b >> c;
+      f.emplace_back(a - 1, b - 1, c - 1);
+    }
+  }
+  bary::Cage c;
+  c.V.resize(static_cast<Index>(v.size()), three_d ? 3 : 2);
+  for (std::size_t k = 0; k < v.size(); ++k)
+    c.V.row(static_cast<Index>(k)) = v[k].head(three_d ? 3 : 2);
+  if (three_d)
+  {
+    c.F.resize(static_cast<Index>(f.size()), 3);
+    for (std::size_t k = 0; k < f.size(); ++k)
+      c.F.row(static_cast<Index>(k)) = f[k];
+  }
+  return c;
+}
+
+// Cases: 0-3 the authors' cages on their reference triangulations, 4 the bundled gingerbread
+// cage meshed by BaryLab (3,000 target triangles, as the authors' GUI default), 5 cube,
+// 6 octahedron, 7 icosphere42, 8 the bundled kidney cage (5,000 target tetrahedra each),
+// 9-12 the authors' four cages meshed by BaryLab at about the paper's Table 2 sizes |V|.
+const char* kTable2Names[] = { "Gil_Gecko", "LBClogo", "cactus", "woody", "gingerbread",
+  "cube", "octahedron", "icosphere42", "kidney", "Gil_Gecko (paper's |V|)",
+  "LBClogo (paper's |V|)", "cactus (paper's |V|)", "woody (paper's |V|)" };
+// Target triangles for cases 9-12, chosen so that |V| is close to the paper's 11,554 / 4,479 /
+// 12,862 / 6,069.
+const int kTable2PaperCells[] = { 14750, 5700, 16400, 7750 };
+
+/// An authors' cage: the `v` lines of ../shared/data/lbc/cages/<name>-control-edgeset.obj, in
+/// order (their polygon).
+bool authors_cage(const std::string& name, bary::Cage& c)
+{
+  std::ifstream in(std::string(BARYLAB_SHARED_DIR) + "/lbc/cages/" + name + "-control-edgeset.obj");
+  if (!in)
+    return false;
+  std::vector<Eigen::RowVector2d> v;
+  std::string line;
+  while (std::getline(in, line))
+  {
+    std::istringstream s(line);
+    std::string tag;
+    double x, y;
+    if (s >> tag && tag == "v" && s >> x >> y)
+      v.emplace_back(x, y);
+  }
+  c.V.resize(static_cast<Index>(v.size()), 2);
+  for (std::size_t k = 0; k < v.size(); ++k)
+    c.V.row(static_cast<Index>(k)) = v[k];
+  return !v.empty();
+}
+
+struct Table2Case
+{
+  bary::DomainMesh mesh;
+  int n = 0;
+  bool ok = false;
+  std::string error;
+};
+
+const Table2Case& table2_case(int which)
+{
+  static std::map<int, Table2Case> cache;
+  auto it = cache.find(which);
+  if (it != cache.end())
+    return it->second;
+  Table2Case& c = cache[which];
+  if (which < 4)
+  {
+    Reference ref = load_reference(kReferences[which]);
+    c.ok = ref.ok;
+    c.error = ref.error;
+    c.mesh = std::move(ref.mesh);
+  }
+  else if (which >= 9)
+  {
+    bary::Cage cage;
+    if (!authors_cage(kReferences[which - 9], cage))
+    {
+      c.error = std::string("shared data not found in ") + BARYLAB_SHARED_DIR + "/lbc/cages";
+      return c;
+    }
+    bary::PolygonMeshOptions po;
+    po.target_cells = kTable2PaperCells[which - 9];
+    c.mesh = bary::mesh_polygon(cage, po);
+    c.ok = true;
+  }
+  else if (which == 4)
+  {
+    bary::PolygonMeshOptions po;
+    po.target_cells = 3000;
+    c.mesh = bary::mesh_polygon(bundled_cage(false), po);
+    c.ok = true;
+  }
+  else
+  {
+    const bary::Cage cage = which == 5 ? cube()
+      : which == 6                     ? octahedron()
+      : which == 7                     ? icosphere42()
+                                       : bundled_cage(true);
+    bary::SurfaceMeshOptions so;
+    so.target_cells = 5000;
+    c.mesh = bary::mesh_closed_surface(cage, so);
+    c.ok = true;
+  }
+  c.n = static_cast<int>(c.mesh.control_vertex.size());
+  return c;
+}
+
+/// Arguments: the case (kTable2Names), tolerances (0: the paper's rule, with BBW fast and
+/// coupled on the same mesh; 1: 1e-7 / 1e-6, LBC only). One thread, CPU time (std::clock).
+void LBCTable2(benchmark::State& state)
+{
+  const int which = static_cast<int>(state.range(0));
+  const bool tight = state.range(1) == 1;
+  const Table2Case& c = table2_case(which);
+  if (!c.ok)
+  {
+    state.SkipWithError(c.error.c_str());
+    return;
+  }
+  const bary::DomainMesh& mesh = c.mesh;
+  bary::LBCOptions o;
+  o.threads = 1;
+  o.require_convergence = false;
+  if (which < 4)
+    o.distance_normalization = bary::DistanceNormalization::Global; // as LBCReference
+  // (BaryLab's default, per-control-point normalisation for the meshes made here)
+  if (tight)
+  {
+    o.primal_tolerance = 1e-7;
+    o.dual_tolerance = 1e-6;
+  }
+  bary::LBCResult r;
+  double cpu = 0.0;
+  for (auto _ : state)
+  {
+    const double c0 = cpu_seconds();
+    r = bary::local_barycentric_coordinates(mesh, o);
+    cpu = cpu_seconds() - c0;
+  }
+  const Eigen::VectorXd measure = bary::vertex_measures(mesh.V, mesh.T);
+  state.counters["n"] = c.n;
+  state.counters["vertices"] = static_cast<double>(mesh.V.rows());
+  state.counters["cells"] = static_cast<double>(mesh.T.rows());
+  state.counters["lbc_iterations"] = r.iterations;
+  state.counters["lbc_converged"] = r.converged;
+  state.counters["lbc_cpu_seconds"] = cpu;
+  state.counters["lbc_objective"] = r.objective;
+  state.counters["lbc_partition_err"] = r.partition_error;
+  state.counters["lbc_min_w"] = r.min_weight;
+  const bary::LocalityStatistics sl = bary::locality_statistics(r.W, -1, measure);
+  state.counters["lbc_support_mean"] = sl.mean_support;
+  state.counters["lbc_support_max"] = sl.max_support;
+  std::string label = std::string(kTable2Names[which]) +
+    (tight ? ", LBC at 1e-7 / 1e-6" : ", paper's rule");
+  if (!tight)
+  {
+    // BBW with the cage as handles: the cage's hat values fixed on the boundary
+    bary::BBWHandles handles;
+    handles.extra_handles = c.n;
+    handles.fixed_vertices = Eigen::Map<const Eigen::VectorXi>(
+      mesh.boundary_vertices.data(), static_cast<Index>(mesh.boundary_vertices.size()));
+    handles.fixed_values = bary::DenseWeights(Eigen::MatrixXd(mesh.boundary_weights));
+    bary::BBWOptions bo;
+    bo.threads = 1;
+    bo.require_convergence = false;
+    double c0 = cpu_seconds();
+    const bary::BBWResult fast = bary::bounded_biharmonic_weights(mesh.V, mesh.T, handles, bo);
+    state.counters["bbw_fast_cpu_seconds"] = cpu_seconds() - c0;
+    state.counters["bbw_fast_converged"] = fast.converged;
+    state.counters["bbw_fast_support_mean"] =
+      bary::locality_statistics(fast.W, -1, measure).mean_support;
+    // the coupled mode (partition of unity enforced; it starts from the fast weights and
+    // includes their computation): at most 11 s CPU on these meshes
+    bo.mode = bary::BBWMode::Coupled;
+    c0 = cpu_seconds();
+    const bary::BBWResult coupled = bary::bounded_biharmonic_weights(mesh.V, mesh.T, handles, bo);
+    state.counters["bbw_coupled_cpu_seconds"] = cpu_seconds() - c0;
+    state.counters["bbw_coupled_converged"] = coupled.converged;
+    state.counters["bbw_coupled_outer_iterations"] = coupled.outer_iterations;
+    state.counters["bbw_coupled_support_mean"] =
+      bary::locality_statistics(coupled.W, -1, measure).mean_support;
+  }
+  state.SetLabel(label);
+}
+BENCHMARK(LBCTable2)
+  ->ArgsProduct({ { 0, 1, 2, 3, 4, 9, 10, 11, 12, 5, 6, 7, 8 }, { 0 } })
+  ->ArgsProduct({ { 5, 6, 7, 8 }, { 1 } })
   ->Unit(benchmark::kMillisecond)
   ->Iterations(1);
 
