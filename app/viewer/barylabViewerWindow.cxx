@@ -96,6 +96,8 @@ const Example kExamples[] = {
   { "gingerbread-bbw", "skeleton2d.tgf", "model2d.obj", "cage2d.obj", "bbw", "skeleton2d_pose.txt",
     3 },
   { "heart-scc", "heart_controls.obj", "heart.off", "", "scc", "heartbeat/frame_05.obj", 0 },
+  // local barycentric coordinates: compare with mvc and open the locality charts (S)
+  { "gingerbread-lbc", "cage2d.obj", "model2d.obj", "", "lbc", "cage2d_posed.obj", 14 },
   // 2D image mode: a picture as the model, warped as a texture by the cage
   { "gingerbread-image", "cage2d.obj", "gingerbread.png", "", "mvc", "cage2d_posed.obj", 14 },
 };

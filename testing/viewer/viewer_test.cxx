@@ -497,6 +497,44 @@ private slots:
     QVERIFY(w->hasWeights());
   }
 
+  void lbcExample()
+  {
+    // local barycentric coordinates appear as one more method (no viewer code of their own)
+    loadAndWait("gingerbread-lbc");
+    QCOMPARE(QString::fromStdString(w->parameters().method), QString("lbc"));
+    QVERIFY(w->findChild<QWidget*>("lbc_locality") != nullptr); // its parameter rows
+    vtkDataArray* W = w->weighted()->GetPointData()->GetArray("Weights");
+    double lowest = 1.0, partition = 0.0;
+    for (vtkIdType i = 0; i < W->GetNumberOfTuples(); ++i)
+    {
+      double sum = 0.0;
+      for (int c = 0; c < W->GetNumberOfComponents(); ++c)
+      {
+        sum += W->GetComponent(i, c);
+        lowest = std::min(lowest, W->GetComponent(i, c));
+      }
+      partition = std::max(partition, std::abs(sum - 1.0));
+    }
+    // interpolated from the mesh: non-negative and a partition of unity to rounding
+    QVERIFY2(lowest >= -1e-12, qPrintable(QString::number(lowest)));
+    QVERIFY2(partition < 1e-9, qPrintable(QString::number(partition)));
+    compareImage("viewer_lbc_weight_field");
+    // more local than mean value coordinates on the same points (the paper's Fig. 14-15)
+    w->setCompareMethod("mvc");
+    w->compute();
+    QVERIFY(w->waitForComputation(60000));
+    w->showLocality(true);
+    const nlohmann::json& stats = w->localityStatistics();
+    QCOMPARE(static_cast<int>(stats.size()), 2);
+    const double lbc = stats[0]["mean_support"].get<double>();
+    const double mvc = stats[1]["mean_support"].get<double>();
+    QVERIFY2(lbc < 0.5 * mvc, qPrintable(QString("lbc %1, mvc %2").arg(lbc).arg(mvc)));
+    // the example's pose deforms the model
+    QVERIFY(w->applyExamplePose());
+    QVERIFY(max_difference(w->deformedModel(), vtkPointSet::SafeDownCast(w->weighted())) > 0.05);
+    QVERIFY2(w->errors().isEmpty(), qPrintable(w->errors().join("; ")));
+  }
+
   void exampleComputesInWorker()
   {
     QSignalSpy finished(w.get(), &ViewerWindow::computeFinished);
