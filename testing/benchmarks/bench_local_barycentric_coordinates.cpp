@@ -547,7 +547,7 @@ void LBCTable2(benchmark::State& state)
     state.counters["bbw_fast_support_mean"] =
       bary::locality_statistics(fast.W, -1, measure).mean_support;
     // the coupled mode (partition of unity enforced; it starts from the fast weights and
-    // includes their computation): at most 11 s CPU on these meshes
+    // includes their computation): at most 15 s CPU on these meshes
     bo.mode = bary::BBWMode::Coupled;
     c0 = cpu_seconds();
     const bary::BBWResult coupled = bary::bounded_biharmonic_weights(mesh.V, mesh.T, handles, bo);
