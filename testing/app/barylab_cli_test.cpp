@@ -12,11 +12,13 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 #include <string>
 #include <sys/wait.h>
 
@@ -298,6 +300,188 @@ TEST_F(CLI, UnknownMethodAndMismatchedDeformedCage)
   ExpectEmptyFolder();
 }
 
+namespace
+{
+/// The demo's local barycentric coordinates case (gingerbread2d_lbc), checked against what the
+/// mathematics guarantees rather than against recorded numbers.
+void ExpectDemoLBC(const fs::path& dir, const nlohmann::json& c)
+{
+  for (const char* f : { "gingerbread2d_lbc_weights.vtp", "gingerbread2d_lbc_sparse.vtp",
+         "gingerbread2d_lbc_deformed.vtp", "gingerbread2d_locality_P.csv",
+         "gingerbread2d_locality_Q.csv" })
+    ASSERT_TRUE(fs::exists(dir / f)) << f;
+  ASSERT_TRUE(c.is_object()) << "no cases.lbc2d in summary.json";
+  const int n = 20; // control points of data/cage2d.obj
+  EXPECT_EQ(c["method"], "lbc");
+  EXPECT_EQ(c["solver"]["converged"].get<double>(), 1.0);
+  // dense LBC: partition of unity and reproduction are constraints of the solve, kept exactly by
+  // the linear interpolation to the model's points; the weights are non-negative
+  const nlohmann::json& st = c["statistics"];
+  EXPECT_LT(st["partition_of_unity"]["max_error"].get<double>(), 1e-9);
+  EXPECT_LT(st["reproduction"]["max_error"].get<double>(), 1e-9);
+  EXPECT_GE(st["min_weight"].get<double>(), -1e-12);
+
+  // locality (Eq. 19-21) of LBC against MVC at the same points, same threshold 1e-3/n
+  const nlohmann::json& mvc = c["locality"]["mvc"];
+  const nlohmann::json& lbc = c["locality"]["lbc"];
+  const double threshold = 1e-3 / n;
+  for (const nlohmann::json* l : { &mvc, &lbc })
+  {
+    EXPECT_NEAR((*l)["threshold"].get<double>(), threshold, 1e-18);
+    EXPECT_EQ((*l)["controls"].get<int>(), n);
+    EXPECT_EQ((*l)["points"], lbc["points"]);
+    // Q(k), k = 1..n: Q(1) = 1 (weights summing to 1 have one >= 1/n), non-increasing, in
+    // [0, 1], zero beyond the max support, and sum_k Q(k) = mean support (E[N] = sum P(N >= k))
+    const auto& Q = (*l)["Q"];
+    ASSERT_EQ(Q.size(), static_cast<std::size_t>(n));
+    EXPECT_NEAR(Q[0].get<double>(), 1.0, 1e-12);
+    double sum = 0.0;
+    for (std::size_t k = 0; k < Q.size(); ++k)
+    {
+      EXPECT_EQ((*l)["k"][k].get<int>(), static_cast<int>(k) + 1);
+      EXPECT_GE(Q[k].get<double>(), 0.0);
+      EXPECT_LE(Q[k].get<double>(), 1.0 + 1e-12);
+      if (k > 0)
+      {
+        EXPECT_LE(Q[k].get<double>(), Q[k - 1].get<double>() + 1e-12) << "k = " << k + 1;
+      }
+      if (static_cast<double>(k + 1) > (*l)["max_support"].get<double>())
+      {
+        EXPECT_EQ(Q[k].get<double>(), 0.0) << "k = " << k + 1;
+      }
+      sum += Q[k].get<double>();
+    }
+    EXPECT_NEAR(sum, (*l)["mean_support"].get<double>(), 1e-9);
+    // P(t): a distribution function of |w| over the domain, averaged over the controls
+    const auto& P = (*l)["P"];
+    ASSERT_EQ(P.size(), (*l)["t"].size());
+    for (std::size_t j = 0; j < P.size(); ++j)
+    {
+      EXPECT_GE(P[j].get<double>(), 0.0);
+      EXPECT_LE(P[j].get<double>(), 1.0 + 1e-12);
+      if (j > 0)
+      {
+        EXPECT_GE(P[j].get<double>(), P[j - 1].get<double>() - 1e-12);
+      }
+    }
+  }
+  EXPECT_EQ(mvc["t"], lbc["t"]);
+  // the point of LBC: far fewer significant weights per point than the global MVC
+  EXPECT_LT(lbc["mean_support"].get<double>(), mvc["mean_support"].get<double>());
+  EXPECT_LT(lbc["max_support"].get<double>(), mvc["max_support"].get<double>());
+  EXPECT_EQ(c["locality"]["mean_support"]["lbc"], lbc["mean_support"]);
+  EXPECT_EQ(c["locality"]["mean_support"]["mvc"], mvc["mean_support"]);
+  // P(t) at t = 1e-6: MVC weights are nearly never that small, LBC's mostly exactly zero
+  for (std::size_t j = 0; j < lbc["t"].size(); ++j)
+  {
+    if (std::abs(lbc["t"][j].get<double>() - 1e-6) < 1e-15)
+    {
+      EXPECT_GT(lbc["P"][j].get<double>(), mvc["P"][j].get<double>() + 0.5);
+    }
+  }
+
+  // the CSV pair: the columns of `barylab stats --locality --csv`, the numbers of the JSON
+  for (const auto& [file, key, value] : { std::array<std::string, 3>{ "P", "t", "P" },
+         std::array<std::string, 3>{ "Q", "k", "Q" } })
+  {
+    std::ifstream csv(dir / ("gingerbread2d_locality_" + file + ".csv"));
+    std::string line;
+    ASSERT_TRUE(std::getline(csv, line));
+    EXPECT_EQ(line, key + "," + value + "_mvc," + value + "_lbc");
+    std::size_t row = 0;
+    while (std::getline(csv, line))
+    {
+      double x, a, b;
+      char c1, c2;
+      std::istringstream fields(line);
+      ASSERT_TRUE(fields >> x >> c1 >> a >> c2 >> b) << line;
+      ASSERT_LT(row, lbc[value].size());
+      EXPECT_DOUBLE_EQ(x, lbc[key][row].get<double>());
+      EXPECT_DOUBLE_EQ(a, mvc[value][row].get<double>());
+      EXPECT_DOUBLE_EQ(b, lbc[value][row].get<double>());
+      ++row;
+    }
+    EXPECT_EQ(row, lbc[value].size()) << file;
+  }
+
+  // sparse weights: threshold 1e-3/n, rows renormalised to sum 1
+  const nlohmann::json& sp = c["sparse"];
+  EXPECT_NEAR(sp["threshold"].get<double>(), threshold, 1e-18);
+  EXPECT_EQ(sp["renormalization"], "rowsum");
+  const int K = sp["K"].get<int>();
+  EXPECT_EQ(K, static_cast<int>(lbc["max_support"].get<double>())) << "same threshold, same count";
+  EXPECT_LT(K, n);
+  EXPECT_NEAR(sp["memory_fraction"].get<double>(), 12.0 * K / (8.0 * n), 1e-12);
+  EXPECT_LT(sp["memory_fraction"].get<double>(), 1.0);
+  EXPECT_LT(sp["partition_error"].get<double>(), 1e-12);
+  const double max_dropped = sp["max_dropped"].get<double>();
+  EXPECT_GE(max_dropped, 0.0);
+  EXPECT_LE(max_dropped, (n - 1) * threshold) << "at most n - 1 weights <= threshold dropped";
+  // reproduction: off by the dropped mass times a distance within the cage, relative to its size
+  EXPECT_LE(sp["reproduction_error"].get<double>(), max_dropped + 1e-9);
+  auto sparse = vtkBaryDataIO::Read((dir / "gingerbread2d_lbc_sparse.vtp").string());
+  EXPECT_EQ(sparse->GetPointData()->GetArray("Weights"), nullptr) << "the dense array is dropped";
+  vtkDataArray* indices = sparse->GetPointData()->GetArray("WeightsIndices");
+  vtkDataArray* values = sparse->GetPointData()->GetArray("WeightsValues");
+  ASSERT_NE(indices, nullptr);
+  ASSERT_NE(values, nullptr);
+  EXPECT_EQ(indices->GetNumberOfComponents(), K);
+
+  // deformation: recomputed here from the written files, x = sum_i w_i v_i (v: posed cage)
+  EXPECT_FALSE(c["deformation"]["sparse"]["weights_computed"].get<bool>());
+  EXPECT_FALSE(c["deformation"]["dense"]["weights_computed"].get<bool>());
+  auto posed = vtkBaryDataIO::Read(data("cage2d_posed.obj"));
+  auto dense = vtkBaryDataIO::Read((dir / "gingerbread2d_lbc_weights.vtp").string());
+  auto deformed = vtkBaryDataIO::Read((dir / "gingerbread2d_lbc_deformed.vtp").string());
+  vtkDataArray* W = dense->GetPointData()->GetArray("Weights");
+  ASSERT_NE(W, nullptr);
+  ASSERT_EQ(W->GetNumberOfComponents(), n);
+  ASSERT_EQ(posed->GetNumberOfPoints(), n);
+  ASSERT_EQ(deformed->GetNumberOfPoints(), dense->GetNumberOfPoints());
+  ASSERT_EQ(sparse->GetNumberOfPoints(), dense->GetNumberOfPoints());
+  double diameter = 0.0;
+  for (vtkIdType i = 0; i < n; ++i)
+    for (vtkIdType j = 0; j < n; ++j)
+    {
+      double a[3], b[3];
+      posed->GetPoint(i, a);
+      posed->GetPoint(j, b);
+      diameter = std::max(diameter, std::hypot(a[0] - b[0], a[1] - b[1]));
+    }
+  EXPECT_NEAR(c["deformation"]["posed_cage_diameter"].get<double>(), diameter, 1e-12);
+  double max_difference = 0.0, max_sparse_error = 0.0;
+  for (vtkIdType p = 0; p < dense->GetNumberOfPoints(); ++p)
+  {
+    double x_dense[2] = { 0, 0 }, x_sparse[2] = { 0, 0 }, v[3], x[3];
+    for (vtkIdType i = 0; i < n; ++i)
+    {
+      posed->GetPoint(i, v);
+      x_dense[0] += W->GetComponent(p, i) * v[0];
+      x_dense[1] += W->GetComponent(p, i) * v[1];
+    }
+    for (int j = 0; j < K; ++j)
+    {
+      const auto i = static_cast<vtkIdType>(indices->GetComponent(p, j));
+      if (i < 0)
+        continue;
+      posed->GetPoint(i, v);
+      x_sparse[0] += values->GetComponent(p, j) * v[0];
+      x_sparse[1] += values->GetComponent(p, j) * v[1];
+    }
+    deformed->GetPoint(p, x);
+    max_sparse_error =
+      std::max(max_sparse_error, std::hypot(x[0] - x_sparse[0], x[1] - x_sparse[1]));
+    max_difference = std::max(max_difference, std::hypot(x[0] - x_dense[0], x[1] - x_dense[1]));
+  }
+  EXPECT_LT(max_sparse_error, 1e-12) << "the deformed model is not the sparse weights' deformation";
+  EXPECT_NEAR(c["deformation"]["max_difference"].get<double>(), max_difference, 1e-12);
+  // w_sparse - w_dense sums to 0 per point with positive part <= the dropped mass, so the
+  // deformed points differ by at most max_dropped x the posed cage's diameter
+  EXPECT_LE(max_difference, max_dropped * diameter + 1e-12);
+  EXPECT_LE(max_difference, c["deformation"]["difference_bound"].get<double>());
+}
+} // namespace
+
 TEST_F(CLI, DemoWithoutRendering)
 {
   const CommandResult r = run("demo --no-render --output-dir " + out("demo"));
@@ -309,6 +493,10 @@ TEST_F(CLI, DemoWithoutRendering)
   const nlohmann::json s = nlohmann::json::parse(in);
   EXPECT_LT(s["cases"]["3d"]["statistics"]["reproduction"]["max_error"].get<double>(), 1e-12);
   EXPECT_LT(s["cases"]["2d"]["statistics"]["reproduction"]["max_error"].get<double>(), 1e-12);
+  ExpectDemoLBC(dir_ / "demo", s["cases"]["lbc2d"]);
+  for (const char* png : { "gingerbread2d_weights.png", "gingerbread2d_lbc_weights.png",
+         "gingerbread2d_lbc_deformed.png" })
+    EXPECT_FALSE(fs::exists(dir_ / "demo" / png)) << png << " written with --no-render";
 }
 
 // ---- mesh-based methods ---------------------------------------------------------------------
