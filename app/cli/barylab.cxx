@@ -921,6 +921,70 @@ int run_reduce(const ReduceArgs& a)
   return 0;
 }
 
+struct FieldsArgs
+{
+  std::string input, output, level_sets, array = "Weights";
+  int control = 0;
+  std::vector<double> levels;
+  bool json_out = false;
+};
+
+/// Gradient norms of every weight and level sets of one (VTK's gradient and contour filters
+/// through barylab::WeightGradientNorms / WeightLevelSets).
+int run_fields(const FieldsArgs& a)
+{
+  if (a.output.empty() && a.level_sets.empty())
+    throw UsageError("give --output (gradient norms) and/or --level-sets (contours)");
+  if (!a.output.empty())
+  {
+    check_output(a.output, OutputKind::Data);
+    const std::string ext = vtkBaryDataIO::Extension(a.output);
+    if (ext != ".vtp" && ext != ".vtu" && ext != ".vtk")
+      throw bary::Error(bary::ErrorCode::Io,
+        "cannot write '" + a.output + "': gradient norms are a point-data array, kept only by "
+        ".vtp, .vtu or .vtk");
+  }
+  if (!a.level_sets.empty())
+    check_output(a.level_sets, OutputKind::Data);
+  auto data = vtkBaryDataIO::Read(a.input);
+  json summary;
+  summary["input"] = a.input;
+  if (!a.output.empty())
+  {
+    auto with = barylab::WeightGradientNorms(data, a.array, &summary);
+    vtkBaryDataIO::Write(with, a.output);
+    summary["output"] = a.output;
+  }
+  if (!a.level_sets.empty())
+  {
+    auto lines = barylab::WeightLevelSets(data, a.control, a.levels, a.array);
+    vtkBaryDataIO::Write(lines, a.level_sets);
+    const int n = data->GetPointData()->GetArray(a.array.c_str())->GetNumberOfComponents();
+    summary["level_sets"] = { { "file", a.level_sets }, { "control", a.control },
+      { "levels", a.levels.empty() ? std::vector<double>{ 1e-3 / n } : a.levels },
+      { "points", lines->GetNumberOfPoints() }, { "cells", lines->GetNumberOfCells() } };
+  }
+  if (a.json_out)
+  {
+    std::cout << summary.dump(2) << "\n";
+    return 0;
+  }
+  if (summary.contains("gradient_norm"))
+  {
+    const auto& g = summary["gradient_norm"];
+    double top = 0.0;
+    for (const auto& v : g["max"])
+      top = std::max(top, v.get<double>());
+    std::cout << "wrote " << a.output << ": array " << g["array"].get<std::string>() << " ("
+              << g["max"].size() << " components), largest |grad w| " << top << "\n";
+  }
+  if (summary.contains("level_sets"))
+    std::cout << "wrote " << a.level_sets << ": " << summary["level_sets"]["cells"]
+              << " cells of the level sets " << summary["level_sets"]["levels"].dump()
+              << " of control " << a.control << "\n";
+  return 0;
+}
+
 struct MeshArgs
 {
   barylab::MeshParameters parameters;
@@ -1465,6 +1529,21 @@ int main(int argc, char** argv)
   reduce->add_flag("--keep-dense", rda.parameters.keep_dense, "keep the dense array too");
   reduce->add_flag("--json", rda.json_out, "print the summary as JSON");
 
+  FieldsArgs fa;
+  auto* fields = app.add_subcommand("fields",
+    "gradient norms |grad w_i| of all weights and level sets of one (VTK's gradient and contour "
+    "filters)");
+  fields->add_option("--input,-i", fa.input, "weights at the vertices of a mesh (.vtp/.vtu/.vtk)")
+    ->required();
+  fields->add_option("--output,-o", fa.output,
+    "copy of the input with <array>GradientNorm (one component per weight)");
+  fields->add_option("--level-sets", fa.level_sets, "level sets of --control (lines / surfaces)");
+  fields->add_option("--control", fa.control, "weights component of the level sets")
+    ->default_val(0);
+  fields->add_option("--level", fa.levels, "level value (repeatable; default 1e-3 / #controls)");
+  fields->add_option("--array", fa.array, "weights array name")->default_val(fa.array);
+  fields->add_flag("--json", fa.json_out, "print the summary as JSON");
+
   MeshArgs mea;
   auto* mesh = app.add_subcommand("mesh", "triangulate / tetrahedralize the interior of a cage");
   mesh->add_option("--cage,-c", mea.cage, "cage: closed triangle surface (3D) or polygon (2D)")
@@ -1542,6 +1621,8 @@ int main(int argc, char** argv)
       return run_stats(sa);
     if (*reduce)
       return run_reduce(rda);
+    if (*fields)
+      return run_fields(fa);
     if (*animate)
       return run_animate(aa);
     if (*mesh)

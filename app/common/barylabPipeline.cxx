@@ -12,18 +12,25 @@
 
 #include "core/weight_statistics.h"
 
+#include "vtkAppendPolyData.h"
 #include "vtkCallbackCommand.h"
+#include "vtkCellData.h"
+#include "vtkContourFilter.h"
+#include "vtkGenericCell.h"
+#include "vtkGradientFilter.h"
 #include "vtkCommand.h"
 #include "vtkDataArray.h"
 #include "vtkDataSet.h"
 #include "vtkDoubleArray.h"
 #include "vtkExecutive.h"
+#include "vtkNew.h"
 #include "vtkPointData.h"
 #include "vtkPointSet.h"
 #include "vtkPolyData.h"
 #include "vtkTable.h"
 #include "vtkUnstructuredGrid.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -532,6 +539,130 @@ void WriteJson(const nlohmann::json& json, const std::string& path)
     std::remove(tmp.c_str());
     throw bary::Error(bary::ErrorCode::Io, "cannot write '" + path + "'");
   }
+}
+
+namespace
+{
+vtkDataArray* weights_array(vtkDataSet* data, const std::string& name)
+{
+  if (!data)
+    throw bary::Error(bary::ErrorCode::InvalidArgument, "no dataset");
+  vtkDataArray* w = data->GetPointData()->GetArray(name.c_str());
+  if (!w)
+    throw bary::Error(bary::ErrorCode::InvalidArgument,
+      "the dataset has no point-data array '" + name + "'");
+  return w;
+}
+
+/// Largest dimension of the cells of @p data (0 for a point cloud).
+int max_cell_dimension(vtkDataSet* data)
+{
+  int dim = 0;
+  vtkNew<vtkGenericCell> cell;
+  for (vtkIdType c = 0; c < data->GetNumberOfCells() && dim < 3; ++c)
+  {
+    data->GetCell(c, cell);
+    dim = std::max(dim, cell->GetCellDimension());
+  }
+  return dim;
+}
+} // namespace
+
+vtkSmartPointer<vtkDataSet> WeightGradientNorms(vtkDataSet* weighted, const std::string& weights_name,
+  nlohmann::json* summary)
+{
+  vtkDataArray* w = weights_array(weighted, weights_name);
+  if (max_cell_dimension(weighted) < 2)
+    throw bary::Error(bary::ErrorCode::InvalidArgument,
+      "gradient norms need a mesh (triangles, polygons or 3D cells); the dataset has " +
+        std::to_string(weighted->GetNumberOfCells()) +
+        " cells of dimension < 2 (a point cloud has no gradient: compute the weights at the "
+        "vertices of a mesh, e.g. without --points for mesh-based methods)");
+  vtkNew<vtkGradientFilter> gradient;
+  gradient->SetInputData(weighted);
+  gradient->SetInputScalars(vtkDataObject::FIELD_ASSOCIATION_POINTS, weights_name.c_str());
+  gradient->SetResultArrayName("barylab_weight_gradient");
+  RunAlgorithm(gradient, {});
+  vtkDataSet* out = vtkDataSet::SafeDownCast(gradient->GetOutputDataObject(0));
+  vtkDataArray* g = out->GetPointData()->GetArray("barylab_weight_gradient");
+  const int n = w->GetNumberOfComponents();
+  auto norms = vtkSmartPointer<vtkDoubleArray>::New();
+  norms->SetName((weights_name + "GradientNorm").c_str());
+  norms->SetNumberOfComponents(n);
+  norms->SetNumberOfTuples(weighted->GetNumberOfPoints());
+  std::vector<double> max_norm(static_cast<std::size_t>(n), 0.0), sum(static_cast<std::size_t>(n), 0.0);
+  for (vtkIdType p = 0; p < weighted->GetNumberOfPoints(); ++p)
+    for (int i = 0; i < n; ++i)
+    {
+      double s = 0.0;
+      for (int k = 0; k < 3; ++k)
+      {
+        const double v = g->GetComponent(p, 3 * i + k);
+        s += v * v;
+      }
+      const double norm = std::sqrt(s);
+      norms->SetComponent(p, i, norm);
+      max_norm[static_cast<std::size_t>(i)] = std::max(max_norm[static_cast<std::size_t>(i)], norm);
+      sum[static_cast<std::size_t>(i)] += norm;
+    }
+  auto result = vtkSmartPointer<vtkDataSet>::Take(weighted->NewInstance());
+  result->ShallowCopy(weighted);
+  result->GetPointData()->AddArray(norms);
+  if (summary)
+  {
+    const double np = std::max<double>(1.0, static_cast<double>(weighted->GetNumberOfPoints()));
+    std::vector<double> mean;
+    for (double v : sum)
+      mean.push_back(v / np);
+    (*summary)["gradient_norm"] = { { "array", weights_name + "GradientNorm" },
+      { "max", max_norm }, { "mean", mean } };
+  }
+  return result;
+}
+
+vtkSmartPointer<vtkPolyData> WeightLevelSets(vtkDataSet* weighted, int component,
+  std::vector<double> levels, const std::string& weights_name)
+{
+  vtkDataArray* w = weights_array(weighted, weights_name);
+  const int n = w->GetNumberOfComponents();
+  if (component < 0 || component >= n)
+    throw bary::Error(bary::ErrorCode::InvalidArgument,
+      "control " + std::to_string(component) + " does not exist (the weights have " +
+        std::to_string(n) + " components)");
+  if (levels.empty())
+    levels.push_back(1e-3 / n);
+  // one scalar array: the chosen component
+  auto single = vtkSmartPointer<vtkDataSet>::Take(weighted->NewInstance());
+  single->CopyStructure(weighted);
+  auto values = vtkSmartPointer<vtkDoubleArray>::New();
+  values->SetName("weight");
+  values->SetNumberOfTuples(weighted->GetNumberOfPoints());
+  for (vtkIdType p = 0; p < weighted->GetNumberOfPoints(); ++p)
+    values->SetValue(p, w->GetComponent(p, component));
+  single->GetPointData()->SetScalars(values);
+  vtkNew<vtkAppendPolyData> append;
+  for (double level : levels)
+  {
+    if (!std::isfinite(level))
+      throw bary::Error(bary::ErrorCode::NonFinite, "a level value is not finite");
+    vtkNew<vtkContourFilter> contour;
+    contour->SetInputData(single);
+    contour->SetValue(0, level);
+    contour->SetComputeScalars(true);
+    RunAlgorithm(contour, {});
+    auto piece = vtkSmartPointer<vtkPolyData>::New();
+    piece->ShallowCopy(contour->GetOutput());
+    auto tag = vtkSmartPointer<vtkDoubleArray>::New();
+    tag->SetName("level");
+    tag->SetNumberOfTuples(piece->GetNumberOfCells());
+    tag->FillValue(level);
+    piece->GetCellData()->AddArray(tag);
+    append->AddInputData(piece);
+  }
+  RunAlgorithm(append, {});
+  auto result = vtkSmartPointer<vtkPolyData>::New();
+  result->ShallowCopy(append->GetOutput());
+  return result;
 }
 
 } // namespace barylab

@@ -151,6 +151,22 @@ vtkSmartPointer<vtkDataSet> ReduceWeights(vtkDataSet* weighted, vtkPolyData* cag
   const ReduceParameters& parameters, const RunCallbacks& callbacks = {},
   nlohmann::json* summary = nullptr);
 
+/// |grad w_i| of every component of the weights array @p weights_name of @p weighted, by VTK's
+/// vtkGradientFilter (per-cell gradients of the linear interpolant, averaged at the points): a
+/// copy of @p weighted with the point-data array "<weights_name>GradientNorm" (one component
+/// per weight). Fills @p summary with the max / mean norm per component.
+/// @throws bary::Error(InvalidArgument) for a missing array or a dataset without cells of
+///   dimension >= 2 (a point cloud has no gradient).
+vtkSmartPointer<vtkDataSet> WeightGradientNorms(vtkDataSet* weighted,
+  const std::string& weights_name = "Weights", nlohmann::json* summary = nullptr);
+
+/// Level sets w_component = value for each of @p levels, by VTK's vtkContourFilter (lines on a
+/// 2D or surface mesh, surfaces in a volume mesh), with cell data "level" (the value) and
+/// point data "weight". An empty @p levels means the influence threshold 10^-3 / n.
+/// @throws bary::Error(InvalidArgument) for a missing array or a component out of range.
+vtkSmartPointer<vtkPolyData> WeightLevelSets(vtkDataSet* weighted, int component,
+  std::vector<double> levels, const std::string& weights_name = "Weights");
+
 /// Dimension (2 or 3) of @p cage as the filters interpret it.
 int CageDimension(vtkPolyData* cage, int requested = 0);
 

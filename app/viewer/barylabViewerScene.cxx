@@ -109,25 +109,13 @@ vtkSmartPointer<vtkDoubleArray> component_array(vtkPolyData* surface, vtkDataArr
   return w;
 }
 
-/// |grad w| of scalar array "weight" on @p surface (VTK's vtkGradientFilter).
-vtkSmartPointer<vtkDoubleArray> gradient_norm(vtkPolyData* surface)
+/// |grad w| of scalar array "weight" on @p data (barylab::WeightGradientNorms: VTK's
+/// vtkGradientFilter), as array "gradient_norm".
+vtkSmartPointer<vtkDataArray> gradient_norm(vtkDataSet* data)
 {
-  vtkNew<vtkGradientFilter> gradient;
-  gradient->SetInputData(surface);
-  gradient->SetInputScalars(vtkDataObject::FIELD_ASSOCIATION_POINTS, "weight");
-  gradient->SetResultArrayName("weight_gradient");
-  gradient->Update();
-  vtkDataArray* g =
-    vtkDataSet::SafeDownCast(gradient->GetOutput())->GetPointData()->GetArray("weight_gradient");
-  auto norm = vtkSmartPointer<vtkDoubleArray>::New();
+  vtkSmartPointer<vtkDataSet> with = WeightGradientNorms(data, "weight");
+  vtkSmartPointer<vtkDataArray> norm = with->GetPointData()->GetArray("weightGradientNorm");
   norm->SetName("gradient_norm");
-  norm->SetNumberOfTuples(surface->GetNumberOfPoints());
-  for (vtkIdType i = 0; i < surface->GetNumberOfPoints(); ++i)
-  {
-    double v[3];
-    g->GetTuple(i, v);
-    norm->SetValue(i, vtkMath::Norm(v));
-  }
   return norm;
 }
 
@@ -323,23 +311,7 @@ vtkSmartPointer<vtkPolyData> sliced_volume(vtkDataSet* weighted, vtkDataArray* w
   if (gradient)
   {
     // the 3D gradient of the volume's field (on the rest geometry), not the surface's
-    vtkNew<vtkGradientFilter> filter;
-    filter->SetInputData(volume);
-    filter->SetInputScalars(vtkDataObject::FIELD_ASSOCIATION_POINTS, "weight");
-    filter->SetResultArrayName("weight_gradient");
-    filter->Update();
-    vtkDataArray* g =
-      vtkDataSet::SafeDownCast(filter->GetOutput())->GetPointData()->GetArray("weight_gradient");
-    auto norm = vtkSmartPointer<vtkDoubleArray>::New();
-    norm->SetName("gradient_norm");
-    norm->SetNumberOfTuples(volume->GetNumberOfPoints());
-    for (vtkIdType i = 0; i < volume->GetNumberOfPoints(); ++i)
-    {
-      double v[3];
-      g->GetTuple(i, v);
-      norm->SetValue(i, vtkMath::Norm(v));
-    }
-    volume->GetPointData()->AddArray(norm);
+    volume->GetPointData()->AddArray(gradient_norm(volume));
     volume->GetPointData()->SetActiveScalars("gradient_norm");
   }
   if (auto* set = vtkPointSet::SafeDownCast(volume); set && posed_points)

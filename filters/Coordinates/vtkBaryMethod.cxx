@@ -73,6 +73,21 @@ bary::BBWOptions bbw_options(const vtkBaryMethodParameters& parameters)
   return options;
 }
 
+/// Mesh-vertex weights @p W on (V, T) interpolated at @p points (the outside policy of
+/// @p parameters; progress 0.95-1); fills the report's locations.
+bary::DenseWeights interpolate_at_points(const Eigen::MatrixXd& V, const Eigen::MatrixXi& T,
+  const bary::DenseWeights& W, const Eigen::MatrixXd& points,
+  const vtkBaryMethodParameters& parameters, const bary::ProgressCallback& progress,
+  vtkBaryMethodReport* report)
+{
+  const bary::MeshPointLocator locator(V, T);
+  const bary::OutsidePolicy policy = outside_policy(parameters);
+  bary::MeshPointLocator::Result at_points =
+    locator.interpolate(W, points, policy, slice(progress, 0.95, 1.0));
+  report_outside(report, points.rows(), at_points.outside, policy);
+  return std::move(at_points.W);
+}
+
 /// BBW on the mesh (V, T), then interpolated at @p points; fills the report.
 bary::DenseWeights solve_bbw_and_interpolate(const Eigen::MatrixXd& V, const Eigen::MatrixXi& T,
   const bary::BBWHandles& handles, const Eigen::MatrixXd& points,
@@ -81,11 +96,8 @@ bary::DenseWeights solve_bbw_and_interpolate(const Eigen::MatrixXd& V, const Eig
 {
   const bary::BBWResult result =
     bary::bounded_biharmonic_weights(V, T, handles, bbw_options(parameters), slice(progress, begin, 0.95));
-  const bary::MeshPointLocator locator(V, T);
-  const bary::OutsidePolicy policy = outside_policy(parameters);
-  bary::MeshPointLocator::Result at_points =
-    locator.interpolate(result.W, points, policy, slice(progress, 0.95, 1.0));
-  report_outside(report, points.rows(), at_points.outside, policy);
+  bary::DenseWeights at_points =
+    interpolate_at_points(V, T, result.W, points, parameters, progress, report);
   if (report)
   {
     auto& st = report->Statistics;
@@ -121,7 +133,7 @@ bary::DenseWeights solve_bbw_and_interpolate(const Eigen::MatrixXd& V, const Eig
     st.emplace_back("converged", result.converged ? 1.0 : 0.0);
     st.emplace_back("solve_seconds", result.seconds);
   }
-  return std::move(at_points.W);
+  return at_points;
 }
 
 /// Enclosed area (2D) or volume (3D) of a cage, for size bounds before meshing.
@@ -383,11 +395,8 @@ bary::DenseWeights vtkBaryMethod::Compute(const vtkBaryCage& cage,
           message + "; raise LBCMaximumIterations (--max-iterations) or loosen "
                     "LBCPrimalTolerance / LBCDualTolerance (--primal-tolerance, --dual-tolerance)");
       }
-      const bary::MeshPointLocator locator(mesh.V, mesh.T);
-      const bary::OutsidePolicy policy = outside_policy(parameters);
-      bary::MeshPointLocator::Result at_points =
-        locator.interpolate(result.W, points, policy, slice(progress, 0.95, 1.0));
-      report_outside(report, points.rows(), at_points.outside, policy);
+      bary::DenseWeights at_points =
+        interpolate_at_points(mesh.V, mesh.T, result.W, points, parameters, progress, report);
       if (report)
       {
         auto& st = report->Statistics;
@@ -410,7 +419,7 @@ bary::DenseWeights vtkBaryMethod::Compute(const vtkBaryCage& cage,
         st.emplace_back("admm_seconds", result.admm_seconds);
         st.emplace_back("solve_seconds", result.seconds);
       }
-      return std::move(at_points.W);
+      return at_points;
     }
     default:
       throw bary::Error(bary::ErrorCode::InvalidArgument,

@@ -8,6 +8,8 @@
 #include "vtkDoubleArray.h"
 #include "vtkNew.h"
 #include "vtkPointData.h"
+#include "vtkPointSet.h"
+#include "vtkPolyData.h"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -1233,4 +1235,90 @@ TEST_F(CLI, LocalityStatisticsOfTwoMethodsOnTheBundled2DCage)
   EXPECT_EQ(run("stats --input " + out("mvc.vtp") + " --input " + out("harmonic.vtp")).code, 2);
   ExpectError(run("stats --locality --input " + out("mvc.vtp") + " --array Nope"),
     "no point-data array 'Nope'");
+}
+
+TEST_F(CLI, FieldsGradientNormsAndLevelSetsOfLinearFields)
+{
+  // two linear fields on the gingerbread triangles: their gradients are exact on every
+  // triangle, so VTK's gradient filter must give |grad| = sqrt(13) and 1 everywhere, and the
+  // level sets of w1 = 0.5 - x are the lines x = 0.5 - level
+  vtkSmartPointer<vtkDataSet> mesh = vtkBaryDataIO::Read(data("model2d.obj"));
+  vtkNew<vtkDoubleArray> w;
+  w->SetName("Weights");
+  w->SetNumberOfComponents(2);
+  w->SetNumberOfTuples(mesh->GetNumberOfPoints());
+  for (vtkIdType i = 0; i < mesh->GetNumberOfPoints(); ++i)
+  {
+    double p[3];
+    mesh->GetPoint(i, p);
+    w->SetComponent(i, 0, 2.0 * p[0] + 3.0 * p[1]);
+    w->SetComponent(i, 1, 0.5 - p[0]);
+  }
+  mesh->GetPointData()->AddArray(w);
+  vtkBaryDataIO::Write(mesh, out("linear.vtp"));
+  const CommandResult r = run("fields --input " + out("linear.vtp") + " --output " +
+    out("gradient.vtp") + " --level-sets " + out("levels.vtp") +
+    " --control 1 --level 0.3 --level 0.6 --json");
+  ASSERT_EQ(r.code, 0) << r.output;
+  const auto summary = nlohmann::json::parse(r.output);
+  EXPECT_EQ(summary["level_sets"]["levels"].size(), 2u);
+
+  vtkSmartPointer<vtkDataSet> g = vtkBaryDataIO::Read(out("gradient.vtp"));
+  vtkDataArray* norm = g->GetPointData()->GetArray("WeightsGradientNorm");
+  ASSERT_NE(norm, nullptr);
+  ASSERT_EQ(norm->GetNumberOfComponents(), 2);
+  double worst = 0.0;
+  for (vtkIdType i = 0; i < norm->GetNumberOfTuples(); ++i)
+  {
+    worst = std::max(worst, std::abs(norm->GetComponent(i, 0) - std::sqrt(13.0)));
+    worst = std::max(worst, std::abs(norm->GetComponent(i, 1) - 1.0));
+  }
+  EXPECT_LT(worst, 1e-6); // single-precision points of the .obj model (1e-7 relative)
+
+  vtkSmartPointer<vtkDataSet> levels = vtkBaryDataIO::Read(out("levels.vtp"));
+  ASSERT_GT(levels->GetNumberOfPoints(), 20);
+  int at_03 = 0, at_06 = 0;
+  for (vtkIdType i = 0; i < levels->GetNumberOfPoints(); ++i)
+  {
+    double p[3];
+    levels->GetPoint(i, p);
+    const bool a = std::abs(p[0] - 0.2) < 1e-6, b = std::abs(p[0] + 0.1) < 1e-6;
+    EXPECT_TRUE(a || b) << "level-set point at x = " << p[0];
+    at_03 += a;
+    at_06 += b;
+  }
+  EXPECT_GT(at_03, 5);
+  EXPECT_GT(at_06, 5);
+}
+
+TEST_F(CLI, FieldsOfComputedWeightsAndErrors)
+{
+  ASSERT_EQ(run("weights -q --cage " + data("cage2d.obj") + " --points " + data("model2d.obj") +
+              " --output " + out("w.vtp")).code, 0);
+  // default level: the influence threshold 1e-3 / 20
+  CommandResult r = run("fields --input " + out("w.vtp") + " --output " + out("g.vtp") +
+    " --level-sets " + out("l.vtp") + " --control 14 --json");
+  ASSERT_EQ(r.code, 0) << r.output;
+  const auto summary = nlohmann::json::parse(r.output);
+  EXPECT_DOUBLE_EQ(summary["level_sets"]["levels"][0].get<double>(), 5e-5);
+  EXPECT_GT(summary["level_sets"]["cells"].get<int>(), 0);
+  ASSERT_EQ(summary["gradient_norm"]["max"].size(), 20u);
+  for (const auto& v : summary["gradient_norm"]["max"])
+    EXPECT_TRUE(std::isfinite(v.get<double>()) && v.get<double>() > 0.0);
+
+  // a point cloud has no gradient; a missing component; nothing to write; a missing array
+  vtkSmartPointer<vtkDataSet> mesh = vtkBaryDataIO::Read(out("w.vtp"));
+  vtkNew<vtkPolyData> cloud;
+  cloud->SetPoints(vtkPointSet::SafeDownCast(mesh)->GetPoints());
+  cloud->GetPointData()->ShallowCopy(mesh->GetPointData());
+  vtkBaryDataIO::Write(cloud, out("points_only.vtp"));
+  ExpectError(run("fields --input " + out("points_only.vtp") + " --output " + out("x.vtp")),
+    "gradient norms need a mesh");
+  ExpectError(run("fields --input " + out("w.vtp") + " --level-sets " + out("x.vtp") +
+                " --control 20"),
+    "control 20 does not exist");
+  ExpectError(run("fields --input " + out("w.vtp") + " --output " + out("x.vtp") + " --array W"),
+    "no point-data array 'W'");
+  EXPECT_EQ(run("fields --input " + out("w.vtp")).code, 2);
+  EXPECT_FALSE(fs::exists(out("x.vtp")));
 }
