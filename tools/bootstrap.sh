@@ -90,8 +90,11 @@ case "$cmd" in
     with_display ctest --test-dir "$ROOT/build" --output-on-failure -j "$JOBS" --timeout 600
     if [ "${BARYLAB_SKIP_ASAN:-0}" != "1" ]; then
       log "AddressSanitizer + UndefinedBehaviorSanitizer build of core and filter tests"
+      # -O1 -g1 (line tables): the sanitizers' stack traces keep file:line, the tree builds in
+      # about 7.5 min instead of 10 on 2 cores, and the tests run as fast (75 s)
       configure_and_build "$ROOT/build-asan" -DBARYLAB_SANITIZE=ON -DBARYLAB_BUILD_APP=OFF \
-        -DBARYLAB_BUILD_BENCHMARKS=OFF -DCMAKE_BUILD_TYPE=RelWithDebInfo
+        -DBARYLAB_BUILD_BENCHMARKS=OFF -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+        "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -g1 -DNDEBUG"
       # libgomp keeps thread pools alive at exit; leaks inside it are not ours
       ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1:abort_on_error=0} \
       UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1} \
