@@ -63,33 +63,6 @@ void validate_options(const BBWOptions& o)
       std::to_string(o.threads));
 }
 
-/// Connected component of every vertex (union-find over the elements).
-Eigen::VectorXi connected_components(Index n, const Eigen::MatrixXi& T)
-{
-  std::vector<int> parent(static_cast<std::size_t>(n));
-  std::iota(parent.begin(), parent.end(), 0);
-  auto find = [&](int i) {
-    while (parent[static_cast<std::size_t>(i)] != i)
-    {
-      parent[static_cast<std::size_t>(i)] =
-        parent[static_cast<std::size_t>(parent[static_cast<std::size_t>(i)])];
-      i = parent[static_cast<std::size_t>(i)];
-    }
-    return i;
-  };
-  for (Index t = 0; t < T.rows(); ++t)
-    for (Index k = 1; k < T.cols(); ++k)
-    {
-      const int a = find(T(t, 0)), b = find(T(t, k));
-      if (a != b)
-        parent[static_cast<std::size_t>(std::max(a, b))] = std::min(a, b);
-    }
-  Eigen::VectorXi component(n);
-  for (Index i = 0; i < n; ++i)
-    component(i) = find(static_cast<int>(i));
-  return component;
-}
-
 /// The bound-constrained QP options of a BBW solve.
 BoxQPOptions qp_options(const BBWOptions& o, const ProgressReporter& reporter)
 {

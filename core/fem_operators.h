@@ -74,4 +74,9 @@ Eigen::SparseMatrix<double> mass_matrix(const Eigen::MatrixXd& V, const Eigen::M
 /// @throws Error as listed in the file comment.
 Eigen::SparseMatrix<double> gradient_operator(const Eigen::MatrixXd& V, const Eigen::MatrixXi& T);
 
+/// Connected component of each of the @p n vertices of the elements @p T (union-find; vertices
+/// in no element are components of their own): ids 0 .. #components-1 in order of each
+/// component's smallest vertex. Indices in T must be in [0, n) (not checked).
+Eigen::VectorXi connected_components(Index n, const Eigen::MatrixXi& T);
+
 } // namespace bary

@@ -24,41 +24,6 @@ double seconds_since(std::chrono::steady_clock::time_point t0)
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
-/// Connected component of every vertex (union-find over the elements); ids 0 .. #components-1
-/// in order of each component's smallest vertex.
-Eigen::VectorXi connected_components(Index n, const Eigen::MatrixXi& T)
-{
-  std::vector<int> parent(static_cast<std::size_t>(n));
-  std::iota(parent.begin(), parent.end(), 0);
-  auto find = [&parent](int v) {
-    while (parent[static_cast<std::size_t>(v)] != v)
-    {
-      parent[static_cast<std::size_t>(v)] =
-        parent[static_cast<std::size_t>(parent[static_cast<std::size_t>(v)])];
-      v = parent[static_cast<std::size_t>(v)];
-    }
-    return v;
-  };
-  for (Index t = 0; t < T.rows(); ++t)
-    for (Index k = 1; k < T.cols(); ++k)
-    {
-      const int a = find(T(t, 0)), b = find(T(t, k));
-      if (a != b)
-        parent[static_cast<std::size_t>(std::max(a, b))] = std::min(a, b);
-    }
-  Eigen::VectorXi component(n);
-  std::vector<int> id(static_cast<std::size_t>(n), -1);
-  int next = 0;
-  for (Index v = 0; v < n; ++v)
-  {
-    const int root = find(static_cast<int>(v));
-    if (id[static_cast<std::size_t>(root)] < 0)
-      id[static_cast<std::size_t>(root)] = next++;
-    component(v) = id[static_cast<std::size_t>(root)];
-  }
-  return component;
-}
-
 /// Mean length of the mesh's edges, each edge counted once.
 double average_edge_length(const Eigen::MatrixXd& V, const Eigen::MatrixXi& T)
 {

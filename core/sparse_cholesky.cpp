@@ -609,6 +609,26 @@ void supernodal_solve(const SupernodalFactor& f, Eigen::MatrixXd& X)
 }
 
 
+/// A given fill-reducing ordering must be a permutation of 0 .. n-1.
+void check_ordering(const Eigen::VectorXi& ordering, Index n)
+{
+  if (ordering.size() != n)
+    throw Error(ErrorCode::SizeMismatch,
+      "the ordering has " + std::to_string(ordering.size()) + " entries for a matrix of size " +
+        std::to_string(n) + " (give n entries or none)");
+  std::vector<char> seen(static_cast<std::size_t>(n), 0);
+  for (Index k = 0; k < n; ++k)
+  {
+    const int o = ordering(k);
+    if (o < 0 || o >= n || seen[static_cast<std::size_t>(o)])
+      throw Error(ErrorCode::InvalidArgument,
+        "the ordering is not a permutation of 0 .. " + std::to_string(n - 1) + ": entry " +
+          std::to_string(k) + " is " + std::to_string(o) +
+          (o >= 0 && o < n ? " again" : ", out of range"));
+    seen[static_cast<std::size_t>(o)] = 1;
+  }
+}
+
 /// Symbolic and numeric supernodal factorization of M = A(sub, sub) (M = A for an empty
 /// @p sub) in the elimination order @p order (over M's rows) with M's scaling @p scale (per row
 /// of M); reports the entries, flops and the smallest pivot with its row of M. Throws "not
@@ -867,23 +887,7 @@ void SparseCholesky::compute(
   const Eigen::VectorXi& ordering = settings.ordering;
   const bool ordered = ordering.size() != 0;
   if (ordered)
-  {
-    if (ordering.size() != n)
-      throw Error(ErrorCode::SizeMismatch,
-        "the ordering has " + std::to_string(ordering.size()) + " entries for a matrix of size " +
-          std::to_string(n) + " (give n entries or none)");
-    std::vector<char> seen(static_cast<std::size_t>(n), 0);
-    for (Index k = 0; k < n; ++k)
-    {
-      const int o = ordering(k);
-      if (o < 0 || o >= n || seen[static_cast<std::size_t>(o)])
-        throw Error(ErrorCode::InvalidArgument,
-          "the ordering is not a permutation of 0 .. " + std::to_string(n - 1) + ": entry " +
-            std::to_string(k) + " is " + std::to_string(o) +
-            (o >= 0 && o < n ? " again" : ", out of range"));
-      seen[static_cast<std::size_t>(o)] = 1;
-    }
-  }
+    check_ordering(ordering, n);
 
   // Finite entries (unless trusted) and a positive diagonal.
   Eigen::VectorXd diagonal = Eigen::VectorXd::Zero(n);
@@ -1102,23 +1106,7 @@ void SparseCholesky::compute_principal(
   // Supernodal backend on a trusted A: M is read from A.
   const Eigen::VectorXi& ordering = settings.ordering;
   if (ordering.size() != 0)
-  {
-    if (ordering.size() != m)
-      throw Error(ErrorCode::SizeMismatch,
-        "the ordering has " + std::to_string(ordering.size()) + " entries for a matrix of size " +
-          std::to_string(m) + " (give n entries or none)");
-    std::vector<char> seen(static_cast<std::size_t>(m), 0);
-    for (Index k = 0; k < m; ++k)
-    {
-      const int o = ordering(k);
-      if (o < 0 || o >= m || seen[static_cast<std::size_t>(o)])
-        throw Error(ErrorCode::InvalidArgument,
-          "the ordering is not a permutation of 0 .. " + std::to_string(m - 1) + ": entry " +
-            std::to_string(k) + " is " + std::to_string(o) +
-            (o >= 0 && o < m ? " again" : ", out of range"));
-      seen[static_cast<std::size_t>(o)] = 1;
-    }
-  }
+    check_ordering(ordering, m);
   auto id = [&rows](Index i) { return std::to_string(rows(i)); };
   auto impl = std::make_shared<Impl>();
   impl->n = m;

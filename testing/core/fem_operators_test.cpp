@@ -627,3 +627,21 @@ TEST(FemValidation, UnreferencedVerticesGiveZeroRows)
 }
 
 } // namespace
+
+TEST(ConnectedComponents, TwoPiecesAndALooseVertex)
+{
+  // triangles {0,1,2}, {2,3,4} (one piece), {5,6,7} (another); vertex 8 in no element
+  Eigen::MatrixXi T(3, 3);
+  T << 0, 1, 2, 2, 3, 4, 7, 6, 5;
+  const Eigen::VectorXi c = bary::connected_components(9, T);
+  ASSERT_EQ(c.size(), 9);
+  for (int v : { 0, 1, 2, 3, 4 })
+    EXPECT_EQ(c(v), 0) << v;
+  for (int v : { 5, 6, 7 })
+    EXPECT_EQ(c(v), 1) << v; // numbered by smallest vertex
+  EXPECT_EQ(c(8), 2);
+  // tetrahedra: one piece through a shared vertex
+  Eigen::MatrixXi K(2, 4);
+  K << 0, 1, 2, 3, 3, 4, 5, 6;
+  EXPECT_EQ(bary::connected_components(7, K).maxCoeff(), 0);
+}
