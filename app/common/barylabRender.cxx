@@ -196,23 +196,8 @@ void add_cage_actors(vtkRenderer* renderer, vtkPolyData* rest_cage, vtkPointSet*
   }
 
   const double radius = 0.012 * cage.Cage.diameter();
-  vtkNew<vtkPolyData> verts;
-  verts->SetPoints(points);
-  vtkNew<vtkSphereSource> sphere;
-  sphere->SetRadius(radius);
-  sphere->SetThetaResolution(12);
-  sphere->SetPhiResolution(12);
-  vtkNew<vtkGlyph3D> glyphs;
-  glyphs->SetInputData(verts);
-  glyphs->SetSourceConnection(sphere->GetOutputPort());
-  glyphs->ScalingOff();
-  vtkNew<vtkPolyDataMapper> gm;
-  gm->SetInputConnection(glyphs->GetOutputPort());
-  gm->ScalarVisibilityOff();
-  vtkNew<vtkActor> ga;
-  ga->SetMapper(gm);
-  ga->GetProperty()->SetColor(0.2, 0.35, 0.8);
-  renderer->AddActor(ga);
+  const double blue[3] = { 0.2, 0.35, 0.8 };
+  AddSpheres(renderer, points, radius, blue);
 
   if (options.component >= 0 && options.component < points->GetNumberOfPoints())
   {
@@ -384,6 +369,27 @@ void add_title(vtkRenderer* renderer, const std::string& text)
   renderer->AddViewProp(title);
 }
 } // namespace
+
+void AddSpheres(vtkRenderer* renderer, vtkPoints* points, double radius, const double rgb[3])
+{
+  vtkNew<vtkPolyData> verts;
+  verts->SetPoints(points);
+  vtkNew<vtkSphereSource> sphere;
+  sphere->SetRadius(radius);
+  sphere->SetThetaResolution(12);
+  sphere->SetPhiResolution(12);
+  vtkNew<vtkGlyph3D> glyphs;
+  glyphs->SetInputData(verts);
+  glyphs->SetSourceConnection(sphere->GetOutputPort());
+  glyphs->ScalingOff();
+  vtkNew<vtkPolyDataMapper> mapper;
+  mapper->SetInputConnection(glyphs->GetOutputPort());
+  mapper->ScalarVisibilityOff();
+  vtkNew<vtkActor> actor;
+  actor->SetMapper(mapper);
+  actor->GetProperty()->SetColor(rgb[0], rgb[1], rgb[2]);
+  renderer->AddActor(actor);
+}
 
 bool HasDisplay()
 {

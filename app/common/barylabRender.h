@@ -12,9 +12,11 @@
 #include <vector>
 
 class vtkDataSet;
+class vtkPoints;
 class vtkPointSet;
 class vtkPolyData;
 class vtkRenderWindow;
+class vtkRenderer;
 
 namespace barylab
 {
@@ -63,6 +65,10 @@ vtkSmartPointer<vtkPolyData> PoseHandles(vtkPolyData* handles, const std::vector
 
 /// Renders @p window and writes it as PNG to @p path (atomically). Throws bary::Error(Io).
 void WritePNG(vtkRenderWindow* window, const std::string& path);
+
+/// One sphere of @p radius at each of @p points (one glyph actor), in colour @p rgb: how cages'
+/// and free control points are drawn here and in the viewer.
+void AddSpheres(vtkRenderer* renderer, vtkPoints* points, double radius, const double rgb[3]);
 
 /// True if an X display is available (DISPLAY is set); rendering needs one.
 bool HasDisplay();

@@ -11,6 +11,7 @@
 #include "vtkFloatArray.h"
 #include "vtkTexture.h"
 #include "barylabPipeline.h"
+#include "barylabRender.h"
 #include "vtkActor.h"
 #include "vtkCamera.h"
 #include "vtkCellArray.h"
@@ -24,7 +25,6 @@
 #include "vtkDataSetSurfaceFilter.h"
 #include "vtkDoubleArray.h"
 #include "vtkExtractEdges.h"
-#include "vtkGlyph3D.h"
 #include "vtkGradientFilter.h"
 #include "vtkIdTypeArray.h"
 #include "vtkLookupTable.h"
@@ -38,7 +38,6 @@
 #include "vtkProperty.h"
 #include "vtkRenderer.h"
 #include "vtkScalarBarActor.h"
-#include "vtkSphereSource.h"
 #include "vtkTextActor.h"
 #include "vtkTableBasedClipDataSet.h"
 #include "vtkTextProperty.h"
@@ -148,27 +147,6 @@ double diameter_of(vtkPoints* points)
     (b[5] - b[4]) * (b[5] - b[4]));
 }
 
-void add_spheres(vtkRenderer* renderer, vtkPoints* points, double radius, const double rgb[3])
-{
-  vtkNew<vtkPolyData> verts;
-  verts->SetPoints(points);
-  vtkNew<vtkSphereSource> sphere;
-  sphere->SetRadius(radius);
-  sphere->SetThetaResolution(12);
-  sphere->SetPhiResolution(12);
-  vtkNew<vtkGlyph3D> glyphs;
-  glyphs->SetInputData(verts);
-  glyphs->SetSourceConnection(sphere->GetOutputPort());
-  glyphs->ScalingOff();
-  vtkNew<vtkPolyDataMapper> mapper;
-  mapper->SetInputConnection(glyphs->GetOutputPort());
-  mapper->ScalarVisibilityOff();
-  vtkNew<vtkActor> actor;
-  actor->SetMapper(mapper);
-  actor->GetProperty()->SetColor(rgb[0], rgb[1], rgb[2]);
-  renderer->AddActor(actor);
-}
-
 void add_lines(vtkRenderer* renderer, vtkPoints* points, vtkCellArray* lines, double width,
   const double rgb[3])
 {
@@ -242,9 +220,9 @@ void add_controls(vtkRenderer* renderer, vtkPolyData* controls, vtkPoints* posed
   }
   else if (options.component >= 0 && options.component < points->GetNumberOfPoints())
     selected->InsertNextPoint(points->GetPoint(options.component));
-  add_spheres(renderer, points, radius, blue);
+  AddSpheres(renderer, points, radius, blue);
   if (selected->GetNumberOfPoints() > 0)
-    add_spheres(renderer, selected, 2.0 * radius, red);
+    AddSpheres(renderer, selected, 2.0 * radius, red);
 }
 
 /// True when @p data has cells of dimension 3 (a tetrahedral or other volume mesh).
