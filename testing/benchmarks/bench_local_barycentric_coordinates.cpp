@@ -12,6 +12,8 @@
 #include "core/local_barycentric_coordinates.h"
 #include "core/locality_statistics.h"
 
+#include "cage_catalogue.h"
+
 #include <benchmark/benchmark.h>
 
 #include <cmath>
@@ -45,67 +47,16 @@ struct Reference
 Reference load_reference(const std::string& name)
 {
   Reference ref;
-  const std::string dir = std::string(BARYLAB_SHARED_DIR) + "/lbc/";
-  std::ifstream mesh(dir + "reference/" + name + ".mesh.obj"),
-    control(dir + "reference/" + name + ".ctrl_idx.txt"),
-    weights(dir + "reference/" + name + ".weights.txt"),
-    cage(dir + "cages/" + name + "-control-edgeset.obj");
-  if (!mesh || !control || !weights || !cage)
+  bary::test::LBCReferenceRun run;
+  if (!bary::test::read_lbc_reference(name, run))
   {
-    ref.error = "shared data not found in " + dir;
+    ref.error = "the LBC authors' reference run '" + name + "' not found in " +
+      std::string(BARYLAB_SHARED_DIR) + "/lbc";
     return ref;
   }
-  auto read_obj = [](std::ifstream& in, std::vector<Eigen::RowVector2d>& v,
-                    std::vector<Eigen::RowVector3i>& t) {
-    std::string line;
-    while (std::getline(in, line))
-    {
-      std::istringstream s(line);
-      std::string tag;
-      s >> tag;
-      if (tag == "v")
-      {
-        double x, y;
-        s >> x >> y;
-        v.emplace_back(x, y);
-      }
-      else if (tag == "f")
-      {
-        int a, b, c;
-        s >> a >> b >> c;
-        t.emplace_back(a - 1, b - 1, c - 1);
-      }
-    }
-  };
-  std::vector<Eigen::RowVector2d> v, cv;
-  std::vector<Eigen::RowVector3i> t, unused;
-  read_obj(mesh, v, t);
-  read_obj(cage, cv, unused);
-  Eigen::MatrixXd V(static_cast<Index>(v.size()), 2);
-  for (std::size_t k = 0; k < v.size(); ++k)
-    V.row(static_cast<Index>(k)) = v[k];
-  Eigen::MatrixXi T(static_cast<Index>(t.size()), 3);
-  for (std::size_t k = 0; k < t.size(); ++k)
-    T.row(static_cast<Index>(k)) = t[k];
-  bary::Cage c;
-  c.V.resize(static_cast<Index>(cv.size()), 2);
-  for (std::size_t k = 0; k < cv.size(); ++k)
-    c.V.row(static_cast<Index>(k)) = cv[k];
-  std::vector<int> ids;
-  int id;
-  while (control >> id)
-    ids.push_back(id);
-  const Eigen::VectorXi cvx = Eigen::Map<Eigen::VectorXi>(ids.data(), static_cast<Index>(ids.size()));
-  ref.mesh = bary::domain_mesh_from_simplices(c, V, T, cvx, 1e-9);
-  std::string line;
-  std::getline(weights, line);
-  ref.W.resize(V.rows(), cvx.size());
-  for (Index r = 0; r < ref.W.rows(); ++r)
-    for (Index k = 0; k < ref.W.cols(); ++k)
-      weights >> ref.W(r, k);
-  ref.ok = static_cast<bool>(weights);
-  if (!ref.ok)
-    ref.error = "could not read " + dir + "reference/" + name + ".weights.txt";
+  ref.mesh = bary::domain_mesh_from_simplices(run.cage, run.V, run.T, run.control, 1e-9);
+  ref.W = std::move(run.W);
+  ref.ok = true;
   return ref;
 }
 

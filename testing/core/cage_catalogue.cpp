@@ -186,6 +186,53 @@ std::string shared_cage_directory()
   return std::string(BARYLAB_SHARED_DIR) + "/lbc/cages";
 }
 
+bool read_lbc_reference(const std::string& name, LBCReferenceRun& run)
+{
+  const std::string dir = std::string(BARYLAB_SHARED_DIR) + "/lbc/";
+  std::ifstream mesh(dir + "reference/" + name + ".mesh.obj"),
+    control(dir + "reference/" + name + ".ctrl_idx.txt"),
+    weights(dir + "reference/" + name + ".weights.txt");
+  const std::string cage = dir + "cages/" + name + "-control-edgeset.obj";
+  if (!mesh || !control || !weights || !std::filesystem::exists(cage))
+    return false;
+  std::vector<std::array<double, 3>> v;
+  std::vector<std::array<int, 3>> t;
+  std::string line;
+  while (std::getline(mesh, line))
+  {
+    std::istringstream s(line);
+    std::string tag;
+    s >> tag;
+    if (tag == "v")
+    {
+      std::array<double, 3> p{ 0, 0, 0 };
+      s >> p[0] >> p[1];
+      v.push_back(p);
+    }
+    else if (tag == "f")
+    {
+      std::array<int, 3> f{ 0, 0, 0 };
+      s >> f[0] >> f[1] >> f[2];
+      t.push_back({ f[0] - 1, f[1] - 1, f[2] - 1 });
+    }
+  }
+  run.V = rows_to_matrix(v, 2);
+  run.T.resize(static_cast<Eigen::Index>(t.size()), 3);
+  for (std::size_t k = 0; k < t.size(); ++k)
+    run.T.row(static_cast<Eigen::Index>(k)) << t[k][0], t[k][1], t[k][2];
+  std::vector<int> ids;
+  for (int id; control >> id;)
+    ids.push_back(id);
+  run.control = Eigen::Map<Eigen::VectorXi>(ids.data(), static_cast<Eigen::Index>(ids.size()));
+  std::getline(weights, line); // header comment
+  run.W.resize(run.V.rows(), run.control.size());
+  for (Eigen::Index r = 0; r < run.W.rows(); ++r)
+    for (Eigen::Index c = 0; c < run.W.cols(); ++c)
+      weights >> run.W(r, c);
+  run.cage = read_polygon_obj(cage);
+  return static_cast<bool>(weights);
+}
+
 std::vector<CatalogueCage> builtin_cages_2d()
 {
   std::vector<CatalogueCage> out;

@@ -48,6 +48,20 @@ Cage read_polygon_obj(const std::string& path);
 /// Folder of the LBC authors' example cages (BARYLAB_SHARED_DIR/lbc/cages).
 std::string shared_cage_directory();
 
+/// One of the LBC authors' reference runs (BARYLAB_SHARED_DIR/lbc/reference): their
+/// triangulation, the mesh index of each cage vertex, their weights (#V by #C) and the cage.
+struct LBCReferenceRun
+{
+  Eigen::MatrixXd V;
+  Eigen::MatrixXi T;
+  Eigen::VectorXi control;
+  Eigen::MatrixXd W;
+  Cage cage;
+};
+/// Reads reference run @p name (Gil_Gecko, LBClogo, cactus, woody); false when its files are
+/// absent or the weights cannot be read.
+bool read_lbc_reference(const std::string& name, LBCReferenceRun& run);
+
 /// The built-in 2D cages: square, regular 64-gon, 10-vertex star (radii 1 and 0.3), U, L and
 /// the clockwise star.
 std::vector<CatalogueCage> builtin_cages_2d();

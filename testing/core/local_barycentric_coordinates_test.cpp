@@ -679,68 +679,10 @@ TEST(LBC, BackendsAndAndersonReachTheSameOptimum)
 
 // --- the LBC authors' reference weights ----------------------------------------------------------
 
-struct Reference
-{
-  Eigen::MatrixXd V;
-  Eigen::MatrixXi T;
-  Eigen::VectorXi control;
-  DenseWeights W;
-  Cage cage;
-};
-
-bool read_reference(const std::string& name, Reference& ref)
-{
-  const std::string dir = std::string(BARYLAB_SHARED_DIR) + "/lbc/";
-  std::ifstream mesh(dir + "reference/" + name + ".mesh.obj"),
-    control(dir + "reference/" + name + ".ctrl_idx.txt"),
-    weights(dir + "reference/" + name + ".weights.txt");
-  if (!mesh || !control || !weights)
-    return false;
-  std::vector<Eigen::RowVector2d> v;
-  std::vector<Eigen::RowVector3i> t;
-  std::string line;
-  while (std::getline(mesh, line))
-  {
-    std::istringstream s(line);
-    std::string tag;
-    s >> tag;
-    if (tag == "v")
-    {
-      double x, y;
-      s >> x >> y;
-      v.emplace_back(x, y);
-    }
-    else if (tag == "f")
-    {
-      int a, b, c;
-      s >> a >> b >> c;
-      t.emplace_back(a - 1, b - 1, c - 1);
-    }
-  }
-  ref.V.resize(static_cast<Index>(v.size()), 2);
-  for (std::size_t k = 0; k < v.size(); ++k)
-    ref.V.row(static_cast<Index>(k)) = v[k];
-  ref.T.resize(static_cast<Index>(t.size()), 3);
-  for (std::size_t k = 0; k < t.size(); ++k)
-    ref.T.row(static_cast<Index>(k)) = t[k];
-  std::vector<int> ids;
-  int id;
-  while (control >> id)
-    ids.push_back(id);
-  ref.control = Eigen::Map<Eigen::VectorXi>(ids.data(), static_cast<Index>(ids.size()));
-  std::getline(weights, line); // header comment
-  ref.W.resize(ref.V.rows(), ref.control.size());
-  for (Index r = 0; r < ref.W.rows(); ++r)
-    for (Index c = 0; c < ref.W.cols(); ++c)
-      weights >> ref.W(r, c);
-  ref.cage = test::read_polygon_obj(dir + "cages/" + name + "-control-edgeset.obj");
-  return static_cast<bool>(weights);
-}
-
 TEST(LBCReference, LBClogoObjectiveNoWorseThanTheAuthorsSolver)
 {
-  Reference ref;
-  if (!read_reference("LBClogo", ref))
+  test::LBCReferenceRun ref;
+  if (!test::read_lbc_reference("LBClogo", ref))
     GTEST_SKIP() << "shared data not found in " << BARYLAB_SHARED_DIR << "/lbc";
   const DomainMesh mesh = domain_mesh_from_simplices(ref.cage, ref.V, ref.T, ref.control, 1e-9);
   // The authors' code normalises the distances by one maximum over all control points.
