@@ -551,6 +551,12 @@ vtkDataArray* weights_array(vtkDataSet* data, const std::string& name)
   if (!w)
     throw bary::Error(bary::ErrorCode::InvalidArgument,
       "the dataset has no point-data array '" + name + "'");
+  for (vtkIdType p = 0; p < w->GetNumberOfTuples(); ++p)
+    for (int c = 0; c < w->GetNumberOfComponents(); ++c)
+      if (!std::isfinite(w->GetComponent(p, c)))
+        throw bary::Error(bary::ErrorCode::NonFinite,
+          "the weights of point " + std::to_string(p) + " hold NaN or infinity (weights outside "
+          "the domain computed with --outside nan?)");
   return w;
 }
 

@@ -1320,5 +1320,13 @@ TEST_F(CLI, FieldsOfComputedWeightsAndErrors)
   ExpectError(run("fields --input " + out("w.vtp") + " --output " + out("x.vtp") + " --array W"),
     "no point-data array 'W'");
   EXPECT_EQ(run("fields --input " + out("w.vtp")).code, 2);
+  // NaN weights (e.g. points outside, computed with --outside nan)
+  vtkDataArray* weights = mesh->GetPointData()->GetArray("Weights");
+  weights->SetComponent(5, 3, std::nan(""));
+  vtkBaryDataIO::Write(mesh, out("nan.vtp"));
+  ExpectError(run("fields --input " + out("nan.vtp") + " --output " + out("x.vtp")),
+    "the weights of point 5 hold NaN");
+  ExpectError(run("fields --input " + out("nan.vtp") + " --level-sets " + out("x.vtp")),
+    "the weights of point 5 hold NaN");
   EXPECT_FALSE(fs::exists(out("x.vtp")));
 }
