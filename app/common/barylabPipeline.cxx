@@ -84,98 +84,27 @@ void RunAlgorithm(vtkAlgorithm* algorithm, const RunCallbacks& callbacks, bary::
     throw bary::Error(bary::ErrorCode::Cancelled, "the computation was cancelled");
 }
 
-bool IsPointBasedMethod(const std::string& method)
+std::string MethodName(const WeightsParameters& parameters)
 {
-  return method == "tcc" || method == "scc";
+  return bary::method_info(parameters.method).name;
 }
 
-int MethodFromName(const std::string& name)
+bool IsPointBasedMethod(bary::MethodId method)
 {
-  const int m = vtkBaryCoordinates::GetMethodFromName(name.c_str());
-  if (m < 0)
-  {
-    std::string known;
-    for (int i = 0; i < vtkBaryCoordinates::NUMBER_OF_METHODS; ++i)
-      known += (i ? ", " : "") + std::string(vtkBaryCoordinates::GetMethodName(i));
-    throw bary::Error(bary::ErrorCode::InvalidArgument,
-      "unknown method '" + name + "' (available: " + known + ")");
-  }
-  return m;
+  return bary::method_info(method).controls == bary::ControlKind::FreePoints;
 }
 
 namespace
 {
-int OutsidePolicyFromName(const std::string& name)
-{
-  if (name == "error")
-    return vtkBaryCoordinates::OUTSIDE_ERROR;
-  if (name == "nearest")
-    return vtkBaryCoordinates::OUTSIDE_NEAREST;
-  if (name == "nan")
-    return vtkBaryCoordinates::OUTSIDE_NAN;
-  throw bary::Error(bary::ErrorCode::InvalidArgument,
-    "unknown outside policy '" + name + "' (available: error, nearest, nan)");
-}
-
-int LBCLocalityFromName(const std::string& name)
-{
-  if (name == "squared")
-    return vtkBaryCoordinates::LBC_LOCALITY_SQUARED;
-  if (name == "constant")
-    return vtkBaryCoordinates::LBC_LOCALITY_CONSTANT;
-  if (name == "linear")
-    return vtkBaryCoordinates::LBC_LOCALITY_LINEAR;
-  throw bary::Error(bary::ErrorCode::InvalidArgument,
-    "unknown LBC locality function '" + name + "' (available: squared, constant, linear)");
-}
-
-int LBCNormalizationFromName(const std::string& name)
-{
-  if (name == "per-control-point")
-    return vtkBaryCoordinates::LBC_NORMALIZE_PER_CONTROL_POINT;
-  if (name == "global")
-    return vtkBaryCoordinates::LBC_NORMALIZE_GLOBAL;
-  throw bary::Error(bary::ErrorCode::InvalidArgument,
-    "unknown LBC distance normalization '" + name + "' (available: per-control-point, global)");
-}
-
-/// @p value if it lies in [lo, hi], else a bary::Error naming the parameter (the filters
-/// clamp silently; the parameter object must not).
-double checked(const char* name, double value, double lo, double hi)
-{
-  if (!(value >= lo && value <= hi))
-    throw bary::Error(bary::ErrorCode::InvalidArgument,
-      std::string(name) + " = " + std::to_string(value) + " is out of range [" +
-        std::to_string(lo) + ", " + std::to_string(hi) + "]");
-  return value;
-}
-
-/// The settings every weights filter shares, from the parameter object.
+/// The method and settings of @p p on @p filter's weight method (ranges checked: the filters
+/// clamp silently, the parameter object must not), and the array name.
 template <class Filter>
 void Configure(Filter* filter, const WeightsParameters& p)
 {
-  filter->SetMethod(MethodFromName(p.method));
-  filter->SetCageDimension(p.cage_dimension);
-  filter->SetBoundaryTolerance(p.boundary_tolerance);
-  filter->SetValidateCage(p.validate_cage);
-  filter->SetNumberOfThreads(p.threads);
-  filter->SetWeightsArrayName(p.weights_name.c_str());
-  filter->SetTargetNumberOfCells(p.target_cells);
-  filter->SetMaximumCellSize(p.max_cell_size);
-  filter->SetInsertPointsIntoMesh(p.insert_points);
-  filter->SetOutsidePolicy(OutsidePolicyFromName(p.outside));
-  filter->SetBBWMode(p.bbw_fast ? vtkBaryCoordinates::BBW_FAST : vtkBaryCoordinates::BBW_COUPLED);
-  filter->SetLambda(p.lambda);
-  filter->SetLBCLocality(LBCLocalityFromName(p.lbc_locality));
-  filter->SetLBCRelaxedEpsilon(checked("lbc relaxed epsilon", p.lbc_relaxed_epsilon, 0.0, 1e300));
-  filter->SetLBCPrimalTolerance(checked("lbc primal tolerance", p.lbc_primal_tolerance, 1e-15, 0.5));
-  filter->SetLBCDualTolerance(checked("lbc dual tolerance", p.lbc_dual_tolerance, 1e-15, 0.5));
-  filter->SetLBCMaximumIterations(
-    static_cast<int>(checked("lbc max iterations", p.lbc_max_iterations, 1, 1e9)));
-  filter->SetLBCDistanceNormalization(LBCNormalizationFromName(p.lbc_distance_normalization));
-  filter->SetLBCBarycentricConstraints(!p.lbc_unconstrained);
+  vtkBaryWeightMethod* method = filter->GetWeightMethod();
+  method->SetSettings(p);
   if (p.user_weights.empty())
-    filter->SetUserWeights(nullptr);
+    method->SetUserWeights(nullptr);
   else
   {
     vtkNew<vtkDoubleArray> s;
@@ -183,8 +112,9 @@ void Configure(Filter* filter, const WeightsParameters& p)
     s->SetNumberOfTuples(static_cast<vtkIdType>(p.user_weights.size()));
     for (std::size_t i = 0; i < p.user_weights.size(); ++i)
       s->SetValue(static_cast<vtkIdType>(i), p.user_weights[i]);
-    filter->SetUserWeights(s);
+    method->SetUserWeights(s);
   }
+  filter->SetWeightsArrayName(p.weights_name.c_str());
 }
 } // namespace
 
@@ -235,9 +165,8 @@ vtkSmartPointer<vtkDataSet> ComputeWeights(vtkDataSet* points, vtkPolyData* cage
   vtkSmartPointer<vtkDataSet> out = vtkDataSet::SafeDownCast(filter->GetOutputDataObject(0));
   if (summary)
   {
-    (*summary)["method"] = parameters.method;
-    const bool skeleton = parameters.method == "bbw" && cage->GetNumberOfPolys() == 0 &&
-      cage->GetNumberOfStrips() == 0;
+    (*summary)["method"] = MethodName(parameters);
+    const bool skeleton = filter->GetWeightMethod()->IsSkeleton(cage);
     if (skeleton)
     {
       const int dim = vtkBaryConversion::DomainDimension(domain);
@@ -288,7 +217,7 @@ vtkSmartPointer<vtkPointSet> Deform(vtkPointSet* model, vtkPolyData* rest_cage,
   RunAlgorithm(filter, callbacks, bary::ErrorCode::InvalidCage);
   if (summary)
   {
-    (*summary)["method"] = parameters.method;
+    (*summary)["method"] = MethodName(parameters);
     (*summary)["weights_computed"] = filter->GetNumberOfWeightComputations() > 0;
     (*summary)["points"] = model->GetNumberOfPoints();
     (*summary)["seconds"] = seconds_since(t0);

@@ -5,6 +5,7 @@
 /// summarising results. No algorithm code: everything numerical is in core/ and filters/.
 
 #include "core/error.h"
+#include "core/weight_methods.h"
 
 #include <Eigen/Core>
 #include <nlohmann/json.hpp>
@@ -38,37 +39,18 @@ void RunAlgorithm(vtkAlgorithm* algorithm, const RunCallbacks& callbacks,
   bary::ErrorCode code = bary::ErrorCode::InvalidArgument);
 
 /// The parameter object of a weights computation (what the CLI flags and the viewer's panel
-/// edit). Defaults match the filters'.
-struct WeightsParameters
+/// edit): the method and every setting of BaryLab's one settings table (bary::WeightsSettings,
+/// core/weight_methods.h: defaults, ranges and documentation), plus the name of the array.
+struct WeightsParameters : bary::WeightsSettings
 {
-  std::string method = "mvc";        ///< vtkBaryCoordinates::GetMethodName values
-  int cage_dimension = 0;            ///< 0 automatic, 2, 3
-  double boundary_tolerance = 1e-10; ///< relative to the cage diameter
-  bool validate_cage = true;
-  int threads = 0;                   ///< 0 = all cores (OpenMP's default)
   std::string weights_name = "Weights";
-  // mesh-based methods (harmonic, ...)
-  int target_cells = 0;              ///< 0 = method default (2D 3000, 3D 20000)
-  double max_cell_size = 0.0;        ///< max triangle area / tet volume; 0 = from target_cells
-  bool insert_points = false;        ///< make the evaluation points mesh vertices
-  std::string outside = "error";     ///< points outside the cage: error | nearest | nan
-  // bounded biharmonic weights
-  bool bbw_fast = false;             ///< fast mode (per handle, then normalized) vs coupled
-  // celestial coordinates
-  double lambda = 2.0;               ///< SCC wrapping-sphere parameter (> 1)
-  std::vector<double> user_weights;  ///< TCC s_i, one per control point (empty: none)
-  // local barycentric coordinates (defaults: the paper's, as bary::LBCOptions)
-  std::string lbc_locality = "squared"; ///< tau of §3.3: squared | constant | linear
-  double lbc_relaxed_epsilon = 0.0;  ///< relaxed total variation epsilon (0: plain TV)
-  double lbc_primal_tolerance = 1e-6; ///< ADMM primal threshold per residual entry
-  double lbc_dual_tolerance = 1e-5;  ///< ADMM dual threshold per residual entry
-  int lbc_max_iterations = 20000;    ///< ADMM iteration cap (reaching it is an error)
-  std::string lbc_distance_normalization = "per-control-point"; ///< Eq. 12: | global
-  bool lbc_unconstrained = false;    ///< drop the barycentric constraints: §3.2's unconstrained TV
 };
 
+/// The command-line name of @p parameters' method ("mvc").
+std::string MethodName(const WeightsParameters& parameters);
+
 /// True for methods whose controls are free points (tcc, scc): they take --control-points.
-bool IsPointBasedMethod(const std::string& method);
+bool IsPointBasedMethod(bary::MethodId method);
 
 /// Parameters of `barylab mesh` / vtkBaryCageMesher.
 struct MeshParameters
@@ -85,9 +67,6 @@ struct MeshParameters
 vtkSmartPointer<vtkUnstructuredGrid> MeshCage(vtkPolyData* cage, vtkPointSet* points,
   const MeshParameters& parameters, const RunCallbacks& callbacks = {},
   nlohmann::json* summary = nullptr);
-
-/// Method id for @p name; throws bary::Error(InvalidArgument) listing the known names.
-int MethodFromName(const std::string& name);
 
 /// Weights of the points of @p points w.r.t. @p cage: a copy of @p points with the weights
 /// array (and the CageLocation array). Fills @p summary (if given) with counts and timings,

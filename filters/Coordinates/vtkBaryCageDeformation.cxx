@@ -2,7 +2,6 @@
 
 #include "vtkBaryConversion.h"
 #include "vtkBaryFilterErrors.h"
-#include "vtkBaryMethod.h"
 
 #include "core/cage_deformation.h"
 #include "core/error.h"
@@ -83,22 +82,29 @@ vtkBaryCageDeformation::vtkBaryCageDeformation()
   : WeightCache(new Cache)
 {
   this->SetNumberOfInputPorts(3);
+  this->WeightMethod = vtkBaryWeightMethod::New();
   this->SetWeightsArrayName("Weights");
 }
 
-vtkCxxSetObjectMacro(vtkBaryCageDeformation, UserWeights, vtkDataArray);
+void vtkBaryCageDeformation::SetWeightMethod(vtkBaryWeightMethod* method)
+{
+  if (!method || method == this->WeightMethod)
+    return;
+  method->Register(this);
+  this->WeightMethod->UnRegister(this);
+  this->WeightMethod = method;
+  this->Modified();
+}
 
 vtkMTimeType vtkBaryCageDeformation::GetMTime()
 {
   vtkMTimeType t = this->Superclass::GetMTime();
-  if (this->UserWeights)
-    t = std::max(t, this->UserWeights->GetMTime());
-  return t;
+  return std::max(t, this->WeightMethod->GetMTime());
 }
 
 vtkBaryCageDeformation::~vtkBaryCageDeformation()
 {
-  this->SetUserWeights(nullptr);
+  this->WeightMethod->UnRegister(this);
   this->SetWeightsArrayName(nullptr);
 }
 
@@ -167,10 +173,8 @@ int vtkBaryCageDeformation::RequestData(
 
   try
   {
-    const bool pointBased = vtkBaryMethod::IsPointBased(this->Method);
-    const vtkBaryCage cage = pointBased
-      ? vtkBaryConversion::ToControlPoints(restCage, this->CageDimension)
-      : vtkBaryConversion::ToCage(restCage, this->CageDimension);
+    const bool blendsDisplacements = this->WeightMethod->GetMethod() == vtkBaryWeightMethod::BBW;
+    const vtkBaryCage cage = this->WeightMethod->ReadControls(restCage);
     const int dim = cage.Cage.dimension();
     const vtkIdType nc = cage.Cage.num_controls();
     const Eigen::MatrixXd C = vtkBaryConversion::ControlPoints(deformedCage, cage);
@@ -213,9 +217,9 @@ int vtkBaryCageDeformation::RequestData(
       Eigen::MatrixXd Cp(nc, dim);
       for (vtkIdType k = 0; k < nc; ++k)
         Cp.row(cage.ControlPointIds[static_cast<std::size_t>(k)]) =
-          this->Method == vtkBaryCoordinates::BBW ? Eigen::RowVectorXd(C.row(k) - cage.Cage.V.row(k))
+          blendsDisplacements ? Eigen::RowVectorXd(C.row(k) - cage.Cage.V.row(k))
                                                   : Eigen::RowVectorXd(C.row(k));
-      const Eigen::MatrixXd X = this->Method == vtkBaryCoordinates::BBW
+      const Eigen::MatrixXd X = blendsDisplacements
         ? Eigen::MatrixXd(vtkBaryConversion::PointsToMatrix(input, dim) +
             bary::deform_points(Ws, Cp))
         : bary::deform_points(Ws, Cp);
@@ -235,43 +239,24 @@ int vtkBaryCageDeformation::RequestData(
         vtkWarningMacro(<< "Ignoring input array '" << this->WeightsArrayName << "': it has "
                         << given->GetNumberOfComponents() << " components but the cage has "
                         << nc << " points; computing weights instead.");
-      const vtkBaryMethodParameters parameters = vtkBaryParametersOf(this);
-
       Hasher hasher;
       hash_points(hasher, restCage->GetPoints());
       hash_cells(hasher, restCage->GetPolys());
       hash_cells(hasher, restCage->GetLines());
       hash_points(hasher, input->GetPoints());
-      hasher.add(this->CageDimension);
-      hasher.add(parameters.Method);
-      hasher.add(parameters.BoundaryTolerance);
-      hasher.add(parameters.ValidateCage);
-      hasher.add(parameters.TargetNumberOfCells);
-      hasher.add(parameters.MaximumCellSize);
-      hasher.add(parameters.InsertPointsIntoMesh);
-      hasher.add(parameters.BBWMode);
-      hasher.add(parameters.Lambda);
-      hasher.add(parameters.UserWeights.size());
-      if (!parameters.UserWeights.empty())
-        hasher.add(parameters.UserWeights.data(), sizeof(double) * parameters.UserWeights.size());
-      hasher.add(parameters.OutsidePolicy);
-      hasher.add(parameters.LBCLocality);
-      hasher.add(parameters.LBCRelaxedEpsilon);
-      hasher.add(parameters.LBCPrimalTolerance);
-      hasher.add(parameters.LBCDualTolerance);
-      hasher.add(parameters.LBCMaximumIterations);
-      hasher.add(parameters.LBCDistanceNormalization);
-      hasher.add(parameters.LBCBarycentricConstraints);
+      hasher.add(this->WeightMethod->GetSettingsHash());
       if (!this->WeightCache->Valid || this->WeightCache->Key != hasher.h)
       {
         this->WeightCache->Valid = false;
         const Eigen::MatrixXd points = vtkBaryConversion::PointsToMatrix(input, dim);
-        this->WeightCache->W = vtkBaryMethod::Compute(cage, points, parameters,
-          [this](double f) {
-            this->UpdateProgress(0.9 * f);
-            return !this->GetAbortExecute();
-          },
-          nullptr, pointBased ? vtkBaryConversion::CellEdges(input) : Eigen::MatrixXi());
+        this->WeightCache->W = this->WeightMethod
+                                 ->Compute(input, restCage, nullptr,
+                                   [this](double f) {
+                                     this->UpdateProgress(0.9 * f);
+                                     return !this->GetAbortExecute();
+                                   },
+                                   nullptr, nullptr)
+                                 .W;
         this->WeightCache->Key = hasher.h;
         this->WeightCache->Valid = true;
         ++this->NumberOfWeightComputations;
@@ -285,7 +270,7 @@ int vtkBaryCageDeformation::RequestData(
     // Methods with linear precision (sum_i w_i c_i = x): x' = sum_i w_i c'_i. BBW have none (the
     // paper, §4): they blend the cage vertices' displacements instead, x' = x + sum_i w_i
     // (c'_i - c_i) — linear blend skinning with translations — so the rest pose is the identity.
-    const Eigen::MatrixXd X = this->Method == vtkBaryCoordinates::BBW
+    const Eigen::MatrixXd X = blendsDisplacements
       ? Eigen::MatrixXd(vtkBaryConversion::PointsToMatrix(input, dim) +
           bary::deform_points(*W, C - cage.Cage.V))
       : bary::deform_points(*W, C);
@@ -302,14 +287,11 @@ int vtkBaryCageDeformation::RequestData(
 void vtkBaryCageDeformation::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
-  os << indent << "Method: " << this->Method << "\n";
-  os << indent << "CageDimension: " << this->CageDimension << "\n";
+  os << indent << "WeightMethod:\n";
+  this->WeightMethod->PrintSelf(os, indent.GetNextIndent());
   os << indent << "WeightsArrayName: " << (this->WeightsArrayName ? this->WeightsArrayName : "(none)")
      << "\n";
   os << indent << "UseInputWeights: " << this->UseInputWeights << "\n";
   os << indent << "PassWeights: " << this->PassWeights << "\n";
-  os << indent << "BoundaryTolerance: " << this->BoundaryTolerance << "\n";
-  os << indent << "ValidateCage: " << this->ValidateCage << "\n";
-  os << indent << "NumberOfThreads: " << this->NumberOfThreads << "\n";
   os << indent << "NumberOfWeightComputations: " << this->NumberOfWeightComputations << "\n";
 }

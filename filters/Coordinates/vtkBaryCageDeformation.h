@@ -16,8 +16,8 @@
  *
  * Weights: if UseInputWeights is on and the model carries a point-data array named
  * WeightsArrayName with one component per cage point, those weights are used. Otherwise they
- * are computed with Method and cached; the cache is keyed on the *content* of the rest cage
- * (points and cells), of the model's points and on the method parameters — not on counts or
+ * are computed with the WeightMethod and cached; the cache is keyed on the *content* of the rest
+ * cage (points and cells), of the model's points and on the method's settings hash — not on counts or
  * modification times — so a new rest cage or model always recomputes, and moving only the
  * deformed cage (the interactive case) never does.
  *
@@ -41,7 +41,7 @@
 #define vtkBaryCageDeformation_h
 
 #include "BaryLabFiltersModule.h" // for export macro
-#include "vtkBaryCoordinates.h" // for the Methods enum
+#include "vtkBaryWeightMethod.h" // for the methods and their settings
 #include "vtkPointSetAlgorithm.h"
 
 #include <memory> // for std::unique_ptr
@@ -58,16 +58,11 @@ public:
   void PrintSelf(ostream& os, vtkIndent indent) override;
 
   ///@{
-  /// Coordinate method (vtkBaryCoordinates::Methods). Default MEAN_VALUE.
-  vtkSetClampMacro(Method, int, vtkBaryCoordinates::MEAN_VALUE,
-    vtkBaryCoordinates::NUMBER_OF_METHODS - 1);
-  vtkGetMacro(Method, int);
-  ///@}
-
-  ///@{
-  /// Cage interpretation (see vtkBaryCoordinates). Default automatic (0).
-  vtkSetClampMacro(CageDimension, int, 0, 3);
-  vtkGetMacro(CageDimension, int);
+  /// The weight method and all its settings (see vtkBaryWeightMethod); may be shared with a
+  /// vtkBaryCoordinates. A new vtkBaryWeightMethod (mean value coordinates) by default; never
+  /// nullptr.
+  virtual void SetWeightMethod(vtkBaryWeightMethod* method);
+  vtkGetObjectMacro(WeightMethod, vtkBaryWeightMethod);
   ///@}
 
   ///@{
@@ -89,50 +84,6 @@ public:
   vtkSetMacro(PassWeights, bool);
   vtkGetMacro(PassWeights, bool);
   vtkBooleanMacro(PassWeights, bool);
-  ///@}
-
-  ///@{
-  /// See vtkBaryCoordinates.
-  vtkSetClampMacro(BoundaryTolerance, double, 0.0, 1e-3);
-  vtkGetMacro(BoundaryTolerance, double);
-  vtkSetMacro(ValidateCage, bool);
-  vtkGetMacro(ValidateCage, bool);
-  vtkBooleanMacro(ValidateCage, bool);
-  vtkSetClampMacro(NumberOfThreads, int, 0, 1024);
-  vtkGetMacro(NumberOfThreads, int);
-  vtkSetClampMacro(TargetNumberOfCells, int, 0, VTK_INT_MAX);
-  vtkGetMacro(TargetNumberOfCells, int);
-  vtkSetClampMacro(MaximumCellSize, double, 0.0, VTK_DOUBLE_MAX);
-  vtkGetMacro(MaximumCellSize, double);
-  vtkSetMacro(InsertPointsIntoMesh, bool);
-  vtkGetMacro(InsertPointsIntoMesh, bool);
-  vtkBooleanMacro(InsertPointsIntoMesh, bool);
-  vtkSetClampMacro(OutsidePolicy, int, vtkBaryCoordinates::OUTSIDE_ERROR,
-    vtkBaryCoordinates::OUTSIDE_NAN);
-  vtkGetMacro(OutsidePolicy, int);
-  vtkSetClampMacro(BBWMode, int, vtkBaryCoordinates::BBW_FAST, vtkBaryCoordinates::BBW_COUPLED);
-  vtkGetMacro(BBWMode, int);
-  vtkSetClampMacro(Lambda, double, 1.000001, 1e6);
-  vtkGetMacro(Lambda, double);
-  virtual void SetUserWeights(vtkDataArray* weights);
-  vtkGetObjectMacro(UserWeights, vtkDataArray);
-  vtkSetClampMacro(LBCLocality, int, vtkBaryCoordinates::LBC_LOCALITY_SQUARED,
-    vtkBaryCoordinates::LBC_LOCALITY_LINEAR);
-  vtkGetMacro(LBCLocality, int);
-  vtkSetClampMacro(LBCRelaxedEpsilon, double, 0.0, VTK_DOUBLE_MAX);
-  vtkGetMacro(LBCRelaxedEpsilon, double);
-  vtkSetClampMacro(LBCPrimalTolerance, double, 1e-15, 0.5);
-  vtkGetMacro(LBCPrimalTolerance, double);
-  vtkSetClampMacro(LBCDualTolerance, double, 1e-15, 0.5);
-  vtkGetMacro(LBCDualTolerance, double);
-  vtkSetClampMacro(LBCMaximumIterations, int, 1, VTK_INT_MAX);
-  vtkGetMacro(LBCMaximumIterations, int);
-  vtkSetClampMacro(LBCDistanceNormalization, int,
-    vtkBaryCoordinates::LBC_NORMALIZE_PER_CONTROL_POINT, vtkBaryCoordinates::LBC_NORMALIZE_GLOBAL);
-  vtkGetMacro(LBCDistanceNormalization, int);
-  vtkSetMacro(LBCBarycentricConstraints, bool);
-  vtkGetMacro(LBCBarycentricConstraints, bool);
-  vtkBooleanMacro(LBCBarycentricConstraints, bool);
   ///@}
 
   ///@{
@@ -158,28 +109,10 @@ protected:
   int FillInputPortInformation(int port, vtkInformation* info) override;
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
 
-  int Method = 0;
-  int CageDimension = 0;
+  vtkBaryWeightMethod* WeightMethod = nullptr;
   char* WeightsArrayName = nullptr;
   bool UseInputWeights = true;
   bool PassWeights = true;
-  double BoundaryTolerance = 1e-10;
-  bool ValidateCage = true;
-  int NumberOfThreads = 0;
-  int TargetNumberOfCells = 0;
-  double MaximumCellSize = 0.0;
-  bool InsertPointsIntoMesh = false;
-  int OutsidePolicy = vtkBaryCoordinates::OUTSIDE_ERROR;
-  int BBWMode = vtkBaryCoordinates::BBW_COUPLED;
-  double Lambda = 2.0;
-  vtkDataArray* UserWeights = nullptr;
-  int LBCLocality = vtkBaryCoordinates::LBC_LOCALITY_SQUARED;
-  double LBCRelaxedEpsilon = 0.0;
-  double LBCPrimalTolerance = 1e-6;
-  double LBCDualTolerance = 1e-5;
-  int LBCMaximumIterations = 20000;
-  int LBCDistanceNormalization = vtkBaryCoordinates::LBC_NORMALIZE_PER_CONTROL_POINT;
-  bool LBCBarycentricConstraints = true;
   vtkIdType NumberOfWeightComputations = 0;
 
 private:

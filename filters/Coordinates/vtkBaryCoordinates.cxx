@@ -2,7 +2,6 @@
 
 #include "vtkBaryConversion.h"
 #include "vtkBaryFilterErrors.h"
-#include "vtkBaryMethod.h"
 
 #include "core/error.h"
 
@@ -22,46 +21,35 @@
 
 vtkStandardNewMacro(vtkBaryCoordinates);
 
-namespace
-{
-const char* const kMethodNames[] = { "mvc", "harmonic", "bbw", "tcc", "scc", "lbc" };
-}
-
 vtkBaryCoordinates::vtkBaryCoordinates()
 {
   this->SetNumberOfInputPorts(3);
+  this->WeightMethod = vtkBaryWeightMethod::New();
   this->SetWeightsArrayName("Weights");
   this->SetLocationArrayName("CageLocation");
 }
 
-vtkCxxSetObjectMacro(vtkBaryCoordinates, UserWeights, vtkDataArray);
+void vtkBaryCoordinates::SetWeightMethod(vtkBaryWeightMethod* method)
+{
+  if (!method || method == this->WeightMethod)
+    return;
+  method->Register(this);
+  this->WeightMethod->UnRegister(this);
+  this->WeightMethod = method;
+  this->Modified();
+}
 
 vtkMTimeType vtkBaryCoordinates::GetMTime()
 {
   vtkMTimeType t = this->Superclass::GetMTime();
-  if (this->UserWeights)
-    t = std::max(t, this->UserWeights->GetMTime());
-  return t;
+  return std::max(t, this->WeightMethod->GetMTime());
 }
 
 vtkBaryCoordinates::~vtkBaryCoordinates()
 {
-  this->SetUserWeights(nullptr);
+  this->WeightMethod->UnRegister(this);
   this->SetWeightsArrayName(nullptr);
   this->SetLocationArrayName(nullptr);
-}
-
-const char* vtkBaryCoordinates::GetMethodName(int method)
-{
-  return (method >= 0 && method < NUMBER_OF_METHODS) ? kMethodNames[method] : nullptr;
-}
-
-int vtkBaryCoordinates::GetMethodFromName(const char* name)
-{
-  for (int m = 0; name && m < NUMBER_OF_METHODS; ++m)
-    if (std::strcmp(name, kMethodNames[m]) == 0)
-      return m;
-  return -1;
 }
 
 void vtkBaryCoordinates::SetCageData(vtkPolyData* cage)
@@ -159,107 +147,52 @@ int vtkBaryCoordinates::RequestData(
       this->UpdateProgress(f);
       return !this->GetAbortExecute();
     };
-    // BBW with a skeleton (points and lines) on a domain; a BBW cage goes the cage way below.
-    const bool skeleton = this->Method == BBW && cagePoly->GetNumberOfPolys() == 0 &&
-      cagePoly->GetNumberOfStrips() == 0;
-    if (skeleton)
-    {
-      const int dim = vtkBaryConversion::DomainDimension(domain);
-      const bary::Skeleton handles = vtkBaryConversion::ToSkeleton(cagePoly, dim);
-      const Eigen::MatrixXd points = vtkBaryConversion::PointsToMatrix(input, dim);
-      vtkBaryMethodReport report;
-      this->UpdateProgress(0.0);
-      const bary::DenseWeights W = vtkBaryMethod::ComputeBBW(
-        handles, domain, points, vtkBaryParametersOf(this), progress, &report);
-      vtkBaryCage columns; // identity column order: handle j is component j
-      columns.ControlPointIds.resize(static_cast<std::size_t>(W.cols()));
-      for (std::size_t j = 0; j < columns.ControlPointIds.size(); ++j)
-        columns.ControlPointIds[j] = static_cast<vtkIdType>(j);
-      this->FinishOutput(output, W, columns, report);
-      return 1;
-    }
-    if (domain && this->Method == LBC && this->InsertPointsIntoMesh)
-      vtkWarningMacro(<< "InsertPointsIntoMesh is ignored: LBC uses the domain mesh (input 2) as "
-                         "is; the points are interpolated on it.");
-    if (domain && this->Method != BBW && this->Method != LBC)
-      vtkWarningMacro(<< "The domain (input 2) is used by BBW with skeleton handles and by LBC "
-                         "only; ignored.");
-    const bool pointBased = vtkBaryMethod::IsPointBased(this->Method);
-    const vtkBaryCage cage = pointBased
-      ? vtkBaryConversion::ToControlPoints(cagePoly, this->CageDimension)
-      : vtkBaryConversion::ToCage(cagePoly, this->CageDimension);
-    const Eigen::MatrixXd points =
-      vtkBaryConversion::PointsToMatrix(input, cage.Cage.dimension());
-    if (cage.Cage.dimension() == 2)
-    {
-      double bounds[6];
-      input->GetBounds(bounds);
-      if (bounds[5] > bounds[4])
-        vtkWarningMacro(<< "The cage is 2D (a polygon): the points' z coordinates (from "
-                        << bounds[4] << " to " << bounds[5] << ") are ignored.");
-    }
-    const vtkBaryMethodParameters parameters = vtkBaryParametersOf(this);
-    vtkBaryMethodReport report;
+    vtkBaryCage columns;
+    std::vector<std::string> warnings;
     this->UpdateProgress(0.0);
-    const bary::DenseWeights W = vtkBaryMethod::Compute(cage, points, parameters, progress,
-      &report, pointBased ? vtkBaryConversion::CellEdges(input) : Eigen::MatrixXi(),
-      this->Method == LBC ? domain : nullptr);
-    this->FinishOutput(output, W, cage, report);
+    const bary::WeightsResult result =
+      this->WeightMethod->Compute(input, cagePoly, domain, progress, &columns, &warnings);
+    for (const std::string& warning : warnings)
+      vtkWarningMacro(<< warning);
+    this->FinishOutput(output, result, columns);
   }
   VTKBARY_CATCH_ERRORS
   return 1;
 }
 
-void vtkBaryCoordinates::FinishOutput(vtkDataSet* output, const bary::DenseWeights& W,
-  const vtkBaryCage& columns, const vtkBaryMethodReport& report)
+void vtkBaryCoordinates::FinishOutput(
+  vtkDataSet* output, const bary::WeightsResult& result, const vtkBaryCage& columns)
 {
-  output->GetPointData()->AddArray(vtkBaryConversion::ToArray(W, columns, this->WeightsArrayName));
+  output->GetPointData()->AddArray(
+    vtkBaryConversion::ToArray(result.W, columns, this->WeightsArrayName));
   if (this->GenerateLocation && this->LocationArrayName && *this->LocationArrayName)
   {
     vtkNew<vtkUnsignedCharArray> location;
     location->SetName(this->LocationArrayName);
-    location->SetNumberOfTuples(static_cast<vtkIdType>(report.Location.size()));
-    std::copy(report.Location.begin(), report.Location.end(), location->GetPointer(0));
+    location->SetNumberOfTuples(static_cast<vtkIdType>(result.location.size()));
+    for (std::size_t i = 0; i < result.location.size(); ++i)
+      location->SetValue(static_cast<vtkIdType>(i), static_cast<unsigned char>(result.location[i]));
     output->GetPointData()->AddArray(location);
   }
-  this->NumberOfInsidePoints = report.Inside;
-  this->NumberOfOutsidePoints = report.Outside;
-  this->NumberOfBoundaryPoints = report.Boundary;
-  this->NumberOfUndefinedPoints = static_cast<vtkIdType>(report.Undefined.size());
-  this->Statistics = report.Statistics;
-  if (!report.Undefined.empty())
-    vtkWarningMacro(<< report.Undefined.size()
+  this->NumberOfInsidePoints = result.count(bary::PointLocation::Inside);
+  this->NumberOfOutsidePoints = result.count(bary::PointLocation::Outside);
+  this->NumberOfBoundaryPoints = result.count(bary::PointLocation::Boundary);
+  this->NumberOfUndefinedPoints = static_cast<vtkIdType>(result.undefined.size());
+  this->Statistics = result.statistics;
+  if (!result.undefined.empty())
+    vtkWarningMacro(<< result.undefined.size()
                     << " point(s) outside the domain have undefined weights (NaN), first id "
-                    << report.Undefined.front());
+                    << result.undefined.front());
 }
 
 void vtkBaryCoordinates::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
-  os << indent << "Method: " << (GetMethodName(this->Method) ? GetMethodName(this->Method) : "?")
-     << "\n";
-  os << indent << "CageDimension: " << this->CageDimension << "\n";
+  os << indent << "WeightMethod:\n";
+  this->WeightMethod->PrintSelf(os, indent.GetNextIndent());
   os << indent << "WeightsArrayName: " << (this->WeightsArrayName ? this->WeightsArrayName : "(none)")
      << "\n";
   os << indent << "GenerateLocation: " << this->GenerateLocation << "\n";
-  os << indent << "BoundaryTolerance: " << this->BoundaryTolerance << "\n";
-  os << indent << "ValidateCage: " << this->ValidateCage << "\n";
-  os << indent << "NumberOfThreads: " << this->NumberOfThreads << "\n";
-  os << indent << "TargetNumberOfCells: " << this->TargetNumberOfCells << "\n";
-  os << indent << "MaximumCellSize: " << this->MaximumCellSize << "\n";
-  os << indent << "InsertPointsIntoMesh: " << this->InsertPointsIntoMesh << "\n";
-  os << indent << "OutsidePolicy: " << this->OutsidePolicy << "\n";
-  os << indent << "Lambda: " << this->Lambda << "\n";
-  os << indent << "UserWeights: " << (this->UserWeights ? "set" : "(none)") << "\n";
-  os << indent << "BBWMode: " << (this->BBWMode == BBW_FAST ? "fast" : "coupled") << "\n";
-  static const char* const localities[] = { "squared", "constant", "linear" };
-  os << indent << "LBCLocality: " << localities[this->LBCLocality] << "\n";
-  os << indent << "LBCRelaxedEpsilon: " << this->LBCRelaxedEpsilon << "\n";
-  os << indent << "LBCPrimalTolerance: " << this->LBCPrimalTolerance << "\n";
-  os << indent << "LBCDualTolerance: " << this->LBCDualTolerance << "\n";
-  os << indent << "LBCMaximumIterations: " << this->LBCMaximumIterations << "\n";
-  os << indent << "LBCDistanceNormalization: "
-     << (this->LBCDistanceNormalization == LBC_NORMALIZE_GLOBAL ? "global" : "per control point")
-     << "\n";
-  os << indent << "LBCBarycentricConstraints: " << this->LBCBarycentricConstraints << "\n";
+  os << indent << "LocationArrayName: "
+     << (this->LocationArrayName ? this->LocationArrayName : "(none)") << "\n";
 }

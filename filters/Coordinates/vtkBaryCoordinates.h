@@ -58,8 +58,10 @@
 #include "BaryLabFiltersModule.h" // for export macro
 #include "vtkPassInputTypeAlgorithm.h"
 
+#include "vtkBaryWeightMethod.h" // for the methods and their settings
+
 #ifndef __VTK_WRAP__
-#include "core/types.h" // for bary::DenseWeights
+#include "core/weights_result.h" // for bary::WeightsResult
 #endif
 
 class vtkDataArray;
@@ -77,131 +79,13 @@ public:
   vtkTypeMacro(vtkBaryCoordinates, vtkPassInputTypeAlgorithm);
   void PrintSelf(ostream& os, vtkIndent indent) override;
 
-  /// Coordinate methods. More are added by later BaryLab releases; values are stable.
-  enum Methods
-  {
-    MEAN_VALUE = 0, ///< Hormann & Floater 2006 (2D), Ju et al. 2005 (3D); closed form, any point
-    HARMONIC = 1,   ///< Joshi et al. 2007: finite elements on a mesh of the cage's interior
-    BBW = 2,        ///< Jacobson et al. 2011: bounded biharmonic weights (cage or skeleton handles)
-    T_CELESTIAL = 3, ///< Cerveró et al.: T-celestial coordinates of free control points
-    S_CELESTIAL = 4, ///< Cerveró et al.: S-celestial coordinates of free control points
-    LBC = 5,         ///< Zhang et al. 2014: local barycentric coordinates on a mesh of the cage
-    NUMBER_OF_METHODS
-  };
-
-  /// Bounded biharmonic weights: how the handles' problems are solved (bary::BBWMode).
-  enum BBWModes
-  {
-    BBW_FAST = 0,   ///< each handle alone, then rows normalized (the paper's §3.4 speed-up)
-    BBW_COUPLED = 1 ///< the full problem with partition of unity enforced (default)
-  };
-
-  /// What mesh-based methods do with points outside the cage.
-  enum OutsidePolicies
-  {
-    OUTSIDE_ERROR = 0,   ///< fail, naming how many and the first one (default)
-    OUTSIDE_NEAREST = 1, ///< use the weights of the nearest point of the domain
-    OUTSIDE_NAN = 2      ///< NaN weights, counted in NumberOfUndefinedPoints
-  };
-
   ///@{
-  /// The coordinate method. Default MEAN_VALUE.
-  vtkSetClampMacro(Method, int, MEAN_VALUE, NUMBER_OF_METHODS - 1);
-  vtkGetMacro(Method, int);
-  void SetMethodToMeanValue() { this->SetMethod(MEAN_VALUE); }
-  void SetMethodToHarmonic() { this->SetMethod(HARMONIC); }
-  void SetMethodToBBW() { this->SetMethod(BBW); }
-  void SetMethodToTCelestial() { this->SetMethod(T_CELESTIAL); }
-  void SetMethodToSCelestial() { this->SetMethod(S_CELESTIAL); }
-  void SetMethodToLBC() { this->SetMethod(LBC); }
-  ///@}
-
-  /// Local barycentric coordinates: tau of the paper's §3.3 (Eq. 11), the locality weight as a
-  /// function of the normalised geodesic distance D to the control point (bary::LocalityFunction).
-  enum LBCLocalityFunctions
-  {
-    LBC_LOCALITY_SQUARED = 0,  ///< tau(D) = D^2, the paper's choice for all its results (default)
-    LBC_LOCALITY_CONSTANT = 1, ///< tau = 1: plain total variation (problem (5)), no distances
-    LBC_LOCALITY_LINEAR = 2    ///< tau(D) = D
-  };
-
-  /// Local barycentric coordinates: how geodesic distances are normalised to [0, 1] (Eq. 12).
-  enum LBCDistanceNormalizations
-  {
-    LBC_NORMALIZE_PER_CONTROL_POINT = 0, ///< by each control point's own maximum (Eq. 12, default)
-    LBC_NORMALIZE_GLOBAL = 1 ///< by one maximum over all control points (the authors' code)
-  };
-
-  ///@{
-  /// LBC: the locality function tau (LBCLocalityFunctions). Default LBC_LOCALITY_SQUARED.
-  vtkSetClampMacro(LBCLocality, int, LBC_LOCALITY_SQUARED, LBC_LOCALITY_LINEAR);
-  vtkGetMacro(LBCLocality, int);
-  void SetLBCLocalityToSquared() { this->SetLBCLocality(LBC_LOCALITY_SQUARED); }
-  void SetLBCLocalityToConstant() { this->SetLBCLocality(LBC_LOCALITY_CONSTANT); }
-  void SetLBCLocalityToLinear() { this->SetLBCLocality(LBC_LOCALITY_LINEAR); }
-  ///@}
-
-  ///@{
-  /// LBC: epsilon of the relaxed total variation (Eq. 7-8, §3.2), in units of 1 / (the mesh's
-  /// bounding-box diameter), >= 0. 0 (default): plain total variation (exact zeros: local
-  /// weights); > 0: globally C^1 weights, less local.
-  vtkSetClampMacro(LBCRelaxedEpsilon, double, 0.0, VTK_DOUBLE_MAX);
-  vtkGetMacro(LBCRelaxedEpsilon, double);
-  ///@}
-
-  ///@{
-  /// LBC: ADMM stopping thresholds per residual entry (Appendix B, Eq. 26-27, on the mesh
-  /// rescaled to diameter 1), range [1e-15, 0.5]. Defaults: the paper's, primal 1e-6, dual 1e-5.
-  /// The thresholds grow like the mesh size, the residuals like its square root: tighten them
-  /// on large (especially 3D) meshes.
-  vtkSetClampMacro(LBCPrimalTolerance, double, 1e-15, 0.5);
-  vtkGetMacro(LBCPrimalTolerance, double);
-  vtkSetClampMacro(LBCDualTolerance, double, 1e-15, 0.5);
-  vtkGetMacro(LBCDualTolerance, double);
-  ///@}
-
-  ///@{
-  /// LBC: cap on ADMM iterations, >= 1. Default 20000. Reaching it fails the request with a
-  /// "did not converge" error (raise it or loosen the tolerances).
-  vtkSetClampMacro(LBCMaximumIterations, int, 1, VTK_INT_MAX);
-  vtkGetMacro(LBCMaximumIterations, int);
-  ///@}
-
-  ///@{
-  /// LBC: distance normalisation (LBCDistanceNormalizations). Default
-  /// LBC_NORMALIZE_PER_CONTROL_POINT.
-  vtkSetClampMacro(LBCDistanceNormalization, int, LBC_NORMALIZE_PER_CONTROL_POINT,
-    LBC_NORMALIZE_GLOBAL);
-  vtkGetMacro(LBCDistanceNormalization, int);
-  ///@}
-
-  ///@{
-  /// LBC: enforce partition of unity and reproduction (the barycentric constraints, Eq. 16).
-  /// Off gives §3.2's "unconstrained TV" (each weight alone under its boundary values, >= 0):
-  /// not barycentric coordinates, for studying one function's shape. Default on.
-  vtkSetMacro(LBCBarycentricConstraints, bool);
-  vtkGetMacro(LBCBarycentricConstraints, bool);
-  vtkBooleanMacro(LBCBarycentricConstraints, bool);
-  ///@}
-
-  ///@{
-  /// Celestial coordinates: SCC's wrapping-sphere parameter lambda (> 1; the coordinates do not
-  /// depend on it). Default 2.
-  vtkSetClampMacro(Lambda, double, 1.000001, 1e6);
-  vtkGetMacro(Lambda, double);
-  ///@}
-
-  ///@{
-  /// T-celestial coordinates: the user weights s_i >= 0 of Eq. 8, one tuple per control point
-  /// (first component used). nullptr (default): none (Eq. 7).
-  virtual void SetUserWeights(vtkDataArray* weights);
-  vtkGetObjectMacro(UserWeights, vtkDataArray);
-  ///@}
-
-  ///@{
-  /// BBW: BBW_FAST or BBW_COUPLED (default).
-  vtkSetClampMacro(BBWMode, int, BBW_FAST, BBW_COUPLED);
-  vtkGetMacro(BBWMode, int);
+  /// The weight method and all its settings (method, cage dimension, tolerances, mesh size,
+  /// outside policy, each method's own settings: see vtkBaryWeightMethod). A new
+  /// vtkBaryWeightMethod (mean value coordinates) by default; never nullptr. The same object
+  /// may be shared with a vtkBaryCageDeformation.
+  virtual void SetWeightMethod(vtkBaryWeightMethod* method);
+  vtkGetObjectMacro(WeightMethod, vtkBaryWeightMethod);
   ///@}
 
   ///@{
@@ -224,46 +108,6 @@ public:
   ///@}
 
   ///@{
-  /// Mesh-based methods: approximate number of cells of the domain mesh; 0 (default) = the
-  /// method's default (2D: 3000 triangles, 3D: 20000 tetrahedra).
-  vtkSetClampMacro(TargetNumberOfCells, int, 0, VTK_INT_MAX);
-  vtkGetMacro(TargetNumberOfCells, int);
-  ///@}
-
-  ///@{
-  /// Mesh-based methods: maximum triangle area / tetrahedron volume of the domain mesh; 0
-  /// (default) = from TargetNumberOfCells.
-  vtkSetClampMacro(MaximumCellSize, double, 0.0, VTK_DOUBLE_MAX);
-  vtkGetMacro(MaximumCellSize, double);
-  ///@}
-
-  ///@{
-  /// Mesh-based methods: make the input points (those inside the cage) vertices of the domain
-  /// mesh, so their weights are the finite-element values themselves rather than interpolated.
-  /// Default off.
-  vtkSetMacro(InsertPointsIntoMesh, bool);
-  vtkGetMacro(InsertPointsIntoMesh, bool);
-  vtkBooleanMacro(InsertPointsIntoMesh, bool);
-  ///@}
-
-  ///@{
-  /// Mesh-based methods: points outside the cage (OutsidePolicies). Default OUTSIDE_ERROR.
-  vtkSetClampMacro(OutsidePolicy, int, OUTSIDE_ERROR, OUTSIDE_NAN);
-  vtkGetMacro(OutsidePolicy, int);
-  ///@}
-
-  /// Short name of a method as used on the command line ("mvc"), nullptr if unknown.
-  static const char* GetMethodName(int method);
-  /// Inverse of GetMethodName; -1 if unknown.
-  static int GetMethodFromName(const char* name);
-
-  ///@{
-  /// How the cage is interpreted: vtkBaryConversion::AUTOMATIC (default, 0), CAGE_2D or CAGE_3D.
-  vtkSetClampMacro(CageDimension, int, 0, 3);
-  vtkGetMacro(CageDimension, int);
-  ///@}
-
-  ///@{
   /// Name of the output weights array. Default "Weights".
   vtkSetStringMacro(WeightsArrayName);
   vtkGetStringMacro(WeightsArrayName);
@@ -276,32 +120,6 @@ public:
   vtkBooleanMacro(GenerateLocation, bool);
   vtkSetStringMacro(LocationArrayName);
   vtkGetStringMacro(LocationArrayName);
-  ///@}
-
-  ///@{
-  /// Points closer to the cage than this fraction of its bounding-box diagonal are treated as on
-  /// the cage (exact linear/barycentric interpolation there). Range [0, 1e-3]. Default 1e-10.
-  vtkSetClampMacro(BoundaryTolerance, double, 0.0, 1e-3);
-  vtkGetMacro(BoundaryTolerance, double);
-  ///@}
-
-  ///@{
-  /// Validate the cage before use. Default on.
-  vtkSetMacro(ValidateCage, bool);
-  vtkGetMacro(ValidateCage, bool);
-  vtkBooleanMacro(ValidateCage, bool);
-  ///@}
-
-  ///@{
-  /// Threads for the evaluation; 0 (default) = all cores (OpenMP's default), except for LBC,
-  /// where 0 means one thread: its ADMM iteration is a few short parallel loops, and libgomp's
-  /// spin-waiting between them made two threads 3.5-11x slower than one on a 2-core machine
-  /// shared with other builds (the authors' gecko: 1.9 s vs 20.8 s; 1.7 s with two threads and
-  /// OMP_WAIT_POLICY=passive; docs/local-barycentric-coordinates.md). On an idle machine with
-  /// many cores ask for threads explicitly, with OMP_WAIT_POLICY=passive in the environment.
-  /// Results do not depend on it.
-  vtkSetClampMacro(NumberOfThreads, int, 0, 1024);
-  vtkGetMacro(NumberOfThreads, int);
   ///@}
 
   ///@{
@@ -327,32 +145,14 @@ protected:
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
 #ifndef __VTK_WRAP__
   /// Adds the weights (columns permuted by @p columns) and location arrays, keeps the counts.
-  void FinishOutput(vtkDataSet* output, const bary::DenseWeights& W, const struct vtkBaryCage& columns,
-    const struct vtkBaryMethodReport& report);
+  void FinishOutput(vtkDataSet* output, const bary::WeightsResult& result,
+    const struct vtkBaryCage& columns);
 #endif
 
-  int Method = MEAN_VALUE;
-  int CageDimension = 0;
+  vtkBaryWeightMethod* WeightMethod = nullptr;
   char* WeightsArrayName = nullptr;
   bool GenerateLocation = true;
   char* LocationArrayName = nullptr;
-  double BoundaryTolerance = 1e-10;
-  bool ValidateCage = true;
-  int NumberOfThreads = 0;
-  int TargetNumberOfCells = 0;
-  double MaximumCellSize = 0.0;
-  bool InsertPointsIntoMesh = false;
-  int OutsidePolicy = OUTSIDE_ERROR;
-  int BBWMode = BBW_COUPLED;
-  double Lambda = 2.0;
-  vtkDataArray* UserWeights = nullptr;
-  int LBCLocality = LBC_LOCALITY_SQUARED;
-  double LBCRelaxedEpsilon = 0.0;
-  double LBCPrimalTolerance = 1e-6;
-  double LBCDualTolerance = 1e-5;
-  int LBCMaximumIterations = 20000;
-  int LBCDistanceNormalization = LBC_NORMALIZE_PER_CONTROL_POINT;
-  bool LBCBarycentricConstraints = true;
 
   vtkIdType NumberOfInsidePoints = 0;
   vtkIdType NumberOfOutsidePoints = 0;

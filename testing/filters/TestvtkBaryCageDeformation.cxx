@@ -534,14 +534,14 @@ TEST(vtkBaryCageDeformation, ChangingParametersRecomputes)
   Deformation d(model, rest, TwistedCube(0.3));
   ASSERT_EQ(d.Run(), 1) << d.Observer->AllErrors();
   ASSERT_EQ(d.Computations(), 1);
-  d.Filter->SetBoundaryTolerance(1e-6);
+  d.Filter->GetWeightMethod()->SetBoundaryTolerance(1e-6);
   ASSERT_EQ(d.Run(), 1);
   EXPECT_EQ(d.Computations(), 2) << "BoundaryTolerance is part of the key";
-  d.Filter->SetBoundaryTolerance(1e-6);
+  d.Filter->GetWeightMethod()->SetBoundaryTolerance(1e-6);
   d.Filter->Modified();
   ASSERT_EQ(d.Run(), 1);
   EXPECT_EQ(d.Computations(), 2) << "same parameters: cached";
-  d.Filter->ValidateCageOff();
+  d.Filter->GetWeightMethod()->ValidateCageOff();
   ASSERT_EQ(d.Run(), 1);
   EXPECT_EQ(d.Computations(), 3) << "ValidateCage is part of the key";
   d.Filter->ClearCache();
@@ -555,10 +555,10 @@ TEST(vtkBaryCageDeformation, MethodIsClampedToKnownMethods)
   // Like vtkBaryCoordinates, the setter clamps: an out-of-range method cannot be selected, so
   // no request can run with an undefined method (or reuse weights computed by another one).
   vtkNew<vtkBaryCageDeformation> filter;
-  filter->SetMethod(vtkBaryCoordinates::NUMBER_OF_METHODS + 3);
-  EXPECT_EQ(filter->GetMethod(), vtkBaryCoordinates::NUMBER_OF_METHODS - 1);
-  filter->SetMethod(-5);
-  EXPECT_EQ(filter->GetMethod(), vtkBaryCoordinates::MEAN_VALUE);
+  filter->GetWeightMethod()->SetMethod(vtkBaryWeightMethod::NUMBER_OF_METHODS + 3);
+  EXPECT_EQ(filter->GetWeightMethod()->GetMethod(), vtkBaryWeightMethod::NUMBER_OF_METHODS - 1);
+  filter->GetWeightMethod()->SetMethod(-5);
+  EXPECT_EQ(filter->GetWeightMethod()->GetMethod(), vtkBaryWeightMethod::MEAN_VALUE);
 }
 
 TEST(vtkBaryCageDeformation, IdenticalContentInNewObjectsDoesNotRecompute)
@@ -700,8 +700,8 @@ TEST(vtkBaryCageDeformation, CompactWeightsDeformLikeTheSameDenseWeights)
   EXPECT_EQ(a.Output()->GetPointData()->GetArray("Weights"), nullptr);
 
   // BBW blends displacements with compact weights too
-  a.Filter->SetMethod(vtkBaryCoordinates::BBW);
-  b.Filter->SetMethod(vtkBaryCoordinates::BBW);
+  a.Filter->GetWeightMethod()->SetMethod(vtkBaryWeightMethod::BBW);
+  b.Filter->GetWeightMethod()->SetMethod(vtkBaryWeightMethod::BBW);
   ASSERT_EQ(a.Run(), 1) << a.Observer->AllErrors();
   ASSERT_EQ(b.Run(), 1) << b.Observer->AllErrors();
   EXPECT_LE(MaxPointDifference(a.Output(), b.Output()), 1e-13);

@@ -135,7 +135,7 @@ TEST(vtkBaryCoordinatesHarmonic, SquareIsBilinear)
   // Harmonic coordinates of a square are the bilinear functions (an independent analytic
   // reference); P1 elements on 3000 triangles are within a few 1e-4 of them.
   vtkNew<vtkBaryCoordinates> filter;
-  filter->SetMethodToHarmonic();
+  filter->GetWeightMethod()->SetMethodToHarmonic();
   filter->SetInputData(0, MakePointCloud({ { 0.3, 0.6, 0.25 }, { 0.9, 0.1, 0.25 }, { 0.5, 0.5, 0.25 } }));
   filter->SetCageData(Square());
   vtkNew<ErrorObserver> observer;
@@ -157,8 +157,8 @@ TEST(vtkBaryCoordinatesHarmonic, SquareIsBilinear)
 TEST(vtkBaryCoordinatesHarmonic, OutsidePointsFollowThePolicy)
 {
   vtkNew<vtkBaryCoordinates> filter;
-  filter->SetMethodToHarmonic();
-  filter->SetTargetNumberOfCells(300);
+  filter->GetWeightMethod()->SetMethodToHarmonic();
+  filter->GetWeightMethod()->SetTargetNumberOfCells(300);
   filter->SetInputData(0, MakePointCloud({ { 0.5, 0.5, 0.25 }, { 2, 0.5, 0.25 } }));
   filter->SetCageData(Square());
   vtkNew<ErrorObserver> observer;
@@ -166,12 +166,12 @@ TEST(vtkBaryCoordinatesHarmonic, OutsidePointsFollowThePolicy)
   EXPECT_EQ(RunPipeline(filter), 0);
   EXPECT_TRUE(observer->HasError("outside")) << observer->AllErrors();
   observer->Clear();
-  filter->SetOutsidePolicy(vtkBaryCoordinates::OUTSIDE_NAN);
+  filter->GetWeightMethod()->SetOutsidePolicy(vtkBaryWeightMethod::OUTSIDE_NAN);
   ASSERT_EQ(RunPipeline(filter), 1) << observer->AllErrors();
   EXPECT_EQ(filter->GetNumberOfOutsidePoints(), 1);
   EXPECT_EQ(filter->GetNumberOfUndefinedPoints(), 1);
   EXPECT_TRUE(std::isnan(GetWeights(vtkDataSet::SafeDownCast(filter->GetOutputDataObject(0)))->GetComponent(1, 0)));
-  filter->SetOutsidePolicy(vtkBaryCoordinates::OUTSIDE_NEAREST);
+  filter->GetWeightMethod()->SetOutsidePolicy(vtkBaryWeightMethod::OUTSIDE_NEAREST);
   ASSERT_EQ(RunPipeline(filter), 1) << observer->AllErrors();
   // nearest point of (2, 0.5) is (1, 0.5): corners 1 and 2 at one half
   EXPECT_NEAR(GetWeights(vtkDataSet::SafeDownCast(filter->GetOutputDataObject(0)))->GetComponent(1, 1), 0.5, 1e-12);

@@ -122,7 +122,7 @@ TEST(vtkBaryCoordinates, DefaultArraysOneComponentPerCagePoint)
   vtkNew<vtkBaryCoordinates> defaults;
   EXPECT_STREQ(defaults->GetWeightsArrayName(), "Weights");
   EXPECT_STREQ(defaults->GetLocationArrayName(), "CageLocation");
-  EXPECT_EQ(defaults->GetMethod(), vtkBaryCoordinates::MEAN_VALUE);
+  EXPECT_EQ(defaults->GetWeightMethod()->GetMethod(), vtkBaryWeightMethod::MEAN_VALUE);
 
   auto cube = MakeCube();
   auto points = MakePointCloud({ { 0, 0, 0 }, { 0.5, -0.25, 0.1 } });
@@ -238,12 +238,12 @@ TEST(vtkBaryCoordinates, ImageDataInput)
 
 TEST(vtkBaryCoordinates, MethodNames)
 {
-  EXPECT_STREQ(vtkBaryCoordinates::GetMethodName(vtkBaryCoordinates::MEAN_VALUE), "mvc");
-  EXPECT_EQ(vtkBaryCoordinates::GetMethodFromName("mvc"), vtkBaryCoordinates::MEAN_VALUE);
-  EXPECT_EQ(vtkBaryCoordinates::GetMethodFromName("harmonic?"), -1);
-  EXPECT_EQ(vtkBaryCoordinates::GetMethodFromName(nullptr), -1);
-  EXPECT_EQ(vtkBaryCoordinates::GetMethodName(-1), nullptr);
-  EXPECT_EQ(vtkBaryCoordinates::GetMethodName(vtkBaryCoordinates::NUMBER_OF_METHODS), nullptr);
+  EXPECT_STREQ(vtkBaryWeightMethod::GetMethodName(vtkBaryWeightMethod::MEAN_VALUE), "mvc");
+  EXPECT_EQ(vtkBaryWeightMethod::GetMethodFromName("mvc"), vtkBaryWeightMethod::MEAN_VALUE);
+  EXPECT_EQ(vtkBaryWeightMethod::GetMethodFromName("harmonic?"), -1);
+  EXPECT_EQ(vtkBaryWeightMethod::GetMethodFromName(nullptr), -1);
+  EXPECT_EQ(vtkBaryWeightMethod::GetMethodName(-1), nullptr);
+  EXPECT_EQ(vtkBaryWeightMethod::GetMethodName(vtkBaryWeightMethod::NUMBER_OF_METHODS), nullptr);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -399,8 +399,8 @@ TEST(vtkBaryCoordinates, ResultsDoNotDependOnThreads)
   auto cage = ReadData("cage3d.obj");
   ASSERT_TRUE(model && cage);
   Coordinates one(model, cage), two(model, cage);
-  one.Filter->SetNumberOfThreads(1);
-  two.Filter->SetNumberOfThreads(2);
+  one.Filter->GetWeightMethod()->SetNumberOfThreads(1);
+  two.Filter->GetWeightMethod()->SetNumberOfThreads(2);
   ASSERT_EQ(one.Run(), 1);
   ASSERT_EQ(two.Run(), 1);
   vtkDataArray* W1 = one.Weights();

@@ -69,7 +69,7 @@ struct BBW
   BBW(vtkDataSet* points, vtkPolyData* handles, vtkDataSet* domain)
   {
     this->Observer->Attach(this->Filter);
-    this->Filter->SetMethodToBBW();
+    this->Filter->GetWeightMethod()->SetMethodToBBW();
     this->Filter->SetInputData(0, points);
     this->Filter->SetCageData(handles);
     if (domain)
@@ -111,12 +111,12 @@ TEST(vtkBaryCoordinatesBBW, Skeleton2DInAPolygonIsMeshedWithTheHandlesInLibiglOr
   // evaluation points: the joints first, then random points
   auto points = SquareSamples(200,
     { { 0.2, 0.2, 0 }, { 0.3, 0.75, 0 }, { 0.7, 0.75, 0 }, { 0.8, 0.45, 0 }, { 0.8, 0.15, 0 } });
-  for (int mode : { vtkBaryCoordinates::BBW_FAST, vtkBaryCoordinates::BBW_COUPLED })
+  for (bool fast : { true, false })
   {
-    SCOPED_TRACE(mode == vtkBaryCoordinates::BBW_FAST ? "fast" : "coupled");
+    SCOPED_TRACE(fast ? "fast" : "coupled");
     BBW bbw(points, skeleton, square);
-    bbw.Filter->SetBBWMode(mode);
-    bbw.Filter->SetTargetNumberOfCells(800);
+    bbw.Filter->GetWeightMethod()->SetBBWFast(fast);
+    bbw.Filter->GetWeightMethod()->SetTargetNumberOfCells(800);
     ASSERT_EQ(bbw.Run(), 1) << bbw.Observer->AllErrors();
     vtkDataArray* W = bbw.Weights();
     ASSERT_NE(W, nullptr);
@@ -134,7 +134,7 @@ TEST(vtkBaryCoordinatesBBW, Skeleton2DInAPolygonIsMeshedWithTheHandlesInLibiglOr
     EXPECT_EQ(bbw.Filter->GetStatistic("max_bound_violation"), 0.0);
     EXPECT_GE(bbw.Filter->GetStatistic("mesh_cells"), 800.0);
     EXPECT_TRUE(std::isnan(bbw.Filter->GetStatistic("no such figure")));
-    EXPECT_EQ(bbw.Filter->GetStatistic("coupled"), mode == vtkBaryCoordinates::BBW_COUPLED ? 1.0 : 0.0);
+    EXPECT_EQ(bbw.Filter->GetStatistic("coupled"), fast ? 0.0 : 1.0);
     EXPECT_EQ(bbw.Filter->GetNumberOfInsidePoints(), points->GetNumberOfPoints());
   }
 }
@@ -165,7 +165,7 @@ TEST(vtkBaryCoordinatesBBW, GivenMeshMatchesTheCoreOnItsVertices)
   vtkUnstructuredGrid* mesh = mesher->GetOutput();
 
   BBW bbw(mesh, skeleton, mesh);
-  bbw.Filter->SetBBWMode(vtkBaryCoordinates::BBW_FAST);
+  bbw.Filter->GetWeightMethod()->SetBBWFast(true);
   ASSERT_EQ(bbw.Run(), 1) << bbw.Observer->AllErrors();
   vtkDataArray* W = bbw.Weights();
   ASSERT_NE(W, nullptr);
@@ -205,8 +205,8 @@ TEST(vtkBaryCoordinatesBBW, ClosedSurfaceDomainIsTetrahedralizedAroundTheSkeleto
   auto points = MakePointCloud({ { -0.6, 0.0, 0.0 }, { 0.0, 0.0, 0.0 }, { 0.0, 0.6, 0.3 },
     { 0.9, 0.9, 0.9 }, { -0.9, 0.2, -0.7 } });
   BBW bbw(points, skeleton, cube);
-  bbw.Filter->SetBBWMode(vtkBaryCoordinates::BBW_FAST);
-  bbw.Filter->SetTargetNumberOfCells(3000);
+  bbw.Filter->GetWeightMethod()->SetBBWFast(true);
+  bbw.Filter->GetWeightMethod()->SetTargetNumberOfCells(3000);
   ASSERT_EQ(bbw.Run(), 1) << bbw.Observer->AllErrors();
   vtkDataArray* W = bbw.Weights();
   ASSERT_EQ(W->GetNumberOfComponents(), 2);
@@ -232,11 +232,11 @@ TEST(vtkBaryCoordinatesBBW, CageHandlesAreLinearOnTheCageFaces)
   xs.push_back({ 0.1, 0.2, -0.3 });
   xs.push_back({ -0.7, 0.5, 0.6 });
   auto points = MakePointCloud(xs);
-  for (int mode : { vtkBaryCoordinates::BBW_FAST, vtkBaryCoordinates::BBW_COUPLED })
+  for (bool fast : { true, false })
   {
     BBW bbw(points, cube, nullptr);
-    bbw.Filter->SetBBWMode(mode);
-    bbw.Filter->SetTargetNumberOfCells(400);
+    bbw.Filter->GetWeightMethod()->SetBBWFast(fast);
+    bbw.Filter->GetWeightMethod()->SetTargetNumberOfCells(400);
     ASSERT_EQ(bbw.Run(), 1) << bbw.Observer->AllErrors();
     vtkDataArray* W = bbw.Weights();
     ASSERT_EQ(W->GetNumberOfComponents(), 8);
@@ -273,8 +273,8 @@ TEST(vtkBaryCoordinatesBBW, Errors)
     lines->InsertNextCell(2, bone);
     far->SetLines(lines);
     BBW bbw(MakePointCloud({ { 0, 0, 0 } }), far, cube);
-    bbw.Filter->SetBBWMode(vtkBaryCoordinates::BBW_FAST);
-    bbw.Filter->SetTargetNumberOfCells(500);
+    bbw.Filter->GetWeightMethod()->SetBBWFast(true);
+    bbw.Filter->GetWeightMethod()->SetTargetNumberOfCells(500);
     EXPECT_EQ(bbw.Run(), 0);
     EXPECT_TRUE(bbw.Observer->HasError("bone 0")) << bbw.Observer->AllErrors();
   }
@@ -282,12 +282,12 @@ TEST(vtkBaryCoordinatesBBW, Errors)
     // points outside the domain: error by default, NaN when asked
     auto outside = MakePointCloud({ { 0.5, 0.5, 0 }, { 2.0, 0.5, 0 } });
     BBW bbw(outside, skeleton, square);
-    bbw.Filter->SetBBWMode(vtkBaryCoordinates::BBW_FAST);
-    bbw.Filter->SetTargetNumberOfCells(300);
+    bbw.Filter->GetWeightMethod()->SetBBWFast(true);
+    bbw.Filter->GetWeightMethod()->SetTargetNumberOfCells(300);
     EXPECT_EQ(bbw.Run(), 0);
     EXPECT_TRUE(bbw.Observer->HasError("outside the mesh")) << bbw.Observer->AllErrors();
     bbw.Observer->Clear();
-    bbw.Filter->SetOutsidePolicy(vtkBaryCoordinates::OUTSIDE_NAN);
+    bbw.Filter->GetWeightMethod()->SetOutsidePolicy(vtkBaryWeightMethod::OUTSIDE_NAN);
     ASSERT_EQ(bbw.Run(), 1) << bbw.Observer->AllErrors();
     EXPECT_EQ(bbw.Filter->GetNumberOfOutsidePoints(), 1);
     EXPECT_TRUE(std::isnan(bbw.Weights()->GetComponent(1, 0)));
@@ -342,9 +342,9 @@ TEST(vtkBaryCoordinatesBBW, CageDeformationWithCageHandlesFollowsATranslatedCage
   vtkNew<vtkBaryCageDeformation> deform;
   vtkNew<ErrorObserver> errors;
   errors->Attach(deform);
-  deform->SetMethod(vtkBaryCoordinates::BBW);
-  deform->SetBBWMode(vtkBaryCoordinates::BBW_FAST);
-  deform->SetTargetNumberOfCells(400);
+  deform->GetWeightMethod()->SetMethod(vtkBaryWeightMethod::BBW);
+  deform->GetWeightMethod()->SetBBWFast(true);
+  deform->GetWeightMethod()->SetTargetNumberOfCells(400);
   deform->SetInputData(model);
   deform->SetRestCageData(cube);
   deform->SetDeformedCageData(moved_cube(1.0, 0.3, -1.2, 0.5));

@@ -58,7 +58,7 @@ struct Celestial
   Celestial(vtkDataSet* points, vtkPolyData* controls, int method)
   {
     this->Observer->Attach(this->Filter);
-    this->Filter->SetMethod(method);
+    this->Filter->GetWeightMethod()->SetMethod(method);
     this->Filter->SetInputData(0, points);
     this->Filter->SetCageData(controls);
   }
@@ -95,9 +95,9 @@ TEST(vtkBaryCoordinatesCelestial, SCCAndTCCHaveTheirPropertiesIn3D)
 {
   auto controls = Controls3D();
   auto points = Inside3D(300);
-  for (int method : { vtkBaryCoordinates::S_CELESTIAL, vtkBaryCoordinates::T_CELESTIAL })
+  for (int method : { vtkBaryWeightMethod::S_CELESTIAL, vtkBaryWeightMethod::T_CELESTIAL })
   {
-    SCOPED_TRACE(vtkBaryCoordinates::GetMethodName(method));
+    SCOPED_TRACE(vtkBaryWeightMethod::GetMethodName(method));
     Celestial c(points, controls, method);
     ASSERT_EQ(c.Run(), 1) << c.Observer->AllErrors();
     vtkDataArray* W = c.Weights();
@@ -118,7 +118,7 @@ TEST(vtkBaryCoordinatesCelestial, LagrangeAtControlsAnd2DControls)
 {
   auto controls = MakePointCloud({ { 0, 0, 0.5 }, { 2, 0, 0.5 }, { 2, 1, 0.5 }, { 0, 1, 0.5 }, { 1, 0.5, 0.5 } });
   auto points = MakePointCloud({ { 0, 0, 0.5 }, { 1, 0.5, 0.5 }, { 0.3, 0.7, 0.5 }, { 1.9, 0.1, 0.5 } });
-  Celestial c(points, controls, vtkBaryCoordinates::S_CELESTIAL);
+  Celestial c(points, controls, vtkBaryWeightMethod::S_CELESTIAL);
   ASSERT_EQ(c.Run(), 1) << c.Observer->AllErrors();
   vtkDataArray* W = c.Weights();
   ASSERT_EQ(W->GetNumberOfComponents(), 5);
@@ -138,40 +138,40 @@ TEST(vtkBaryCoordinatesCelestial, OutsidePointsFollowThePolicyAndUserWeightsChan
 {
   auto controls = Controls3D();
   auto points = MakePointCloud({ { 0.1, 0.1, 0.1 }, { 3, 3, 3 } });
-  Celestial c(points, controls, vtkBaryCoordinates::S_CELESTIAL);
+  Celestial c(points, controls, vtkBaryWeightMethod::S_CELESTIAL);
   EXPECT_EQ(c.Run(), 0);
   EXPECT_TRUE(c.Observer->HasError("outside")) << c.Observer->AllErrors();
   c.Observer->Clear();
-  c.Filter->SetOutsidePolicy(vtkBaryCoordinates::OUTSIDE_NAN);
+  c.Filter->GetWeightMethod()->SetOutsidePolicy(vtkBaryWeightMethod::OUTSIDE_NAN);
   ASSERT_EQ(c.Run(), 1) << c.Observer->AllErrors();
   EXPECT_EQ(c.Filter->GetNumberOfOutsidePoints(), 1);
   EXPECT_EQ(c.Filter->GetNumberOfUndefinedPoints(), 1);
   EXPECT_TRUE(std::isnan(c.Weights()->GetComponent(1, 0)));
   EXPECT_FALSE(std::isnan(c.Weights()->GetComponent(0, 0)));
   c.Observer->Clear();
-  c.Filter->SetOutsidePolicy(vtkBaryCoordinates::OUTSIDE_NEAREST);
+  c.Filter->GetWeightMethod()->SetOutsidePolicy(vtkBaryWeightMethod::OUTSIDE_NEAREST);
   EXPECT_EQ(c.Run(), 0);
   EXPECT_TRUE(c.Observer->HasError("convex hull only")) << c.Observer->AllErrors();
 
   // user weights (TCC's s_i): a large s on control 0 raises its weight at an inside point
   auto inside = MakePointCloud({ { 0.1, 0.1, 0.1 } });
-  Celestial plain(inside, controls, vtkBaryCoordinates::T_CELESTIAL);
+  Celestial plain(inside, controls, vtkBaryWeightMethod::T_CELESTIAL);
   ASSERT_EQ(plain.Run(), 1);
   const double w0 = plain.Weights()->GetComponent(0, 0);
-  Celestial weighted(inside, controls, vtkBaryCoordinates::T_CELESTIAL);
+  Celestial weighted(inside, controls, vtkBaryWeightMethod::T_CELESTIAL);
   vtkNew<vtkDoubleArray> s;
   s->SetNumberOfTuples(8);
   s->Fill(0.0);
   s->SetValue(0, 5.0);
-  weighted.Filter->SetUserWeights(s);
+  weighted.Filter->GetWeightMethod()->SetUserWeights(s);
   ASSERT_EQ(weighted.Run(), 1) << weighted.Observer->AllErrors();
   EXPECT_GT(weighted.Weights()->GetComponent(0, 0), w0 + 1e-3);
   const auto [partition, reproduction, lo] = Properties(inside, weighted.Weights(), controls, 3);
   EXPECT_LE(partition, 1e-12);
   EXPECT_LE(reproduction, 1e-10);
   // SCC takes no user weights; a wrong count is named
-  Celestial scc(inside, controls, vtkBaryCoordinates::S_CELESTIAL);
-  scc.Filter->SetUserWeights(s);
+  Celestial scc(inside, controls, vtkBaryWeightMethod::S_CELESTIAL);
+  scc.Filter->GetWeightMethod()->SetUserWeights(s);
   EXPECT_EQ(scc.Run(), 0);
   EXPECT_TRUE(scc.Observer->HasError("take none")) << scc.Observer->AllErrors();
   s->SetNumberOfTuples(3);
@@ -184,12 +184,12 @@ TEST(vtkBaryCoordinatesCelestial, DegenerateControlsAreNamed)
   auto coplanar = MakePointCloud({ { 0, 0, 0 }, { 1, 0, 0 }, { 0, 1, 0 }, { 1, 1, 1e-16 + 0.0 }, { 0.5, 0.5, 1.0 } });
   coplanar->GetPoints()->SetPoint(4, 0.5, 0.5, 0.0);
   // all five in z = 0 up to rounding: read as 2D, which is fine; force 3D to see the error
-  Celestial c(MakePointCloud({ { 0.5, 0.5, 0 } }), coplanar, vtkBaryCoordinates::S_CELESTIAL);
-  c.Filter->SetCageDimension(3);
+  Celestial c(MakePointCloud({ { 0.5, 0.5, 0 } }), coplanar, vtkBaryWeightMethod::S_CELESTIAL);
+  c.Filter->GetWeightMethod()->SetCageDimension(3);
   EXPECT_EQ(c.Run(), 0);
   EXPECT_TRUE(c.Observer->HasError("plane")) << c.Observer->AllErrors();
   auto twice = MakePointCloud({ { 0, 0, 0 }, { 1, 0, 0 }, { 0, 1, 0 }, { 0, 0, 1 }, { 1, 0, 0 } });
-  Celestial d(MakePointCloud({ { 0.1, 0.1, 0.1 } }), twice, vtkBaryCoordinates::S_CELESTIAL);
+  Celestial d(MakePointCloud({ { 0.1, 0.1, 0.1 } }), twice, vtkBaryWeightMethod::S_CELESTIAL);
   EXPECT_EQ(d.Run(), 0);
   EXPECT_TRUE(d.Observer->HasError("control points 1 and 4 coincide")) << d.Observer->AllErrors();
 }
@@ -216,7 +216,7 @@ TEST(vtkBaryCoordinatesCelestial, DeformationByMovedControlPoints)
   vtkNew<vtkBaryCageDeformation> deform;
   vtkNew<ErrorObserver> errors;
   errors->Attach(deform);
-  deform->SetMethod(vtkBaryCoordinates::S_CELESTIAL);
+  deform->GetWeightMethod()->SetMethod(vtkBaryWeightMethod::S_CELESTIAL);
   deform->SetInputData(model);
   deform->SetRestCageData(controls);
   deform->SetDeformedCageData(moved);

@@ -40,10 +40,10 @@ struct LBC
   LBC(vtkDataSet* points, vtkPolyData* cage, int cells)
   {
     this->Observer->Attach(this->Filter);
-    this->Filter->SetMethodToLBC();
+    this->Filter->GetWeightMethod()->SetMethodToLBC();
     this->Filter->SetInputData(0, points);
     this->Filter->SetCageData(cage);
-    this->Filter->SetTargetNumberOfCells(cells);
+    this->Filter->GetWeightMethod()->SetTargetNumberOfCells(cells);
   }
   int Run() { return RunPipeline(this->Filter); }
   bary::DenseWeights Weights()
@@ -106,20 +106,20 @@ std::string SharedLBC()
 
 TEST(vtkBaryCoordinatesLBC, MethodNameAndDefaults)
 {
-  EXPECT_STREQ(vtkBaryCoordinates::GetMethodName(vtkBaryCoordinates::LBC), "lbc");
-  EXPECT_EQ(vtkBaryCoordinates::GetMethodFromName("lbc"), vtkBaryCoordinates::LBC);
-  EXPECT_EQ(vtkBaryCoordinates::NUMBER_OF_METHODS, 6);
+  EXPECT_STREQ(vtkBaryWeightMethod::GetMethodName(vtkBaryWeightMethod::LBC), "lbc");
+  EXPECT_EQ(vtkBaryWeightMethod::GetMethodFromName("lbc"), vtkBaryWeightMethod::LBC);
+  EXPECT_EQ(vtkBaryWeightMethod::NUMBER_OF_METHODS, 6);
   vtkNew<vtkBaryCoordinates> f;
   const bary::LBCOptions core;
-  EXPECT_EQ(f->GetLBCLocality(), vtkBaryCoordinates::LBC_LOCALITY_SQUARED);
-  EXPECT_EQ(f->GetLBCRelaxedEpsilon(), core.relaxed_tv_epsilon);
-  EXPECT_EQ(f->GetLBCPrimalTolerance(), core.primal_tolerance);
-  EXPECT_EQ(f->GetLBCDualTolerance(), core.dual_tolerance);
-  EXPECT_EQ(f->GetLBCMaximumIterations(), core.max_iterations);
-  EXPECT_EQ(f->GetLBCDistanceNormalization(), vtkBaryCoordinates::LBC_NORMALIZE_PER_CONTROL_POINT);
-  EXPECT_TRUE(f->GetLBCBarycentricConstraints());
-  f->SetLBCMaximumIterations(0);
-  EXPECT_EQ(f->GetLBCMaximumIterations(), 1); // clamped
+  EXPECT_EQ(f->GetWeightMethod()->GetLBCLocality(), vtkBaryWeightMethod::LBC_LOCALITY_SQUARED);
+  EXPECT_EQ(f->GetWeightMethod()->GetLBCRelaxedEpsilon(), core.relaxed_tv_epsilon);
+  EXPECT_EQ(f->GetWeightMethod()->GetLBCPrimalTolerance(), core.primal_tolerance);
+  EXPECT_EQ(f->GetWeightMethod()->GetLBCDualTolerance(), core.dual_tolerance);
+  EXPECT_EQ(f->GetWeightMethod()->GetLBCMaximumIterations(), core.max_iterations);
+  EXPECT_EQ(f->GetWeightMethod()->GetLBCDistanceNormalization(), vtkBaryWeightMethod::LBC_NORMALIZE_PER_CONTROL_POINT);
+  EXPECT_FALSE(f->GetWeightMethod()->GetLBCUnconstrained());
+  f->GetWeightMethod()->SetLBCMaximumIterations(0);
+  EXPECT_EQ(f->GetWeightMethod()->GetLBCMaximumIterations(), 1); // clamped
 }
 
 TEST(vtkBaryCoordinatesLBC, BarycentricPropertiesOnTheBundled2DCage)
@@ -129,7 +129,7 @@ TEST(vtkBaryCoordinatesLBC, BarycentricPropertiesOnTheBundled2DCage)
   ASSERT_TRUE(cage && model);
   auto points = Samples(model, cage, 150, true);
   LBC lbc(points, cage, 800);
-  lbc.Filter->InsertPointsIntoMeshOn();
+  lbc.Filter->GetWeightMethod()->InsertPointsIntoMeshOn();
   ASSERT_EQ(lbc.Run(), 1) << lbc.Observer->AllErrors();
   const bary::DenseWeights W = lbc.Weights();
   ExpectBarycentric(W, points, cage, 2, 1e-10);
@@ -163,7 +163,7 @@ TEST(vtkBaryCoordinatesLBC, BarycentricPropertiesOnTheBundled3DCage)
   ASSERT_TRUE(cage && model);
   auto points = Samples(model, cage, 60, false);
   LBC lbc(points, cage, 600);
-  lbc.Filter->InsertPointsIntoMeshOn();
+  lbc.Filter->GetWeightMethod()->InsertPointsIntoMeshOn();
   const auto t0 = std::chrono::steady_clock::now();
   ASSERT_EQ(lbc.Run(), 1) << lbc.Observer->AllErrors();
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -223,7 +223,7 @@ TEST(vtkBaryCoordinatesLBC, FilterEqualsCoreOnTheSameMesh)
   EXPECT_EQ(lbc.Filter->GetStatistic("threads"), 1.0); // NumberOfThreads 0 -> one thread
 
   // the parameters reach the core: a linear locality function changes the solution
-  lbc.Filter->SetLBCLocalityToLinear();
+  lbc.Filter->GetWeightMethod()->SetLBCLocalityToLinear();
   ASSERT_EQ(lbc.Run(), 1) << lbc.Observer->AllErrors();
   options.locality = bary::LocalityFunction::Linear;
   const bary::LBCResult linear = bary::local_barycentric_coordinates(mesh, options);
@@ -241,7 +241,7 @@ TEST(vtkBaryCoordinatesLBC, ResultsDoNotDependOnTheThreadCount)
   for (int threads : { 1, 2, 0 })
   {
     LBC lbc(points, cage, 600);
-    lbc.Filter->SetNumberOfThreads(threads);
+    lbc.Filter->GetWeightMethod()->SetNumberOfThreads(threads);
     ASSERT_EQ(lbc.Run(), 1) << lbc.Observer->AllErrors();
     std::printf("[ info ] NumberOfThreads %d: ADMM %.3f s, total %.3f s (%.0f iterations)\n",
       threads, lbc.Filter->GetStatistic("admm_seconds"), lbc.Filter->GetStatistic("solve_seconds"),
@@ -283,7 +283,7 @@ TEST(vtkBaryCoordinatesLBC, AuthorsTriangulationOnInputTwo)
   // the filter: the same mesh on input 2, weights at its vertices
   LBC lbc(mesh, cage, 0);
   lbc.Filter->SetDomainData(mesh);
-  lbc.Filter->SetLBCDistanceNormalization(vtkBaryCoordinates::LBC_NORMALIZE_GLOBAL);
+  lbc.Filter->GetWeightMethod()->SetLBCDistanceNormalization(vtkBaryWeightMethod::LBC_NORMALIZE_GLOBAL);
   ASSERT_EQ(lbc.Run(), 1) << lbc.Observer->AllErrors();
   const bary::DenseWeights W = lbc.Weights();
   ASSERT_EQ(W.rows(), V.rows());
@@ -307,7 +307,7 @@ TEST(vtkBaryCoordinatesLBC, AuthorsTriangulationOnInputTwo)
   EXPECT_LT(diff, 0.01);
   EXPECT_TRUE(lbc.Observer->Warnings.empty()) << lbc.Observer->AllWarnings();
   // meshing settings do not apply to a given mesh: said, not silently dropped
-  lbc.Filter->InsertPointsIntoMeshOn();
+  lbc.Filter->GetWeightMethod()->InsertPointsIntoMeshOn();
   ASSERT_EQ(lbc.Run(), 1) << lbc.Observer->AllErrors();
   EXPECT_TRUE(lbc.Observer->HasWarning("InsertPointsIntoMesh is ignored")) << lbc.Observer->AllWarnings();
 }
@@ -346,7 +346,7 @@ TEST(vtkBaryCoordinatesLBC, NonConvergenceIsAnError)
   auto cage = ReadData("cage2d.obj");
   ASSERT_TRUE(cage);
   LBC lbc(Samples(cage, cage, 20, false), cage, 300);
-  lbc.Filter->SetLBCMaximumIterations(1);
+  lbc.Filter->GetWeightMethod()->SetLBCMaximumIterations(1);
   EXPECT_EQ(lbc.Run(), 0);
   EXPECT_TRUE(lbc.Observer->HasError("did not converge in 1 iterations")) << lbc.Observer->AllErrors();
   EXPECT_TRUE(lbc.Observer->HasError("raise LBCMaximumIterations (--max-iterations)"))
@@ -391,8 +391,8 @@ TEST(vtkBaryCoordinatesLBC, CageDeformationRecomputesWhenAnLBCParameterChanges)
   vtkNew<vtkBaryCageDeformation> deform;
   vtkNew<ErrorObserver> observer;
   observer->Attach(deform);
-  deform->SetMethod(vtkBaryCoordinates::LBC);
-  deform->SetTargetNumberOfCells(300);
+  deform->GetWeightMethod()->SetMethod(vtkBaryWeightMethod::LBC);
+  deform->GetWeightMethod()->SetTargetNumberOfCells(300);
   deform->SetInputData(Samples(cage, cage, 20, false));
   deform->SetRestCageData(cage);
   deform->SetDeformedCageData(posed);
@@ -409,10 +409,10 @@ TEST(vtkBaryCoordinatesLBC, CageDeformationRecomputesWhenAnLBCParameterChanges)
     worst = std::max(worst, std::hypot(a[0] - b[0], a[1] - b[1]));
   }
   EXPECT_LE(worst, 1e-12);
-  deform->SetLBCLocality(vtkBaryCoordinates::LBC_LOCALITY_CONSTANT);
+  deform->GetWeightMethod()->SetLBCLocality(vtkBaryWeightMethod::LBC_LOCALITY_CONSTANT);
   ASSERT_EQ(RunPipeline(deform), 1) << observer->AllErrors();
   EXPECT_EQ(deform->GetNumberOfWeightComputations(), 2);
-  deform->SetLBCDualTolerance(1e-6);
+  deform->GetWeightMethod()->SetLBCDualTolerance(1e-6);
   ASSERT_EQ(RunPipeline(deform), 1) << observer->AllErrors();
   EXPECT_EQ(deform->GetNumberOfWeightComputations(), 3);
 }
