@@ -40,6 +40,28 @@ int thread_count(int requested)
   return requested > 0 ? requested : std::max(1, omp_get_max_threads());
 }
 
+/// LBCResult::statistics (see its comment) from its fields; @p threads, the threads used.
+void fill_statistics(LBCResult& result, int threads)
+{
+  Statistics& st = result.statistics;
+  st.clear();
+  st.emplace_back("iterations", static_cast<double>(result.iterations));
+  st.emplace_back("primal_residual", result.primal_residual);
+  st.emplace_back("dual_residual", result.dual_residual);
+  st.emplace_back("primal_threshold", result.primal_threshold);
+  st.emplace_back("dual_threshold", result.dual_threshold);
+  st.emplace_back("objective", result.objective);
+  st.emplace_back("converged", result.converged ? 1.0 : 0.0);
+  st.emplace_back("partition_error", result.partition_error);
+  st.emplace_back("reproduction_error", result.reproduction_error);
+  st.emplace_back("min_weight", result.min_weight);
+  st.emplace_back("threads", static_cast<double>(threads));
+  st.emplace_back("geodesic_seconds", result.geodesic_seconds);
+  st.emplace_back("factor_seconds", result.factor_seconds);
+  st.emplace_back("admm_seconds", result.admm_seconds);
+  st.emplace_back("solve_seconds", result.seconds);
+}
+
 [[noreturn]] void invalid(const std::string& message)
 {
   throw Error(ErrorCode::InvalidArgument, message);
@@ -1516,6 +1538,7 @@ LBCResult LocalBarycentricCoordinates::compute(const ProgressCallback& progress)
   }
   result.polish_seconds = seconds_since(t_polish);
   result.seconds = s.geodesic_seconds + s.factor_seconds + seconds_since(t0);
+  fill_statistics(result, threads);
   report(1.0);
   return result;
 }
@@ -1543,6 +1566,7 @@ LBCResult local_barycentric_coordinates(
   const LocalBarycentricCoordinates lbc(mesh, options, setup);
   LBCResult result = lbc.compute(solve);
   result.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+  fill_statistics(result, thread_count(options.threads));
   return result;
 }
 

@@ -66,6 +66,7 @@
 #include "progress.h"
 #include "sparse_cholesky.h"
 #include "types.h"
+#include "weights_result.h"
 
 #include <functional>
 #include <memory>
@@ -192,17 +193,20 @@ struct LBCOptions
   bool polish = true;
 };
 
-/// What a computation did. Times are wall-clock seconds.
-struct LBCResult
+/// What a computation did. Times are wall-clock seconds. WeightsResult's fields: W (#V by #C
+/// weights, mesh vertex order, columns in cage order), no location, no undefined rows,
+/// converged (both residuals below their thresholds) and the statistics, in this order:
+/// iterations, primal_residual, dual_residual, primal_threshold, dual_threshold, objective,
+/// converged (1 or 0), partition_error, reproduction_error, min_weight, threads (the OpenMP
+/// threads used), geodesic_seconds, factor_seconds, admm_seconds, solve_seconds (seconds).
+struct LBCResult : WeightsResult
 {
-  DenseWeights W;          ///< #V by #C weights, mesh vertex order, columns in cage order
   int iterations = 0;      ///< fixed-point (ADMM) iterations = Y-solves of the iteration proper
   double primal_residual = 0; ///< |r_p|_F of Eq. 26 at the last check (diameter-1 units)
   double dual_residual = 0;   ///< |r_d|_F of Eq. 27 at the last check
   double primal_threshold = 0; ///< N_p primal_tolerance
   double dual_threshold = 0;   ///< N_d dual_tolerance
   double objective = 0;    ///< Eq. 14 (Eq. 7 with relaxed TV) of W, in the mesh's own units
-  bool converged = false;  ///< both residuals below their thresholds
   // Acceleration and polishing diagnostics.
   int anderson_accepted = 0; ///< accelerated points kept
   int anderson_rejected = 0; ///< accelerated points refused by the safeguard (each cost one
