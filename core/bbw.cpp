@@ -600,10 +600,9 @@ CoupledOutcome solve_coupled(const BoxConstrainedQP& qp, const BBWBoundaryCondit
 
 [[noreturn]] void throw_not_converged(const std::string& what)
 {
-  throw Error(ErrorCode::NotConverged,
-    "bounded biharmonic weights: " + what +
-      "; raise BBWOptions::max_iterations / max_outer_iterations, loosen the tolerances, or set "
-      "BBWOptions::require_convergence = false to get the unconverged weights");
+  throw Error(ErrorCode::NotConverged, "bounded biharmonic weights: " + what,
+    "raise BBWOptions::max_iterations / max_outer_iterations, loosen the tolerances, or set "
+    "BBWOptions::require_convergence = false to get the unconverged weights");
 }
 
 } // namespace
@@ -758,7 +757,8 @@ BBWHandles handles_from_skeleton(const Eigen::MatrixXd& V, const Eigen::MatrixXd
       throw Error(ErrorCode::InvalidArgument,
         "point handle " + std::to_string(p) + " (joint " + std::to_string(P(p)) +
           ") is at distance " + fmt(distance) + " from the nearest mesh vertex, more than the "
-          "tolerance " + fmt(tolerance) + "; make the handle a vertex of the mesh");
+          "tolerance " + fmt(tolerance),
+        "make the handle a vertex of the mesh");
     handles.point_vertex(p) = static_cast<int>(nearest);
   }
   for (Index b = 0; b < BE.rows(); ++b)
@@ -778,8 +778,8 @@ BBWHandles handles_from_skeleton(const Eigen::MatrixXd& V, const Eigen::MatrixXd
     if (samples.empty())
       throw Error(ErrorCode::InvalidArgument,
         owner + " (joints " + std::to_string(BE(b, 0)) + " - " + std::to_string(BE(b, 1)) +
-          ") has no mesh vertex within " + fmt(tolerance) + "; mesh the domain with the bone "
-          "sampled (its joints and points along it as vertices)");
+          ") has no mesh vertex within " + fmt(tolerance),
+        "mesh the domain with the bone sampled (its joints and points along it as vertices)");
     handles.bone_vertices.push_back(std::move(samples));
   }
   return handles;
@@ -1003,8 +1003,8 @@ BBWResult BoundedBiharmonicWeights::compute(
       else if (!(s(i) > 0.0))
         throw Error(ErrorCode::InvalidArgument,
           "vertex " + std::to_string(i) + " gets weight 0 from every handle when the handles "
-          "are solved independently (fast mode), so its weights cannot be normalized; use "
-          "BBWMode::Coupled, which enforces partition of unity");
+          "are solved independently (fast mode), so its weights cannot be normalized",
+          "use BBWMode::Coupled, which enforces partition of unity");
     Y = s.cwiseInverse().asDiagonal() * Y;
     for (Index k = 0; k < nk; ++k) // keep fixed rows exact
       Y.row(bc.vertices(k)) = bc.values.row(k);

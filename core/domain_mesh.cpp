@@ -475,7 +475,8 @@ DomainMesh mesh_polygon(
   if (cage2d.V.rows() > 0 && cage2d.V.cols() != 2)
     throw Error(ErrorCode::SizeMismatch,
       "mesh_polygon needs a 2D cage (V #C by 2), got " + std::to_string(cage2d.V.cols()) +
-        " coordinates per vertex; use mesh_closed_surface for 3D cages");
+        " coordinates per vertex",
+      "use mesh_closed_surface for 3D cages");
   validate_cage(cage2d);
   checkpoint(progress, 0.0, what);
 
@@ -624,7 +625,8 @@ DomainMesh mesh_closed_surface(
   if (cage3d.V.rows() > 0 && cage3d.V.cols() != 3)
     throw Error(ErrorCode::SizeMismatch,
       "mesh_closed_surface needs a 3D cage (V #C by 3, F #F by 3), got " +
-        std::to_string(cage3d.V.cols()) + " coordinates per vertex; use mesh_polygon for 2D cages");
+        std::to_string(cage3d.V.cols()) + " coordinates per vertex",
+      "use mesh_polygon for 2D cages");
   validate_cage(cage3d);
   checkpoint(progress, 0.0, what);
 

@@ -1509,8 +1509,8 @@ LBCResult LocalBarycentricCoordinates::compute(const ProgressCallback& progress)
       "local barycentric coordinates did not converge in " + std::to_string(o.max_iterations) +
         " iterations (primal residual " + str(result.primal_residual) + " > " +
         str(result.primal_threshold) + " or dual residual " + str(result.dual_residual) + " > " +
-        str(result.dual_threshold) +
-        "); raise max_iterations, loosen the tolerances or set require_convergence = false");
+        str(result.dual_threshold) + ")",
+      "raise max_iterations, loosen the tolerances or set require_convergence = false");
   report(0.98);
 
   // --- polish and assemble

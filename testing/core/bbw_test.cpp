@@ -677,6 +677,17 @@ TEST(BBW, NonConvergenceThrowsUnlessAskedToReturn)
   options.max_iterations = 1;
   EXPECT_TRUE(throws_error([&] { bounded_biharmonic_weights(g.V, g.T, h, options); },
     ErrorCode::NotConverged, { "handle", "require_convergence" }));
+  try // the advice (core's option names) is split off, for callers to word their own
+  {
+    bounded_biharmonic_weights(g.V, g.T, h, options);
+  }
+  catch (const Error& e)
+  {
+    EXPECT_EQ(e.message().rfind("bounded biharmonic weights: ", 0), 0u) << e.message();
+    EXPECT_EQ(e.message().find("require_convergence"), std::string::npos) << e.message();
+    EXPECT_EQ(e.advice().rfind("raise BBWOptions::max_iterations", 0), 0u) << e.advice();
+    EXPECT_EQ(std::string(e.what()), e.message() + "; " + e.advice());
+  }
   options.require_convergence = false;
   const BBWResult r = bounded_biharmonic_weights(g.V, g.T, h, options);
   EXPECT_FALSE(r.converged);
