@@ -232,7 +232,8 @@ class LocalBarycentricCoordinates
 public:
   /// Meshes nothing: takes the domain mesh of a cage (mesh_polygon / mesh_closed_surface output,
   /// or any DomainMesh: V, T, control_vertex, boundary_vertices, boundary_weights are used; see
-  /// domain_mesh_from_simplices for a mesh read from files).
+  /// domain_mesh_from_simplices and domain_mesh_for_cage (domain_mesh.h) for a mesh read from
+  /// files).
   /// @throws Error(InvalidArgument) for options out of range (named), a control vertex or
   ///   boundary vertex out of range, a control vertex that is not a boundary vertex, control
   ///   points that do not span the space (collinear / coplanar), a mesh without interior
@@ -288,19 +289,5 @@ double relaxed_tv(double r, double eps);
 ///   written without cancellation; it is < eps, positive for r > 0 (no exact zeros: the
 ///   relaxed weights are less local). Derivation in docs/local-barycentric-coordinates.md.
 double relaxed_tv_prox_radius(double r, double kappa, double eps);
-
-/// A DomainMesh for a given triangulation/tetrahedralization of @p cage's interior (e.g. read
-/// from files): control_vertex as given, boundary_vertices = the vertices of the mesh's boundary
-/// facets (edges used by one triangle, triangles used by one tetrahedron), boundary_weights =
-/// the cage's hat functions there (cage_boundary_values, harmonic_coordinates.h).
-/// @param V #V by dim, @param T #T by dim+1, @param control_vertex #C: the mesh vertex at each
-///   cage vertex.
-/// @param tolerance relative to the cage diameter: how far a boundary vertex may lie from the
-///   cage, and a control vertex from its cage vertex.
-/// @throws Error(SizeMismatch) for inconsistent shapes; Error(InvalidArgument) naming a
-///   boundary vertex off the cage (2D holes are not supported here), a control vertex out of
-///   range or not at its cage vertex, or an index out of range.
-DomainMesh domain_mesh_from_simplices(const Cage& cage, const Eigen::MatrixXd& V,
-  const Eigen::MatrixXi& T, const Eigen::VectorXi& control_vertex, double tolerance = 1e-9);
 
 } // namespace bary
