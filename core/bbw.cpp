@@ -99,6 +99,46 @@ void for_each_handle(Index m, int threads, const Fn& fn)
     std::rethrow_exception(failure);
 }
 
+/// BBWResult::statistics (see its comment) from its fields, for a mesh of @p vertices and
+/// @p cells with @p handles handles.
+void fill_statistics(BBWResult& result, Index vertices, Index cells, Index handles)
+{
+  long long iterations = 0, factorizations = 0;
+  int most = 0;
+  for (std::size_t j = 0; j < result.iterations.size(); ++j)
+  {
+    iterations += result.iterations[j];
+    factorizations += result.factorizations[j];
+    most = std::max(most, result.iterations[j]);
+  }
+  Statistics& st = result.statistics;
+  st.clear();
+  st.emplace_back("mesh_vertices", static_cast<double>(vertices));
+  st.emplace_back("mesh_cells", static_cast<double>(cells));
+  st.emplace_back("handles", static_cast<double>(handles));
+  st.emplace_back("fixed_vertices", static_cast<double>(result.fixed_vertices));
+  st.emplace_back("coupled", result.mode == BBWMode::Coupled ? 1.0 : 0.0);
+  st.emplace_back("fast_iterations", static_cast<double>(iterations));
+  st.emplace_back("fast_factorizations", static_cast<double>(factorizations));
+  st.emplace_back("max_fast_iterations_per_handle", static_cast<double>(most));
+  if (result.mode == BBWMode::Coupled)
+  {
+    st.emplace_back("outer_iterations", result.outer_iterations);
+    st.emplace_back("coupled_iterations", result.coupled_iterations);
+    st.emplace_back("coupled_factorizations", result.coupled_factorizations);
+    st.emplace_back("coupled_kkt_residual", result.coupled_kkt_residual);
+    st.emplace_back("fast_difference_mean", result.fast_difference_mean);
+    st.emplace_back("fast_difference_max", result.fast_difference_max);
+  }
+  st.emplace_back("max_kkt_residual", result.max_kkt_residual);
+  st.emplace_back("max_bound_violation", result.max_bound_violation);
+  st.emplace_back("partition_error", result.partition_error);
+  st.emplace_back(
+    "partition_error_before_normalization", result.partition_error_before_normalization);
+  st.emplace_back("converged", result.converged ? 1.0 : 0.0);
+  st.emplace_back("solve_seconds", result.seconds);
+}
+
 /// What the coupled solver did.
 struct CoupledOutcome
 {
@@ -560,10 +600,9 @@ CoupledOutcome solve_coupled(const BoxConstrainedQP& qp, const BBWBoundaryCondit
 
 [[noreturn]] void throw_not_converged(const std::string& what)
 {
-  throw Error(ErrorCode::NotConverged,
-    "bounded biharmonic weights: " + what +
-      "; raise BBWOptions::max_iterations / max_outer_iterations, loosen the tolerances, or set "
-      "BBWOptions::require_convergence = false to get the unconverged weights");
+  throw Error(ErrorCode::NotConverged, "bounded biharmonic weights: " + what,
+    "raise BBWOptions::max_iterations / max_outer_iterations, loosen the tolerances, or set "
+    "BBWOptions::require_convergence = false to get the unconverged weights");
 }
 
 } // namespace
@@ -718,7 +757,8 @@ BBWHandles handles_from_skeleton(const Eigen::MatrixXd& V, const Eigen::MatrixXd
       throw Error(ErrorCode::InvalidArgument,
         "point handle " + std::to_string(p) + " (joint " + std::to_string(P(p)) +
           ") is at distance " + fmt(distance) + " from the nearest mesh vertex, more than the "
-          "tolerance " + fmt(tolerance) + "; make the handle a vertex of the mesh");
+          "tolerance " + fmt(tolerance),
+        "make the handle a vertex of the mesh");
     handles.point_vertex(p) = static_cast<int>(nearest);
   }
   for (Index b = 0; b < BE.rows(); ++b)
@@ -738,8 +778,8 @@ BBWHandles handles_from_skeleton(const Eigen::MatrixXd& V, const Eigen::MatrixXd
     if (samples.empty())
       throw Error(ErrorCode::InvalidArgument,
         owner + " (joints " + std::to_string(BE(b, 0)) + " - " + std::to_string(BE(b, 1)) +
-          ") has no mesh vertex within " + fmt(tolerance) + "; mesh the domain with the bone "
-          "sampled (its joints and points along it as vertices)");
+          ") has no mesh vertex within " + fmt(tolerance),
+        "mesh the domain with the bone sampled (its joints and points along it as vertices)");
     handles.bone_vertices.push_back(std::move(samples));
   }
   return handles;
@@ -805,6 +845,7 @@ BoundedBiharmonicWeights::BoundedBiharmonicWeights(
   Q.makeCompressed();
   Q_ = std::move(Q);
   component_ = connected_components(n, T);
+  cell_count_ = T.rows();
   operator_seconds_ = seconds_since(start);
 }
 
@@ -962,8 +1003,8 @@ BBWResult BoundedBiharmonicWeights::compute(
       else if (!(s(i) > 0.0))
         throw Error(ErrorCode::InvalidArgument,
           "vertex " + std::to_string(i) + " gets weight 0 from every handle when the handles "
-          "are solved independently (fast mode), so its weights cannot be normalized; use "
-          "BBWMode::Coupled, which enforces partition of unity");
+          "are solved independently (fast mode), so its weights cannot be normalized",
+          "use BBWMode::Coupled, which enforces partition of unity");
     Y = s.cwiseInverse().asDiagonal() * Y;
     for (Index k = 0; k < nk; ++k) // keep fixed rows exact
       Y.row(bc.vertices(k)) = bc.values.row(k);
@@ -1017,6 +1058,7 @@ BBWResult BoundedBiharmonicWeights::compute(
   result.max_bound_violation = std::max({ 0.0, -W.minCoeff(), W.maxCoeff() - 1.0 });
   result.W = W;
   result.seconds = seconds_since(start);
+  fill_statistics(result, n, cell_count_, m);
   return result;
 }
 

@@ -54,6 +54,7 @@
 #include "progress.h"
 #include "sparse_cholesky.h"
 #include "types.h"
+#include "weights_result.h"
 
 #include <vector>
 
@@ -203,10 +204,16 @@ struct BBWOptions
   Eigen::VectorXd shape_preservation;
 };
 
-/// What a computation did. Times in seconds.
-struct BBWResult
+/// What a computation did. Times in seconds. WeightsResult's fields: W (#V by #handles), no
+/// location, no undefined rows, converged (every QP and the coupled iteration converged) and
+/// the statistics, in this order: mesh_vertices, mesh_cells, handles, fixed_vertices, coupled
+/// (1 or 0), fast_iterations and fast_factorizations (summed over the handles),
+/// max_fast_iterations_per_handle, in the coupled mode outer_iterations, coupled_iterations,
+/// coupled_factorizations, coupled_kkt_residual, fast_difference_mean, fast_difference_max,
+/// then max_kkt_residual, max_bound_violation, partition_error,
+/// partition_error_before_normalization, converged (1 or 0), solve_seconds (seconds).
+struct BBWResult : WeightsResult
 {
-  DenseWeights W;        ///< #V by #handles
   BBWMode mode = BBWMode::Fast;
   // Fast phase (both modes): one entry per handle.
   std::vector<int> iterations;      ///< active-set iterations of handle j's QP
@@ -227,7 +234,6 @@ struct BBWResult
   double max_bound_violation = 0;    ///< max over entries of max(-w, w - 1, 0): exactly 0
   double partition_error = 0;        ///< max_i |sum_j W(i,j) - 1| of W as returned
   double partition_error_before_normalization = 0; ///< the same before normalizing
-  bool converged = false;            ///< every QP (and the coupled iteration) converged
   Index fixed_vertices = 0;          ///< #known rows
   double operator_seconds = 0;       ///< assembling Q (done once per BoundedBiharmonicWeights)
   double unconstrained_seconds = 0;  ///< the shared unconstrained biharmonic solve
@@ -278,6 +284,7 @@ private:
   BBWOptions options_;
   Eigen::SparseMatrix<double> Q_;
   Eigen::VectorXi component_; ///< connected component of every vertex
+  Index cell_count_ = 0;      ///< #T
   double operator_seconds_ = 0;
 };
 

@@ -223,6 +223,11 @@ double signed_measure(const Cage& cage)
   return vol / 6.0;
 }
 
+double enclosed_measure(const Cage& cage)
+{
+  return std::abs(signed_measure(cage));
+}
+
 bool is_positively_oriented(const Cage& cage)
 {
   return signed_measure(cage) > 0.0;

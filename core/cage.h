@@ -55,6 +55,10 @@ void validate_cage(const Cage& cage, const CageValidationOptions& options = {});
 /// normals) enclosed by the cage.
 double signed_measure(const Cage& cage);
 
+/// Area of a 2D polygon cage / volume of a closed 3D cage, whatever its orientation:
+/// |signed_measure(cage)|. Used to turn a target number of mesh cells into a size bound.
+double enclosed_measure(const Cage& cage);
+
 /// True if the faces (3D) are oriented outward, or the polygon (2D) is counter-clockwise.
 bool is_positively_oriented(const Cage& cage);
 

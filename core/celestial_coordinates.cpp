@@ -1074,6 +1074,46 @@ struct ChunkSolver
 
 } // namespace
 
+namespace
+{
+/// The fields CelestialResult shares with every method (see its comment), from its own.
+void fill_weights_result(CelestialResult& result, Index hull_facets)
+{
+  const std::size_t np = result.hull_location.size();
+  result.location.resize(np);
+  for (std::size_t p = 0; p < np; ++p)
+  {
+    const CelestialLocation where = result.hull_location[p];
+    result.location[p] = where == CelestialLocation::Inside ? PointLocation::Inside
+      : where == CelestialLocation::Outside                 ? PointLocation::Outside
+                                                            : PointLocation::Boundary;
+  }
+  result.undefined = result.outside;
+  result.undefined.insert(
+    result.undefined.end(), result.not_converged.begin(), result.not_converged.end());
+  std::sort(result.undefined.begin(), result.undefined.end());
+  result.converged = result.not_converged.empty();
+  double max_residual = 0.0;
+  for (Index p = 0; p < result.residual.size(); ++p)
+    if (std::isfinite(result.residual(p)))
+      max_residual = std::max(max_residual, result.residual(p));
+  Statistics& st = result.statistics;
+  st.clear();
+  st.emplace_back("hull_facets", static_cast<double>(hull_facets));
+  st.emplace_back("newton_iterations", static_cast<double>(result.total_iterations));
+  st.emplace_back("mean_newton_iterations",
+    np > 0 ? static_cast<double>(result.total_iterations) / static_cast<double>(np) : 0.0);
+  st.emplace_back(
+    "max_newton_iterations", result.iterations.size() > 0 ? result.iterations.maxCoeff() : 0);
+  st.emplace_back("warm_starts", static_cast<double>(result.warm_starts));
+  st.emplace_back("cold_restarts", static_cast<double>(result.cold_restarts));
+  st.emplace_back("max_residual", max_residual);
+  st.emplace_back("at_control", static_cast<double>(result.at_control));
+  st.emplace_back("not_converged", static_cast<double>(result.not_converged.size()));
+  st.emplace_back("solve_seconds", result.seconds);
+}
+} // namespace
+
 CelestialResult CelestialCoordinates::compute(
   const Points& X, const ProgressCallback& progress) const
 {
@@ -1111,7 +1151,7 @@ CelestialResult CelestialCoordinates::compute(
 
   CelestialResult result;
   result.W.resize(np, nc); // every row is written below (a zero fill is a pass over #P x #C)
-  result.location.assign(static_cast<std::size_t>(np), CelestialLocation::Inside);
+  result.hull_location.assign(static_cast<std::size_t>(np), CelestialLocation::Inside);
   result.iterations.setZero(np);
   result.residual.setConstant(np, kNaN);
   result.solution.setConstant(np, dim, kNaN);
@@ -1119,6 +1159,7 @@ CelestialResult CelestialCoordinates::compute(
   {
     result.seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    fill_weights_result(result, num_hull_facets());
     return result;
   }
   const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> X = Xin;
@@ -1132,9 +1173,9 @@ CelestialResult CelestialCoordinates::compute(
   // 1. Where each point lies (cheap; before any solve so that an outside point fails fast).
 #pragma omp parallel for schedule(static) num_threads(threads) if (np >= 4096)
   for (Index p = 0; p < np; ++p)
-    result.location[static_cast<std::size_t>(p)] = im.classify(X.row(p).data());
+    result.hull_location[static_cast<std::size_t>(p)] = im.classify(X.row(p).data());
   for (Index p = 0; p < np; ++p)
-    if (result.location[static_cast<std::size_t>(p)] == CelestialLocation::Outside)
+    if (result.hull_location[static_cast<std::size_t>(p)] == CelestialLocation::Outside)
       result.outside.push_back(p);
   if (!result.outside.empty() && opt.outside == CelestialOutsidePolicy::Error)
   {
@@ -1262,7 +1303,7 @@ CelestialResult CelestialCoordinates::compute(
         {
           const Index p = order[static_cast<std::size_t>(k)];
           double* w = result.W.row(p).data();
-          const CelestialLocation loc = result.location[static_cast<std::size_t>(p)];
+          const CelestialLocation loc = result.hull_location[static_cast<std::size_t>(p)];
           if (loc == CelestialLocation::Outside)
           {
             std::fill(w, w + nc, kNaN);
@@ -1359,7 +1400,7 @@ CelestialResult CelestialCoordinates::compute(
 
   for (Index p = 0; p < np; ++p)
   {
-    const CelestialLocation loc = result.location[static_cast<std::size_t>(p)];
+    const CelestialLocation loc = result.hull_location[static_cast<std::size_t>(p)];
     switch (loc)
     {
       case CelestialLocation::Inside: ++result.inside; break;
@@ -1395,6 +1436,7 @@ CelestialResult CelestialCoordinates::compute(
         "rows and the list in CelestialResult::not_converged");
   }
   result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  fill_weights_result(result, num_hull_facets());
   return result;
 }
 

@@ -52,6 +52,7 @@
 
 #include "progress.h"
 #include "types.h"
+#include "weights_result.h"
 
 #include <Eigen/Core>
 
@@ -76,7 +77,9 @@ enum class CelestialOutsidePolicy
   Flag,  ///< give them NaN rows and list them in CelestialResult::outside
 };
 
-/// Where a query point lies. Decided before solving, with the hull's facet planes.
+/// Where a query point lies relative to the hull, finer than PointLocation (which maps Inside
+/// to Inside, Outside to Outside, Boundary and AtControl to Boundary). Decided before solving,
+/// with the hull's facet planes.
 enum class CelestialLocation : unsigned char
 {
   Inside = 0,    ///< strictly inside the hull (more than boundary_tolerance from it): full solve
@@ -134,13 +137,17 @@ struct CelestialOptions
   int threads = 0;
 };
 
-/// Result of compute().
-struct CelestialResult
+/// Result of compute(). WeightsResult's fields: W (#P by #C; rows of outside and
+/// non-converged points are NaN), location (#P: hull_location as a PointLocation), undefined
+/// (outside and not_converged, merged, ascending), converged (not_converged is empty) and the
+/// statistics, in this order: hull_facets, newton_iterations (total_iterations),
+/// mean_newton_iterations (per point), max_newton_iterations, warm_starts, cold_restarts,
+/// max_residual (over the finite residuals), at_control, not_converged (how many),
+/// solve_seconds (seconds).
+struct CelestialResult : WeightsResult
 {
-  /// #P by #C weights. Rows of outside and non-converged points are NaN.
-  DenseWeights W;
-  /// #P, where each point lies.
-  std::vector<CelestialLocation> location;
+  /// #P, where each point lies relative to the hull.
+  std::vector<CelestialLocation> hull_location;
   /// Ids (ascending) of the points outside the controls' convex hull.
   std::vector<Index> outside;
   /// Ids (ascending) of the points whose Newton did not reach the tolerance.

@@ -4,6 +4,8 @@
 #include "detail/polygon_mesher_cgal.h"
 #include "detail/tetgen_mesher.h"
 #include "error.h"
+#include "fem_operators.h"
+#include "harmonic_coordinates.h"
 
 #include <Eigen/Geometry>
 
@@ -38,6 +40,11 @@ std::string fmt_point(const Eigen::MatrixXd& V, Index i)
     s << (k ? ", " : "") << V(i, k);
   s << ")";
   return s.str();
+}
+
+[[noreturn]] void throw_invalid(const std::string& message)
+{
+  throw Error(ErrorCode::InvalidArgument, message);
 }
 
 std::string fmt_double(double x)
@@ -475,7 +482,8 @@ DomainMesh mesh_polygon(
   if (cage2d.V.rows() > 0 && cage2d.V.cols() != 2)
     throw Error(ErrorCode::SizeMismatch,
       "mesh_polygon needs a 2D cage (V #C by 2), got " + std::to_string(cage2d.V.cols()) +
-        " coordinates per vertex; use mesh_closed_surface for 3D cages");
+        " coordinates per vertex",
+      "use mesh_closed_surface for 3D cages");
   validate_cage(cage2d);
   checkpoint(progress, 0.0, what);
 
@@ -624,7 +632,8 @@ DomainMesh mesh_closed_surface(
   if (cage3d.V.rows() > 0 && cage3d.V.cols() != 3)
     throw Error(ErrorCode::SizeMismatch,
       "mesh_closed_surface needs a 3D cage (V #C by 3, F #F by 3), got " +
-        std::to_string(cage3d.V.cols()) + " coordinates per vertex; use mesh_polygon for 2D cages");
+        std::to_string(cage3d.V.cols()) + " coordinates per vertex",
+      "use mesh_polygon for 2D cages");
   validate_cage(cage3d);
   checkpoint(progress, 0.0, what);
 
@@ -836,6 +845,105 @@ DomainMesh mesh_closed_surface(
   mesh.boundary_weights.resize(static_cast<Index>(mesh.boundary_vertices.size()), nc);
   mesh.boundary_weights.setFromTriplets(triplets.begin(), triplets.end());
   mesh.seconds = seconds_since(t0);
+  checkpoint(progress, 1.0, what);
+  return mesh;
+}
+
+DomainMesh domain_mesh_from_simplices(const Cage& cage, const Eigen::MatrixXd& V,
+  const Eigen::MatrixXi& T, const Eigen::VectorXi& control_vertex, double tolerance)
+{
+  const int D = static_cast<int>(V.cols());
+  if (D != cage.dimension())
+    throw Error(ErrorCode::SizeMismatch,
+      "mesh vertices have " + std::to_string(D) + " coordinates but the cage is " +
+        std::to_string(cage.dimension()) + "D");
+  if (T.cols() != D + 1)
+    throw Error(ErrorCode::SizeMismatch,
+      "a " + std::to_string(D) + "D mesh needs " + std::to_string(D + 1) +
+        " vertices per element, got " + std::to_string(T.cols()));
+  if (control_vertex.size() != cage.num_controls())
+    throw Error(ErrorCode::SizeMismatch,
+      "control_vertex has " + std::to_string(control_vertex.size()) +
+        " entries but the cage has " + std::to_string(cage.num_controls()) + " vertices");
+  const Index nv = V.rows();
+  for (Index t = 0; t < T.rows(); ++t)
+    for (Index k = 0; k < T.cols(); ++k)
+      if (T(t, k) < 0 || T(t, k) >= nv)
+        throw_invalid("element " + std::to_string(t) + " refers to vertex " + std::to_string(T(t, k)) +
+          ", outside [0, " + std::to_string(nv) + ")");
+  const double diameter = cage.diameter();
+  for (Index i = 0; i < control_vertex.size(); ++i)
+  {
+    const int v = control_vertex(i);
+    if (v < 0 || v >= nv)
+      throw_invalid("control vertex " + std::to_string(i) + " is mesh vertex " + std::to_string(v) +
+        ", outside [0, " + std::to_string(nv) + ")");
+    if ((V.row(v) - cage.V.row(i)).norm() > tolerance * diameter)
+      throw_invalid("mesh vertex " + std::to_string(v) + " is not at cage vertex " + std::to_string(i));
+  }
+  const std::vector<int> boundary = boundary_vertices(T);
+  DomainMesh mesh;
+  mesh.V = V;
+  mesh.T = T;
+  mesh.control_vertex = control_vertex;
+  mesh.boundary_vertices = boundary;
+  const DenseWeights values = cage_boundary_values(cage, V, boundary, tolerance);
+  mesh.boundary_weights = values.sparseView();
+  return mesh;
+}
+
+DomainMesh domain_mesh_for_cage(const Cage& cage, const Eigen::MatrixXd& V,
+  const Eigen::MatrixXi& T, const ProgressCallback& progress)
+{
+  const int dim = cage.dimension();
+  if (T.cols() != dim + 1 || V.cols() != dim)
+    throw Error(ErrorCode::InvalidArgument,
+      std::string("the domain mesh is made of ") + (T.cols() == 4 ? "tetrahedra" : "triangles") +
+        " but the cage is " + std::to_string(dim) + "D: give " +
+        (dim == 2 ? "a triangulation of the cage's interior, in its plane"
+                  : "a tetrahedralization of the cage's interior"));
+  // Each cage vertex is the mesh's boundary vertex at its coordinates.
+  constexpr double kMatchTolerance = 1e-6; // relative to the cage diameter
+  const double diameter = cage.diameter();
+  const double tolerance = kMatchTolerance * diameter;
+  const std::vector<int> boundary = boundary_vertices(T);
+  const Index nc = cage.num_controls();
+  const char* what = "matching the domain mesh to the cage";
+  Eigen::VectorXi control(nc);
+  for (Index i = 0; i < nc; ++i)
+  {
+    double best = std::numeric_limits<double>::infinity();
+    int at = -1;
+    for (int v : boundary)
+    {
+      const double d = (V.row(v) - cage.V.row(i)).norm();
+      if (d < best)
+      {
+        best = d;
+        at = v;
+      }
+    }
+    if (!(best <= tolerance))
+    {
+      std::ostringstream where;
+      where.precision(7);
+      where << "(" << cage.V(i, 0);
+      for (int k = 1; k < dim; ++k)
+        where << ", " << cage.V(i, k);
+      where << ")";
+      std::ostringstream gap;
+      gap.precision(3);
+      gap << best / diameter;
+      throw Error(ErrorCode::InvalidArgument,
+        "the domain mesh does not fit the cage: cage vertex " + std::to_string(i) + " at " +
+          where.str() + " is not a boundary vertex of the mesh (the nearest one is " +
+          gap.str() + " x the cage diameter away, allowed 1e-6): give a mesh of this cage's "
+          "interior that has the cage vertices as vertices");
+    }
+    control(i) = at;
+    checkpoint(progress, 0.5 * static_cast<double>(i + 1) / static_cast<double>(nc), what);
+  }
+  DomainMesh mesh = domain_mesh_from_simplices(cage, V, T, control, kMatchTolerance);
   checkpoint(progress, 1.0, what);
   return mesh;
 }

@@ -69,6 +69,13 @@ struct DomainMesh
 /// out of memory.
 constexpr double kMaxRequestedCells = 5e7;
 
+/// The number of cells a domain is meshed with when the caller asks for none: 3000 triangles
+/// (dim 2), 20000 tetrahedra (dim 3).
+constexpr int default_target_cells(int dim)
+{
+  return dim == 2 ? 3000 : 20000;
+}
+
 /// Options of mesh_polygon.
 struct PolygonMeshOptions
 {
@@ -78,7 +85,7 @@ struct PolygonMeshOptions
   /// angle bound it has about 1.5 times as many (measured 1.51-1.56 x for targets 1000 to
   /// 100000 on the test cages, up to 2 x for a target of 100 where the boundary dominates;
   /// Steiner points, holes and sharp corners add more). Must be > 0 when max_area <= 0.
-  int target_cells = 3000;
+  int target_cells = default_target_cells(2);
   /// Maximum triangle area (> 0 overrides target_cells). Every triangle's area is <= it.
   double max_area = 0.0;
   /// Quality bound: CGAL refines until the smallest angle of every triangle is >= this, except
@@ -185,5 +192,33 @@ constexpr double kMinSurfaceFeatureSize = 1e-7;
 ///   Classifying the Steiner points costs O(#S x #F) (generalized winding numbers, parallel).
 DomainMesh mesh_closed_surface(const Cage& cage3d, const SurfaceMeshOptions& options = {},
   const ProgressCallback& progress = {});
+
+/// A DomainMesh for a given triangulation/tetrahedralization of @p cage's interior (e.g. read
+/// from files): control_vertex as given, boundary_vertices = the vertices of the mesh's boundary
+/// facets (edges used by one triangle, triangles used by one tetrahedron), boundary_weights =
+/// the cage's hat functions there (cage_boundary_values, harmonic_coordinates.h).
+/// @param V #V by dim, @param T #T by dim+1, @param control_vertex #C: the mesh vertex at each
+///   cage vertex.
+/// @param tolerance relative to the cage diameter: how far a boundary vertex may lie from the
+///   cage, and a control vertex from its cage vertex.
+/// @throws Error(SizeMismatch) for inconsistent shapes; Error(InvalidArgument) naming a
+///   boundary vertex off the cage (2D holes are not supported here), a control vertex out of
+///   range or not at its cage vertex, or an index out of range.
+DomainMesh domain_mesh_from_simplices(const Cage& cage, const Eigen::MatrixXd& V,
+  const Eigen::MatrixXi& T, const Eigen::VectorXi& control_vertex, double tolerance = 1e-9);
+
+/// A DomainMesh for a given triangulation/tetrahedralization (V, T) of @p cage's interior whose
+/// vertices include the cage's: each cage vertex is matched to the boundary vertex of the mesh
+/// (boundary_vertices, fem_operators.h) at its coordinates, within 1e-6 times the cage's
+/// diameter, then domain_mesh_from_simplices(cage, V, T, matches, 1e-6). The cage is not
+/// validated here (validate_cage).
+/// Progress: the matching 0-0.5, then 1 at the end; cancelling throws Error(Cancelled).
+/// @param V #V by dim, @param T #T by dim+1, dim = cage.dimension()
+/// @throws Error(InvalidArgument) when T's elements are not simplices of the cage's dimension
+///   or V's dimension is not the cage's (saying what to give), naming the first cage vertex
+///   that is not a boundary vertex of the mesh (with its distance to the nearest one), and the
+///   errors of domain_mesh_from_simplices.
+DomainMesh domain_mesh_for_cage(const Cage& cage, const Eigen::MatrixXd& V,
+  const Eigen::MatrixXi& T, const ProgressCallback& progress = {});
 
 } // namespace bary

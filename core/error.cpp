@@ -1,5 +1,7 @@
 #include "error.h"
 
+#include <utility>
+
 namespace bary
 {
 
@@ -20,9 +22,11 @@ const char* to_string(ErrorCode code) noexcept
   return "unknown error";
 }
 
-Error::Error(ErrorCode code, const std::string& message)
-  : std::runtime_error(message)
+Error::Error(ErrorCode code, std::string message, std::string advice)
+  : std::runtime_error(advice.empty() ? message : message + "; " + advice)
   , code_(code)
+  , message_(std::move(message))
+  , advice_(std::move(advice))
 {
 }
 

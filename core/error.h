@@ -26,15 +26,25 @@ enum class ErrorCode
 /// Short stable name of a code ("invalid cage", ...).
 const char* to_string(ErrorCode code) noexcept;
 
-/// The project's error type.
+/// The project's error type. It carries what is wrong (message()) and, separately where a
+/// caller may want to word it in its own terms (its option names, its command line), how to fix
+/// it (advice()). what() is the whole text: the message, then "; " and the advice if there is
+/// one.
 class Error : public std::runtime_error
 {
 public:
-  Error(ErrorCode code, const std::string& message);
+  Error(ErrorCode code, std::string message, std::string advice = {});
   ErrorCode code() const noexcept { return code_; }
+  /// What is wrong (what() without the advice).
+  const std::string& message() const noexcept { return message_; }
+  /// How to fix it, in core's terms (option and function names); empty where the message says
+  /// it or there is nothing to advise.
+  const std::string& advice() const noexcept { return advice_; }
 
 private:
   ErrorCode code_;
+  std::string message_;
+  std::string advice_;
 };
 
 } // namespace bary

@@ -10,6 +10,8 @@
 #include <numeric>
 #include <sstream>
 #include <string>
+#include <array>
+#include <utility>
 #include <vector>
 
 namespace bary
@@ -269,6 +271,54 @@ Eigen::VectorXi connected_components(Index n, const Eigen::MatrixXi& T)
     component(v) = id[static_cast<std::size_t>(root)];
   }
   return component;
+}
+
+std::vector<int> boundary_vertices(const Eigen::MatrixXi& T)
+{
+  const Index corners = T.cols();
+  if (T.rows() > 0 && (corners < 2 || corners > 4))
+    throw Error(ErrorCode::SizeMismatch,
+      "the elements have " + std::to_string(corners) +
+        " vertices; a simplicial mesh has 3 (triangles) or 4 (tetrahedra)");
+  // every facet of every element, its vertices sorted; a boundary facet occurs once
+  std::vector<std::array<int, 3>> facets;
+  facets.reserve(static_cast<std::size_t>(T.rows() * corners));
+  for (Index t = 0; t < T.rows(); ++t)
+    for (Index skip = 0; skip < corners; ++skip)
+    {
+      std::array<int, 3> f{ -1, -1, -1 };
+      int c = 0;
+      for (Index k = 0; k < corners; ++k)
+        if (k != skip)
+          f[static_cast<std::size_t>(c++)] = T(t, k);
+      // sort the c vertices (a network: std::sort on the array trips GCC 12's -Warray-bounds)
+      if (c >= 2 && f[0] > f[1])
+        std::swap(f[0], f[1]);
+      if (c == 3)
+      {
+        if (f[1] > f[2])
+          std::swap(f[1], f[2]);
+        if (f[0] > f[1])
+          std::swap(f[0], f[1]);
+      }
+      facets.push_back(f);
+    }
+  std::sort(facets.begin(), facets.end());
+  std::vector<int> boundary;
+  for (std::size_t i = 0; i < facets.size();)
+  {
+    std::size_t j = i;
+    while (j < facets.size() && facets[j] == facets[i])
+      ++j;
+    if (j - i == 1)
+      for (int v : facets[i])
+        if (v >= 0)
+          boundary.push_back(v);
+    i = j;
+  }
+  std::sort(boundary.begin(), boundary.end());
+  boundary.erase(std::unique(boundary.begin(), boundary.end()), boundary.end());
+  return boundary;
 }
 
 } // namespace bary

@@ -31,6 +31,8 @@
 
 #include "types.h"
 
+#include <vector>
+
 namespace bary
 {
 
@@ -78,5 +80,11 @@ Eigen::SparseMatrix<double> gradient_operator(const Eigen::MatrixXd& V, const Ei
 /// in no element are components of their own): ids 0 .. #components-1 in order of each
 /// component's smallest vertex. Indices in T must be in [0, n) (not checked).
 Eigen::VectorXi connected_components(Index n, const Eigen::MatrixXi& T);
+
+/// The vertices on the boundary of the simplicial mesh @p T (#T by 3 triangles or #T by 4
+/// tetrahedra; #T by 2 segments also work): the vertices of the facets (edges of triangles,
+/// triangles of tetrahedra) used by exactly one element, ascending, without repeats.
+/// @throws Error(SizeMismatch) when T has fewer than 2 or more than 4 columns.
+std::vector<int> boundary_vertices(const Eigen::MatrixXi& T);
 
 } // namespace bary

@@ -40,6 +40,28 @@ int thread_count(int requested)
   return requested > 0 ? requested : std::max(1, omp_get_max_threads());
 }
 
+/// LBCResult::statistics (see its comment) from its fields; @p threads, the threads used.
+void fill_statistics(LBCResult& result, int threads)
+{
+  Statistics& st = result.statistics;
+  st.clear();
+  st.emplace_back("iterations", static_cast<double>(result.iterations));
+  st.emplace_back("primal_residual", result.primal_residual);
+  st.emplace_back("dual_residual", result.dual_residual);
+  st.emplace_back("primal_threshold", result.primal_threshold);
+  st.emplace_back("dual_threshold", result.dual_threshold);
+  st.emplace_back("objective", result.objective);
+  st.emplace_back("converged", result.converged ? 1.0 : 0.0);
+  st.emplace_back("partition_error", result.partition_error);
+  st.emplace_back("reproduction_error", result.reproduction_error);
+  st.emplace_back("min_weight", result.min_weight);
+  st.emplace_back("threads", static_cast<double>(threads));
+  st.emplace_back("geodesic_seconds", result.geodesic_seconds);
+  st.emplace_back("factor_seconds", result.factor_seconds);
+  st.emplace_back("admm_seconds", result.admm_seconds);
+  st.emplace_back("solve_seconds", result.seconds);
+}
+
 [[noreturn]] void invalid(const std::string& message)
 {
   throw Error(ErrorCode::InvalidArgument, message);
@@ -1487,8 +1509,8 @@ LBCResult LocalBarycentricCoordinates::compute(const ProgressCallback& progress)
       "local barycentric coordinates did not converge in " + std::to_string(o.max_iterations) +
         " iterations (primal residual " + str(result.primal_residual) + " > " +
         str(result.primal_threshold) + " or dual residual " + str(result.dual_residual) + " > " +
-        str(result.dual_threshold) +
-        "); raise max_iterations, loosen the tolerances or set require_convergence = false");
+        str(result.dual_threshold) + ")",
+      "raise max_iterations, loosen the tolerances or set require_convergence = false");
   report(0.98);
 
   // --- polish and assemble
@@ -1516,6 +1538,7 @@ LBCResult LocalBarycentricCoordinates::compute(const ProgressCallback& progress)
   }
   result.polish_seconds = seconds_since(t_polish);
   result.seconds = s.geodesic_seconds + s.factor_seconds + seconds_since(t0);
+  fill_statistics(result, threads);
   report(1.0);
   return result;
 }
@@ -1543,80 +1566,8 @@ LBCResult local_barycentric_coordinates(
   const LocalBarycentricCoordinates lbc(mesh, options, setup);
   LBCResult result = lbc.compute(solve);
   result.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+  fill_statistics(result, thread_count(options.threads));
   return result;
-}
-
-DomainMesh domain_mesh_from_simplices(const Cage& cage, const Eigen::MatrixXd& V,
-  const Eigen::MatrixXi& T, const Eigen::VectorXi& control_vertex, double tolerance)
-{
-  const int D = static_cast<int>(V.cols());
-  if (D != cage.dimension())
-    throw Error(ErrorCode::SizeMismatch,
-      "mesh vertices have " + std::to_string(D) + " coordinates but the cage is " +
-        std::to_string(cage.dimension()) + "D");
-  if (T.cols() != D + 1)
-    throw Error(ErrorCode::SizeMismatch,
-      "a " + std::to_string(D) + "D mesh needs " + std::to_string(D + 1) +
-        " vertices per element, got " + std::to_string(T.cols()));
-  if (control_vertex.size() != cage.num_controls())
-    throw Error(ErrorCode::SizeMismatch,
-      "control_vertex has " + std::to_string(control_vertex.size()) +
-        " entries but the cage has " + std::to_string(cage.num_controls()) + " vertices");
-  const Index nv = V.rows();
-  for (Index t = 0; t < T.rows(); ++t)
-    for (Index k = 0; k < T.cols(); ++k)
-      if (T(t, k) < 0 || T(t, k) >= nv)
-        invalid("element " + std::to_string(t) + " refers to vertex " + std::to_string(T(t, k)) +
-          ", outside [0, " + std::to_string(nv) + ")");
-  const double diameter = cage.diameter();
-  for (Index i = 0; i < control_vertex.size(); ++i)
-  {
-    const int v = control_vertex(i);
-    if (v < 0 || v >= nv)
-      invalid("control vertex " + std::to_string(i) + " is mesh vertex " + std::to_string(v) +
-        ", outside [0, " + std::to_string(nv) + ")");
-    if ((V.row(v) - cage.V.row(i)).norm() > tolerance * diameter)
-      invalid("mesh vertex " + std::to_string(v) + " is not at cage vertex " + std::to_string(i));
-  }
-  // boundary facets: those used by exactly one element
-  std::vector<std::array<int, 3>> facets;
-  facets.reserve(static_cast<std::size_t>(T.rows() * T.cols()));
-  for (Index t = 0; t < T.rows(); ++t)
-    for (Index skip = 0; skip <= D; ++skip)
-    {
-      std::array<int, 3> f{ -1, -1, -1 };
-      int c = 0;
-      for (Index k = 0; k <= D; ++k)
-        if (k != skip)
-          f[static_cast<std::size_t>(c++)] = T(t, k);
-      if (D == 3)
-        std::sort(f.begin(), f.end());
-      else if (f[0] > f[1])
-        std::swap(f[0], f[1]);
-      facets.push_back(f);
-    }
-  std::sort(facets.begin(), facets.end());
-  std::vector<int> boundary;
-  for (std::size_t i = 0; i < facets.size();)
-  {
-    std::size_t j = i;
-    while (j < facets.size() && facets[j] == facets[i])
-      ++j;
-    if (j - i == 1)
-      for (int k = 0; k < D; ++k)
-        boundary.push_back(facets[i][static_cast<std::size_t>(k)]);
-    i = j;
-  }
-  std::sort(boundary.begin(), boundary.end());
-  boundary.erase(std::unique(boundary.begin(), boundary.end()), boundary.end());
-  DomainMesh mesh;
-  mesh.V = V;
-  mesh.T = T;
-  mesh.control_vertex = control_vertex;
-  mesh.boundary_vertices = boundary;
-  const DenseWeights values = cage_boundary_values(cage, V, boundary, tolerance);
-  mesh.boundary_weights = values.sparseView();
-  return mesh;
 }
 
 } // namespace bary

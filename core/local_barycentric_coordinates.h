@@ -66,6 +66,7 @@
 #include "progress.h"
 #include "sparse_cholesky.h"
 #include "types.h"
+#include "weights_result.h"
 
 #include <functional>
 #include <memory>
@@ -192,17 +193,20 @@ struct LBCOptions
   bool polish = true;
 };
 
-/// What a computation did. Times are wall-clock seconds.
-struct LBCResult
+/// What a computation did. Times are wall-clock seconds. WeightsResult's fields: W (#V by #C
+/// weights, mesh vertex order, columns in cage order), no location, no undefined rows,
+/// converged (both residuals below their thresholds) and the statistics, in this order:
+/// iterations, primal_residual, dual_residual, primal_threshold, dual_threshold, objective,
+/// converged (1 or 0), partition_error, reproduction_error, min_weight, threads (the OpenMP
+/// threads used), geodesic_seconds, factor_seconds, admm_seconds, solve_seconds (seconds).
+struct LBCResult : WeightsResult
 {
-  DenseWeights W;          ///< #V by #C weights, mesh vertex order, columns in cage order
   int iterations = 0;      ///< fixed-point (ADMM) iterations = Y-solves of the iteration proper
   double primal_residual = 0; ///< |r_p|_F of Eq. 26 at the last check (diameter-1 units)
   double dual_residual = 0;   ///< |r_d|_F of Eq. 27 at the last check
   double primal_threshold = 0; ///< N_p primal_tolerance
   double dual_threshold = 0;   ///< N_d dual_tolerance
   double objective = 0;    ///< Eq. 14 (Eq. 7 with relaxed TV) of W, in the mesh's own units
-  bool converged = false;  ///< both residuals below their thresholds
   // Acceleration and polishing diagnostics.
   int anderson_accepted = 0; ///< accelerated points kept
   int anderson_rejected = 0; ///< accelerated points refused by the safeguard (each cost one
@@ -228,7 +232,8 @@ class LocalBarycentricCoordinates
 public:
   /// Meshes nothing: takes the domain mesh of a cage (mesh_polygon / mesh_closed_surface output,
   /// or any DomainMesh: V, T, control_vertex, boundary_vertices, boundary_weights are used; see
-  /// domain_mesh_from_simplices for a mesh read from files).
+  /// domain_mesh_from_simplices and domain_mesh_for_cage (domain_mesh.h) for a mesh read from
+  /// files).
   /// @throws Error(InvalidArgument) for options out of range (named), a control vertex or
   ///   boundary vertex out of range, a control vertex that is not a boundary vertex, control
   ///   points that do not span the space (collinear / coplanar), a mesh without interior
@@ -284,19 +289,5 @@ double relaxed_tv(double r, double eps);
 ///   written without cancellation; it is < eps, positive for r > 0 (no exact zeros: the
 ///   relaxed weights are less local). Derivation in docs/local-barycentric-coordinates.md.
 double relaxed_tv_prox_radius(double r, double kappa, double eps);
-
-/// A DomainMesh for a given triangulation/tetrahedralization of @p cage's interior (e.g. read
-/// from files): control_vertex as given, boundary_vertices = the vertices of the mesh's boundary
-/// facets (edges used by one triangle, triangles used by one tetrahedron), boundary_weights =
-/// the cage's hat functions there (cage_boundary_values, harmonic_coordinates.h).
-/// @param V #V by dim, @param T #T by dim+1, @param control_vertex #C: the mesh vertex at each
-///   cage vertex.
-/// @param tolerance relative to the cage diameter: how far a boundary vertex may lie from the
-///   cage, and a control vertex from its cage vertex.
-/// @throws Error(SizeMismatch) for inconsistent shapes; Error(InvalidArgument) naming a
-///   boundary vertex off the cage (2D holes are not supported here), a control vertex out of
-///   range or not at its cage vertex, or an index out of range.
-DomainMesh domain_mesh_from_simplices(const Cage& cage, const Eigen::MatrixXd& V,
-  const Eigen::MatrixXi& T, const Eigen::VectorXi& control_vertex, double tolerance = 1e-9);
 
 } // namespace bary

@@ -20,20 +20,13 @@
 #include "cage.h"
 #include "progress.h"
 #include "types.h"
+#include "weights_result.h"
 
 #include <array>
 #include <vector>
 
 namespace bary
 {
-
-/// Where a query point lies relative to the cage.
-enum class PointLocation : unsigned char
-{
-  Inside = 0,   ///< strictly inside (|winding number| = 1; either cage orientation)
-  Outside = 1,  ///< strictly outside (winding number 0)
-  Boundary = 2, ///< on a cage vertex, edge or face (within the boundary tolerance)
-};
 
 /// Options for mean value coordinates.
 struct MeanValueOptions
@@ -51,15 +44,14 @@ struct MeanValueOptions
   int threads = 0;
 };
 
-/// Result of a batch evaluation.
-struct MeanValueResult
+/// Result of a batch evaluation. WeightsResult's fields: W (#P by #C), location (#P: Inside
+/// for |winding number| = 1, either cage orientation; Outside for winding number 0; Boundary
+/// on a cage vertex, edge or face within the boundary tolerance), undefined (points whose
+/// weights could not be normalised, sum of raw weights ~ 0, which can only happen outside the
+/// cage: their rows are NaN), no statistics, converged always true.
+struct MeanValueResult : WeightsResult
 {
-  DenseWeights W;                              ///< #P by #C weights
-  std::vector<PointLocation> location;         ///< #P, where each point lies
   Index inside = 0, outside = 0, boundary = 0; ///< counts of each location
-  /// Points whose weights could not be normalised (sum of raw weights ~ 0; can only happen
-  /// outside the cage): their rows are NaN and their ids are listed here.
-  std::vector<Index> undefined;
 };
 
 /// Precomputes what a cage needs once and evaluates mean value coordinates at many points.

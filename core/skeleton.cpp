@@ -239,4 +239,13 @@ AffineTransforms transforms_from_joints(
   return transforms;
 }
 
+double bone_sample_spacing(int dim, double cell_measure)
+{
+  if (dim != 2 && dim != 3)
+    throw Error(ErrorCode::InvalidArgument,
+      "bone samples are spaced in 2D or 3D, not " + std::to_string(dim) + "D");
+  return dim == 2 ? std::sqrt(4.0 * cell_measure / std::sqrt(3.0))
+                  : std::cbrt(6.0 * std::sqrt(2.0) * cell_measure);
+}
+
 } // namespace bary

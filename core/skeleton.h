@@ -47,6 +47,15 @@ void validate_skeleton(const Skeleton& skeleton);
 ///   spacing that asks for more than 1e7 samples.
 Eigen::MatrixXd skeleton_samples(const Skeleton& skeleton, double spacing);
 
+/// The spacing of bone samples about one mesh cell apart, so that a mesh whose cells measure
+/// @p cell_measure (area in 2D, volume in 3D) resolves the bones: the edge length of an
+/// equilateral triangle of that area, sqrt(4 c / sqrt 3) (dim 2), or of a regular tetrahedron
+/// of that volume, cbrt(6 sqrt 2 c) (dim 3).
+/// A cell_measure that is not finite and > 0 gives a spacing (NaN, 0 or infinite) that
+/// skeleton_samples rejects.
+/// @throws Error(InvalidArgument) when dim is not 2 or 3.
+double bone_sample_spacing(int dim, double cell_measure);
+
 /// The parent of every bone (libigl's directed_edge_parents): bone b's parent is a bone whose
 /// head BE(p, 1) is b's tail BE(b, 0), the first such in BE's order; -1 for a root.
 /// @throws Error(SizeMismatch) for BE not #B by 2; Error(InvalidArgument) when the parents form a

@@ -805,9 +805,9 @@ SparseCholesky::SparseCholesky(Backend backend)
     backend_ = cholmod_available() ? Backend::Cholmod : Backend::Eigen;
   else if (backend_ == Backend::Cholmod && !cholmod_available())
     throw Error(ErrorCode::InvalidArgument,
-      "the CHOLMOD backend was requested but BaryLab was built without CHOLMOD; use "
-      "Backend::Automatic or Backend::Eigen, or rebuild with SuiteSparse's CHOLMOD installed "
-      "(BARYLAB_USE_CHOLMOD=ON)");
+      "the CHOLMOD backend was requested but BaryLab was built without CHOLMOD",
+      "use Backend::Automatic or Backend::Eigen, or rebuild with SuiteSparse's CHOLMOD "
+      "installed (BARYLAB_USE_CHOLMOD=ON)");
   else if (backend_ != Backend::Cholmod && backend_ != Backend::Eigen &&
     backend_ != Backend::Supernodal)
     throw Error(ErrorCode::InvalidArgument, "unknown SparseCholesky backend");

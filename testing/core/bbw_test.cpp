@@ -8,6 +8,7 @@
 #include "core/min_quad_with_fixed.h"
 #include "error_matchers.h"
 #include "igl_formats.h"
+#include "statistics_matchers.h"
 
 #include <gtest/gtest.h>
 
@@ -199,6 +200,37 @@ TEST(BBW, FastModeIsLagrangeBoundedAndNormalized)
   EXPECT_GE(r.seconds, r.fast_seconds);
   const Eigen::VectorXd sums = r.W.rowwise().sum();
   EXPECT_LE((sums.array() - 1.0).abs().maxCoeff(), 1e-15);
+
+  // The shared result shape: no locations or undefined rows, the statistics in their order.
+  EXPECT_TRUE(r.location.empty());
+  EXPECT_TRUE(r.undefined.empty());
+  EXPECT_TRUE(test::has_statistics(r.statistics,
+    { "mesh_vertices", "mesh_cells", "handles", "fixed_vertices", "coupled", "fast_iterations",
+      "fast_factorizations", "max_fast_iterations_per_handle", "max_kkt_residual",
+      "max_bound_violation", "partition_error", "partition_error_before_normalization",
+      "converged", "solve_seconds" }));
+  int iterations = 0, factorizations = 0, most = 0;
+  for (std::size_t j = 0; j < 5; ++j)
+  {
+    iterations += r.iterations[j];
+    factorizations += r.factorizations[j];
+    most = std::max(most, r.iterations[j]);
+  }
+  EXPECT_EQ(r.statistic("mesh_vertices"), 441.0);
+  EXPECT_EQ(r.statistic("mesh_cells"), static_cast<double>(g.T.rows()));
+  EXPECT_EQ(r.statistic("handles"), 5.0);
+  EXPECT_EQ(r.statistic("fixed_vertices"), 5.0);
+  EXPECT_EQ(r.statistic("coupled"), 0.0);
+  EXPECT_EQ(r.statistic("fast_iterations"), iterations);
+  EXPECT_EQ(r.statistic("fast_factorizations"), factorizations);
+  EXPECT_EQ(r.statistic("max_fast_iterations_per_handle"), most);
+  EXPECT_EQ(r.statistic("max_kkt_residual"), r.max_kkt_residual);
+  EXPECT_EQ(r.statistic("max_bound_violation"), 0.0);
+  EXPECT_EQ(r.statistic("partition_error"), r.partition_error);
+  EXPECT_EQ(r.statistic("partition_error_before_normalization"),
+    r.partition_error_before_normalization);
+  EXPECT_EQ(r.statistic("converged"), 1.0);
+  EXPECT_EQ(r.statistic("solve_seconds"), r.seconds);
 }
 
 TEST(BBW, CoupledModeEnforcesPartitionOfUnityAndIsCloseToFast)
@@ -645,6 +677,17 @@ TEST(BBW, NonConvergenceThrowsUnlessAskedToReturn)
   options.max_iterations = 1;
   EXPECT_TRUE(throws_error([&] { bounded_biharmonic_weights(g.V, g.T, h, options); },
     ErrorCode::NotConverged, { "handle", "require_convergence" }));
+  try // the advice (core's option names) is split off, for callers to word their own
+  {
+    bounded_biharmonic_weights(g.V, g.T, h, options);
+  }
+  catch (const Error& e)
+  {
+    EXPECT_EQ(e.message().rfind("bounded biharmonic weights: ", 0), 0u) << e.message();
+    EXPECT_EQ(e.message().find("require_convergence"), std::string::npos) << e.message();
+    EXPECT_EQ(e.advice().rfind("raise BBWOptions::max_iterations", 0), 0u) << e.advice();
+    EXPECT_EQ(std::string(e.what()), e.message() + "; " + e.advice());
+  }
   options.require_convergence = false;
   const BBWResult r = bounded_biharmonic_weights(g.V, g.T, h, options);
   EXPECT_FALSE(r.converged);

@@ -480,4 +480,18 @@ TEST(Catalogue, SharedLbcCages)
     EXPECT_NO_THROW(validate_cage(entry.cage)) << entry.name;
   }
 }
+TEST(EnclosedMeasure, AreaOrVolumeWhateverTheOrientation)
+{
+  Cage square = test::unit_square();
+  EXPECT_EQ(enclosed_measure(square), 1.0);
+  square.V = square.V.colwise().reverse().eval(); // clockwise
+  EXPECT_EQ(enclosed_measure(square), 1.0);
+  EXPECT_EQ(enclosed_measure(test::star_polygon(5, 1.0, 0.5)),
+    std::abs(signed_measure(test::star_polygon(5, 1.0, 0.5))));
+  Cage cube = test::unit_cube();
+  EXPECT_NEAR(enclosed_measure(cube), 1.0, 1e-15);
+  cube.F = cube.F.rowwise().reverse().eval(); // inward faces
+  EXPECT_NEAR(enclosed_measure(cube), 1.0, 1e-15);
+}
+
 } // namespace

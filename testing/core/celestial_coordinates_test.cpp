@@ -24,6 +24,7 @@
 #include "core/celestial_coordinates.h"
 #include "core/error.h"
 #include "error_matchers.h"
+#include "statistics_matchers.h"
 
 #include <Eigen/Geometry>
 
@@ -198,7 +199,7 @@ TEST_P(CelestialProperties, LagrangeAtControls)
   const CelestialResult r = celestial_coordinates(V, V, options_for(GetParam().scheme));
   for (Index i = 0; i < V.rows(); ++i)
   {
-    EXPECT_EQ(r.location[static_cast<std::size_t>(i)], CelestialLocation::AtControl);
+    EXPECT_EQ(r.hull_location[static_cast<std::size_t>(i)], CelestialLocation::AtControl);
     for (Index j = 0; j < V.rows(); ++j)
       ASSERT_EQ(r.W(i, j), i == j ? 1.0 : 0.0) << "control " << i << ", weight " << j;
   }
@@ -313,7 +314,7 @@ TEST_P(CelestialProperties, SolutionSatisfiesThePapersEquations)
   double worst_eq = 0.0, worst_alpha = 0.0;
   for (Index p = 0; p < X.rows(); ++p)
   {
-    ASSERT_EQ(r.location[static_cast<std::size_t>(p)], CelestialLocation::Inside);
+    ASSERT_EQ(r.hull_location[static_cast<std::size_t>(p)], CelestialLocation::Inside);
     std::vector<long double> beta(static_cast<std::size_t>(n)), d(static_cast<std::size_t>(n));
     std::vector<std::array<long double, 3>> q(static_cast<std::size_t>(n));
     for (Index i = 0; i < n; ++i)
@@ -590,11 +591,11 @@ TEST_P(CelestialBoundary, FacesAreTheLimitFromInside)
     for (int k = 0; k < 5; ++k)
       X.row(k + 1) = (on[f] + hs[k] * inward[f]).transpose();
     const CelestialResult r = cc.compute(X);
-    EXPECT_EQ(r.location[0], CelestialLocation::Boundary);
+    EXPECT_EQ(r.hull_location[0], CelestialLocation::Boundary);
     EXPECT_TRUE(r.solution.row(0).array().isNaN().all()); // the unknown lives in the face
     for (int k = 1; k < 6; ++k)
     {
-      EXPECT_EQ(r.location[static_cast<std::size_t>(k)], CelestialLocation::Inside);
+      EXPECT_EQ(r.hull_location[static_cast<std::size_t>(k)], CelestialLocation::Inside);
       EXPECT_TRUE(r.solution.row(k).allFinite());
     }
     const RowErrors e = row_errors(r.W, V, X);
@@ -638,8 +639,8 @@ TEST_P(CelestialBoundary, CollinearControlsOnA2DEdge)
   Points X(3, 2);
   X << 0.4, 0.0, 1.7, 0.0, 0.4, 1e-9;
   const CelestialResult r = cc.compute(X);
-  ASSERT_EQ(r.location[0], CelestialLocation::Boundary);
-  ASSERT_EQ(r.location[1], CelestialLocation::Boundary);
+  ASSERT_EQ(r.hull_location[0], CelestialLocation::Boundary);
+  ASSERT_EQ(r.hull_location[1], CelestialLocation::Boundary);
   for (int p = 0; p < 2; ++p)
   {
     const double x = X(p, 0);
@@ -688,7 +689,7 @@ TEST_P(CelestialBoundary, RandomPointsOnTheHull)
         Points one(1, dim);
         one.row(0) = centre + mid * dir;
         const CelestialResult r = probe.compute(one);
-        (r.location[0] == CelestialLocation::Outside ? hi : lo) = mid;
+        (r.hull_location[0] == CelestialLocation::Outside ? hi : lo) = mid;
         if (hi - lo < 1e-15)
           break;
       }
@@ -696,7 +697,7 @@ TEST_P(CelestialBoundary, RandomPointsOnTheHull)
     }
     const CelestialResult r = cc.compute(X);
     for (int p = 0; p < X.rows(); ++p)
-      EXPECT_NE(r.location[static_cast<std::size_t>(p)], CelestialLocation::Inside)
+      EXPECT_NE(r.hull_location[static_cast<std::size_t>(p)], CelestialLocation::Inside)
         << "point " << p;
     const RowErrors e = row_errors(r.W, V, X);
     EXPECT_LE(e.sum, kSumTol);
@@ -733,9 +734,9 @@ TEST_P(CelestialBoundary, SliverOfNearlyCollinearControls)
     EXPECT_EQ(cc.num_hull_facets(), 6) << "rotation " << rotation;
     const CelestialResult r = cc.compute(Xr);
     EXPECT_TRUE(r.outside.empty()) << "rotation " << rotation;
-    EXPECT_EQ(r.location[0], CelestialLocation::Boundary);
-    EXPECT_EQ(r.location[2], CelestialLocation::Boundary);
-    EXPECT_EQ(r.location[4], CelestialLocation::Inside);
+    EXPECT_EQ(r.hull_location[0], CelestialLocation::Boundary);
+    EXPECT_EQ(r.hull_location[2], CelestialLocation::Boundary);
+    EXPECT_EQ(r.hull_location[4], CelestialLocation::Inside);
     const RowErrors e = row_errors(r.W, Vr, Xr);
     EXPECT_LE(e.sum, kSumTol);
     EXPECT_LE(e.repro, kNearHullReproTol);
@@ -758,7 +759,7 @@ TEST(CelestialT, UserWeightsHaveNoLimitAtTheBoundary)
   Points X(2, 3);
   X << 0.3, 0.25, 0.0, 0.3, 0.25, 1e-6;
   const CelestialResult r = celestial_coordinates(V, X, o);
-  EXPECT_EQ(r.location[0], CelestialLocation::Boundary);
+  EXPECT_EQ(r.hull_location[0], CelestialLocation::Boundary);
   const RowErrors e = row_errors(r.W, V, X);
   EXPECT_LE(e.sum, kSumTol);
   EXPECT_LE(e.repro, kNearHullReproTol);
@@ -790,10 +791,34 @@ TEST(Celestial, OutsidePoints)
     for (Index p = 0; p < X.rows(); ++p)
     {
       const bool out = p == 3 || p == 17;
-      EXPECT_EQ(r.location[static_cast<std::size_t>(p)] == CelestialLocation::Outside, out);
+      EXPECT_EQ(r.hull_location[static_cast<std::size_t>(p)] == CelestialLocation::Outside, out);
       EXPECT_EQ(r.W.row(p).array().isNaN().all(), out) << "point " << p;
       EXPECT_EQ(std::isnan(r.residual[p]), out);
+      EXPECT_EQ(r.location[static_cast<std::size_t>(p)],
+        out ? PointLocation::Outside : PointLocation::Inside);
     }
+    // The shared result shape: the outside rows are the undefined ones; the statistics.
+    EXPECT_EQ(r.undefined, (std::vector<Index>{ 3, 17 }));
+    EXPECT_TRUE(r.converged);
+    EXPECT_EQ(r.count(PointLocation::Outside), 2);
+    EXPECT_EQ(r.count(PointLocation::Inside), r.inside);
+    EXPECT_TRUE(test::has_statistics(r.statistics,
+      { "hull_facets", "newton_iterations", "mean_newton_iterations", "max_newton_iterations",
+        "warm_starts", "cold_restarts", "max_residual", "at_control", "not_converged",
+        "solve_seconds" }));
+    EXPECT_EQ(r.statistic("hull_facets"),
+      static_cast<double>(CelestialCoordinates(V, o).num_hull_facets()));
+    EXPECT_EQ(r.statistic("newton_iterations"), static_cast<double>(r.total_iterations));
+    EXPECT_EQ(r.statistic("mean_newton_iterations"), r.total_iterations / 20.0);
+    EXPECT_EQ(r.statistic("max_newton_iterations"), r.iterations.maxCoeff());
+    EXPECT_GE(r.statistic("max_newton_iterations"), 1.0);
+    EXPECT_EQ(r.statistic("warm_starts"), static_cast<double>(r.warm_starts));
+    EXPECT_EQ(r.statistic("cold_restarts"), static_cast<double>(r.cold_restarts));
+    EXPECT_GT(r.statistic("max_residual"), 0.0);
+    EXPECT_LE(r.statistic("max_residual"), o.tolerance);
+    EXPECT_EQ(r.statistic("at_control"), 0.0);
+    EXPECT_EQ(r.statistic("not_converged"), 0.0);
+    EXPECT_EQ(r.statistic("solve_seconds"), r.seconds);
   }
 }
 
@@ -809,12 +834,12 @@ TEST(Celestial, QueryAtOrNearAControl)
     const CelestialResult r = celestial_coordinates(V, X, options_for(scheme));
     for (int p = 0; p < 2; ++p)
     {
-      EXPECT_EQ(r.location[static_cast<std::size_t>(p)], CelestialLocation::AtControl);
+      EXPECT_EQ(r.hull_location[static_cast<std::size_t>(p)], CelestialLocation::AtControl);
       for (Index i = 0; i < V.rows(); ++i)
         EXPECT_EQ(r.W(p, i), i == 7 ? 1.0 : 0.0);
       EXPECT_EQ(r.residual[p], 0.0);
     }
-    EXPECT_EQ(r.location[2], CelestialLocation::Inside);
+    EXPECT_EQ(r.hull_location[2], CelestialLocation::Inside);
     EXPECT_NEAR(r.W(2, 7), 1.0, 1e-7);
     EXPECT_LE(row_errors(r.W, V, X).repro, kReproTol);
   }
@@ -888,7 +913,7 @@ TEST(CelestialValidation, DegenerateHull)
   for (CelestialScheme scheme : { CelestialScheme::T, CelestialScheme::S })
   {
     const CelestialResult r = CelestialCoordinates(P, options_for(scheme)).compute(X);
-    EXPECT_EQ(r.location[0], CelestialLocation::Inside);
+    EXPECT_EQ(r.hull_location[0], CelestialLocation::Inside);
     EXPECT_TRUE(r.not_converged.empty());
     const RowErrors e = row_errors(r.W, P, X);
     EXPECT_LE(e.sum, kSumTol);
@@ -1026,6 +1051,10 @@ TEST(Celestial, NotConverged)
     EXPECT_GT(r.residual[p], o.tolerance);
   }
   EXPECT_TRUE(std::is_sorted(r.not_converged.begin(), r.not_converged.end()));
+  // The shared result shape: the non-converged rows are the undefined ones.
+  EXPECT_EQ(r.undefined, r.not_converged);
+  EXPECT_FALSE(r.converged);
+  EXPECT_EQ(r.statistic("not_converged"), static_cast<double>(r.not_converged.size()));
 }
 
 TEST(Celestial, ProgressAndCancel)

@@ -20,6 +20,7 @@
 #include "core/detail/tetgen_mesher.h"
 #include "core/domain_mesh.h"
 #include "core/error.h"
+#include "core/fem_operators.h"
 #include "error_matchers.h"
 
 #include <Eigen/Geometry>
@@ -892,6 +893,77 @@ TEST(MeshClosedSurface, Deterministic)
   const DomainMesh a = bary::mesh_closed_surface(c, o), b = bary::mesh_closed_surface(c, o);
   EXPECT_TRUE((a.V.array() == b.V.array()).all());
   EXPECT_TRUE((a.T.array() == b.T.array()).all());
+}
+
+TEST(DefaultTargetCells, TrianglesAndTetrahedra)
+{
+  EXPECT_EQ(bary::default_target_cells(2), 3000);
+  EXPECT_EQ(bary::default_target_cells(3), 20000);
+  EXPECT_EQ(PolygonMeshOptions().target_cells, bary::default_target_cells(2));
+}
+
+TEST(DomainMeshForCage, MatchesTheCageVerticesOfAGivenMesh)
+{
+  const Cage cage = bary::test::star_polygon(5, 1.0, 0.5);
+  PolygonMeshOptions o;
+  o.target_cells = 200;
+  const DomainMesh made = bary::mesh_polygon(cage, o);
+  // the mesh as if read from a file, its vertices shuffled: reverse the vertex order
+  const Index nv = made.V.rows();
+  const Eigen::MatrixXd V = made.V.colwise().reverse();
+  Eigen::MatrixXi T = made.T;
+  for (Index t = 0; t < T.rows(); ++t)
+    for (Index k = 0; k < 3; ++k)
+      T(t, k) = static_cast<int>(nv - 1 - T(t, k));
+  std::vector<double> seen;
+  const DomainMesh mesh = bary::domain_mesh_for_cage(cage, V, T, [&](double f) {
+    seen.push_back(f);
+    return true;
+  });
+  ASSERT_EQ(mesh.control_vertex.size(), cage.num_controls());
+  for (Index i = 0; i < cage.num_controls(); ++i)
+  {
+    EXPECT_EQ(mesh.control_vertex(i), nv - 1 - made.control_vertex(i)) << "cage vertex " << i;
+    EXPECT_EQ((mesh.V.row(mesh.control_vertex(i)) - cage.V.row(i)).norm(), 0.0);
+  }
+  EXPECT_EQ(mesh.boundary_vertices, bary::boundary_vertices(T));
+  EXPECT_EQ(mesh.boundary_weights.rows(), static_cast<Index>(mesh.boundary_vertices.size()));
+  ASSERT_FALSE(seen.empty());
+  EXPECT_EQ(seen.back(), 1.0);
+  EXPECT_TRUE(std::is_sorted(seen.begin(), seen.end()));
+  EXPECT_TRUE(throws_error(
+    [&] { bary::domain_mesh_for_cage(cage, V, T, [](double f) { return f < 0.2; }); },
+    ErrorCode::Cancelled, { "matching the domain mesh to the cage was cancelled" }));
+}
+
+TEST(DomainMeshForCage, ErrorsSayWhatToGive)
+{
+  // a mesh of the unit square, a cage with a fifth vertex above it
+  const Cage square = bary::test::unit_square();
+  PolygonMeshOptions o;
+  o.target_cells = 200;
+  const DomainMesh mesh = bary::mesh_polygon(square, o);
+  Cage pentagon;
+  pentagon.V.resize(5, 2);
+  pentagon.V << 0, 0, 1, 0, 1, 1, 0.5, 1.5, 0, 1;
+  EXPECT_TRUE(throws_error([&] { bary::domain_mesh_for_cage(pentagon, mesh.V, mesh.T); },
+    ErrorCode::InvalidArgument,
+    { "the domain mesh does not fit the cage: cage vertex 3 at (0.5, 1.5) is not a boundary "
+      "vertex of the mesh (the nearest one is ",
+      " x the cage diameter away, allowed 1e-6): give a mesh of this cage's interior that has "
+      "the cage vertices as vertices" }));
+  // a tetrahedral domain for a 2D cage
+  SurfaceMeshOptions so;
+  so.target_cells = 100;
+  const DomainMesh tets = bary::mesh_closed_surface(bary::test::unit_cube(), so);
+  EXPECT_TRUE(throws_error([&] { bary::domain_mesh_for_cage(square, tets.V, tets.T); },
+    ErrorCode::InvalidArgument,
+    { "the domain mesh is made of tetrahedra but the cage is 2D: give a triangulation of the "
+      "cage's interior, in its plane" }));
+  // triangles for a 3D cage
+  EXPECT_TRUE(throws_error([&] { bary::domain_mesh_for_cage(bary::test::unit_cube(), mesh.V, mesh.T); },
+    ErrorCode::InvalidArgument,
+    { "made of triangles but the cage is 3D: give a tetrahedralization of the cage's interior" }));
 }
 
 } // namespace

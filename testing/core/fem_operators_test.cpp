@@ -626,6 +626,31 @@ TEST(FemValidation, UnreferencedVerticesGiveZeroRows)
   EXPECT_EQ(M(extra, extra), 0.0);
 }
 
+TEST(BoundaryVertices, TrianglesTetrahedraAndErrors)
+{
+  // a 3 x 3 grid of the unit square: every vertex but the centre (4) is on the boundary
+  Eigen::MatrixXi T(8, 3);
+  for (int j = 0, t = 0; j < 2; ++j)
+    for (int i = 0; i < 2; ++i)
+    {
+      const int a = 3 * j + i;
+      T.row(t++) << a, a + 1, a + 4;
+      T.row(t++) << a, a + 4, a + 3;
+    }
+  EXPECT_EQ(boundary_vertices(T), (std::vector<int>{ 0, 1, 2, 3, 5, 6, 7, 8 }));
+  // two triangles sharing an edge: all four; the order of an element's vertices does not matter
+  Eigen::MatrixXi two(2, 3);
+  two << 2, 0, 1, 1, 3, 2;
+  EXPECT_EQ(boundary_vertices(two), (std::vector<int>{ 0, 1, 2, 3 }));
+  // a tetrahedron with a vertex (4) inside, split into four: the inner vertex is not boundary
+  Eigen::MatrixXi tets(4, 4);
+  tets << 4, 1, 2, 3, 0, 4, 2, 3, 0, 1, 4, 3, 0, 1, 2, 4;
+  EXPECT_EQ(boundary_vertices(tets), (std::vector<int>{ 0, 1, 2, 3 }));
+  EXPECT_TRUE(boundary_vertices(Eigen::MatrixXi(0, 3)).empty());
+  EXPECT_TRUE(throws_error(
+    [] { boundary_vertices(Eigen::MatrixXi::Zero(1, 5)); }, ErrorCode::SizeMismatch, { "5 vertices" }));
+}
+
 } // namespace
 
 TEST(ConnectedComponents, TwoPiecesAndALooseVertex)

@@ -38,6 +38,7 @@
 #include "core/local_barycentric_coordinates.h"
 #include "core/locality_statistics.h"
 #include "error_matchers.h"
+#include "statistics_matchers.h"
 
 #include <Eigen/Dense>
 
@@ -830,6 +831,33 @@ TEST(LBC, NonConvergenceThrowsUnlessAskedToReturn)
   EXPECT_EQ(r.iterations, 5);
   EXPECT_FALSE(r.primal_history.empty());
   expect_barycentric(mesh, r, "unconverged, polished"); // the polish still makes it feasible
+  // The shared result shape: no locations or undefined rows; the statistics in their order.
+  EXPECT_TRUE(r.location.empty());
+  EXPECT_TRUE(r.undefined.empty());
+  EXPECT_TRUE(test::has_statistics(r.statistics,
+    { "iterations", "primal_residual", "dual_residual", "primal_threshold", "dual_threshold",
+      "objective", "converged", "partition_error", "reproduction_error", "min_weight", "threads",
+      "geodesic_seconds", "factor_seconds", "admm_seconds", "solve_seconds" }));
+  EXPECT_EQ(r.statistic("iterations"), 5.0);
+  EXPECT_EQ(r.statistic("primal_residual"), r.primal_residual);
+  EXPECT_EQ(r.statistic("dual_residual"), r.dual_residual);
+  EXPECT_EQ(r.statistic("primal_threshold"), r.primal_threshold);
+  EXPECT_EQ(r.statistic("dual_threshold"), r.dual_threshold);
+  EXPECT_EQ(r.statistic("objective"), r.objective);
+  EXPECT_GT(r.statistic("objective"), 0.0);
+  EXPECT_EQ(r.statistic("converged"), 0.0);
+  EXPECT_EQ(r.statistic("partition_error"), r.partition_error);
+  EXPECT_EQ(r.statistic("reproduction_error"), r.reproduction_error);
+  EXPECT_EQ(r.statistic("min_weight"), r.min_weight);
+  EXPECT_EQ(r.statistic("threads"), 1.0);
+  EXPECT_EQ(r.statistic("geodesic_seconds"), r.geodesic_seconds);
+  EXPECT_EQ(r.statistic("factor_seconds"), r.factor_seconds);
+  EXPECT_EQ(r.statistic("admm_seconds"), r.admm_seconds);
+  EXPECT_EQ(r.statistic("solve_seconds"), r.seconds);
+  EXPECT_GE(r.seconds, r.admm_seconds);
+  // threads = 0 reports the threads OpenMP gave it
+  o.threads = 0;
+  EXPECT_GE(local_barycentric_coordinates(mesh, o).statistic("threads"), 1.0);
 }
 
 TEST(LBC, ProgressIsMonotoneAndCancelStops)

@@ -490,6 +490,12 @@ TEST_P(MeanValueProperties, ResultCountsOnAConstructedSet)
   EXPECT_EQ(r.boundary, n + 3);
   EXPECT_EQ(r.location, expected);
   EXPECT_TRUE(r.undefined.empty());
+  // the shared result shape: the same counts, no statistics, always converged
+  EXPECT_EQ(r.count(PointLocation::Inside), 7);
+  EXPECT_EQ(r.count(PointLocation::Outside), 5);
+  EXPECT_EQ(r.count(PointLocation::Boundary), n + 3);
+  EXPECT_TRUE(r.statistics.empty());
+  EXPECT_TRUE(r.converged);
 }
 
 TEST_P(MeanValueProperties, OneCallFormMatchesTheEvaluator)

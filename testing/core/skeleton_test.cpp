@@ -231,4 +231,22 @@ TEST(Skeleton, TransformsFromJointsMoveBonesRigidlyOntoTheirPosedJoints)
     ErrorCode::SizeMismatch, { "posed joints" }));
 }
 
+TEST(BoneSampleSpacing, TheEdgeOfARegularCellOfThatMeasure)
+{
+  // the unit equilateral triangle (area sqrt 3 / 4) and the unit regular tetrahedron
+  // (volume 1 / (6 sqrt 2)) have edges of length 1
+  EXPECT_NEAR(bone_sample_spacing(2, std::sqrt(3.0) / 4.0), 1.0, 1e-15);
+  EXPECT_NEAR(bone_sample_spacing(3, 1.0 / (6.0 * std::sqrt(2.0))), 1.0, 1e-15);
+  // exactly the formulas the filter used (evaluated at run time, as there: a constant folded
+  // by the compiler may round differently from libm)
+  volatile double measure = 0.01;
+  const double cell = measure;
+  EXPECT_EQ(bone_sample_spacing(2, cell), std::sqrt(4.0 * cell / std::sqrt(3.0)));
+  EXPECT_EQ(bone_sample_spacing(3, cell), std::cbrt(6.0 * std::sqrt(2.0) * cell));
+  // scaling: length ~ area^(1/2), volume^(1/3)
+  EXPECT_NEAR(bone_sample_spacing(2, 4.0) / bone_sample_spacing(2, 1.0), 2.0, 1e-15);
+  EXPECT_NEAR(bone_sample_spacing(3, 8.0) / bone_sample_spacing(3, 1.0), 2.0, 1e-15);
+  EXPECT_TRUE(throws_error([] { bone_sample_spacing(4, 1.0); }, ErrorCode::InvalidArgument, { "4D" }));
+}
+
 } // namespace
