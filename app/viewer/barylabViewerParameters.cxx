@@ -1,6 +1,6 @@
 #include "barylabViewerParameters.h"
 
-#include "vtkBaryCoordinates.h"
+#include "core/weight_methods.h"
 
 #include "core/error.h"
 
@@ -16,57 +16,36 @@ namespace
 using json = nlohmann::json;
 using Kind = ParameterField::Kind;
 
-/// A row bound to a member of WeightsParameters.
-template <class T>
-ParameterField field(const std::string& key, const std::string& label, Kind kind,
-  T WeightsParameters::*member, const std::string& cli, const std::string& tooltip,
-  std::vector<std::string> methods = {}, double lo = 0.0, double hi = 0.0,
-  std::vector<std::string> choices = {})
+/// Runs @p set, turning a JSON type error into bary::Error naming the key.
+template <class F>
+void with_type_check(const std::string& key, const json& value, F set)
 {
-  ParameterField f;
-  f.key = key;
-  f.label = label;
-  f.kind = kind;
-  f.cli_flag = cli;
-  f.tooltip = tooltip;
-  f.methods = std::move(methods);
-  f.minimum = lo;
-  f.maximum = hi;
-  f.choices = std::move(choices);
-  f.get = [member](const WeightsParameters& p) { return json(p.*member); };
-  f.set = [member, key](WeightsParameters& p, const json& value) {
-    try
-    {
-      p.*member = value.get<T>();
-    }
-    catch (const json::exception&)
-    {
-      throw bary::Error(bary::ErrorCode::InvalidArgument,
-        "parameter '" + key + "': " + value.dump() + " has the wrong type");
-    }
-  };
-  return f;
+  try
+  {
+    set();
+  }
+  catch (const json::exception&)
+  {
+    throw bary::Error(bary::ErrorCode::InvalidArgument,
+      "parameter '" + key + "': " + value.dump() + " has the wrong type");
+  }
 }
+
 /// The TCC user weights s_i (Eq. 8) as a String row: "1, 2.5, 1" (commas or spaces); an
 /// empty text means none. Sessions may also hold a JSON array.
-ParameterField user_weights_field()
+void bind_numbers(ParameterField& f, const bary::SettingField& setting)
 {
-  ParameterField f;
-  f.key = "user_weights";
-  f.label = "User weights s_i (TCC)";
   f.kind = Kind::String;
-  f.tooltip = "T-celestial coordinates' user weights s_i >= 0 (Eq. 8), one per control point, "
-              "separated by commas or spaces; empty: all zero (Eq. 7). (Command line: "
-              "--user-weights FILE with the same numbers.)";
-  f.methods = { "tcc" };
-  f.get = [](const WeightsParameters& p) {
+  f.get = [setting](const WeightsParameters& p) {
     std::ostringstream out;
     out.precision(17);
-    for (std::size_t i = 0; i < p.user_weights.size(); ++i)
-      out << (i ? ", " : "") << p.user_weights[i];
+    const std::vector<double> numbers = setting.get_numbers(p);
+    for (std::size_t i = 0; i < numbers.size(); ++i)
+      out << (i ? ", " : "") << numbers[i];
     return json(out.str());
   };
-  f.set = [](WeightsParameters& p, const json& value) {
+  const std::string key = setting.key;
+  f.set = [setting, key](WeightsParameters& p, const json& value) {
     std::vector<double> weights;
     if (value.is_array())
     {
@@ -74,7 +53,7 @@ ParameterField user_weights_field()
       {
         if (!v.is_number())
           throw bary::Error(bary::ErrorCode::InvalidArgument,
-            "parameter 'user_weights': " + v.dump() + " is not a number");
+            "parameter '" + key + "': " + v.dump() + " is not a number");
         weights.push_back(v.get<double>());
       }
     }
@@ -98,15 +77,68 @@ ParameterField user_weights_field()
         }
         if (used != token.size())
           throw bary::Error(bary::ErrorCode::InvalidArgument,
-            "parameter 'user_weights': '" + token + "' is not a number");
+            "parameter '" + key + "': '" + token + "' is not a number");
         weights.push_back(v);
       }
     }
     else
       throw bary::Error(bary::ErrorCode::InvalidArgument,
-        "parameter 'user_weights': " + value.dump() + " is neither a list of numbers nor text");
-    p.user_weights = std::move(weights);
+        "parameter '" + key + "': " + value.dump() + " is neither a list of numbers nor text");
+    setting.set_numbers(p, std::move(weights));
   };
+}
+
+/// The panel row of one setting of the table (bary::weights_setting_fields).
+ParameterField row_of(const bary::SettingField& setting)
+{
+  ParameterField f;
+  f.key = setting.key;
+  f.label = setting.label;
+  f.cli_flag = setting.primary_flag();
+  f.tooltip = setting.help + " (" + setting.range_text() + ")";
+  f.minimum = setting.minimum;
+  f.maximum = setting.maximum;
+  for (bary::MethodId m : setting.methods)
+    f.methods.push_back(bary::method_info(m).name);
+  const std::string key = setting.key;
+  using SKind = bary::SettingField::Kind;
+  switch (setting.kind)
+  {
+    case SKind::Numbers:
+      bind_numbers(f, setting);
+      return f;
+    case SKind::Bool:
+      f.kind = Kind::Bool;
+      f.get = [setting](const WeightsParameters& p) { return json(setting.get(p) != 0.0); };
+      f.set = [key](WeightsParameters& p, const json& value) {
+        with_type_check(key, value, [&] { bary::set_setting(p, key, value.get<bool>() ? 1.0 : 0.0); });
+      };
+      return f;
+    case SKind::Choice:
+      f.kind = Kind::Choice;
+      f.choices = setting.choices;
+      f.get = [key](const WeightsParameters& p) { return json(bary::choice_name(p, key)); };
+      f.set = [key](WeightsParameters& p, const json& value) {
+        with_type_check(key, value, [&] { bary::set_setting(p, key, value.get<std::string>()); });
+      };
+      return f;
+    case SKind::Int:
+      f.kind = setting.values.empty() ? Kind::Int : Kind::Choice; // a few allowed values: a list
+      for (double v : setting.values)
+        f.choices.push_back(std::to_string(static_cast<int>(v)));
+      f.get = [setting](const WeightsParameters& p) { return json(static_cast<int>(setting.get(p))); };
+      f.set = [key](WeightsParameters& p, const json& value) {
+        with_type_check(key, value, [&] { bary::set_setting(p, key, value.get<int>()); });
+      };
+      return f;
+    case SKind::Double:
+      f.kind = Kind::Double;
+      f.get = [setting](const WeightsParameters& p) { return json(setting.get(p)); };
+      f.set = [key](WeightsParameters& p, const json& value) {
+        with_type_check(key, value, [&] { bary::set_setting(p, key, value.get<double>()); });
+      };
+      return f;
+  }
   return f;
 }
 } // namespace
@@ -118,78 +150,28 @@ bool ParameterField::AppliesTo(const std::string& method) const
 
 const std::vector<ParameterField>& WeightsParameterFields()
 {
-  // Rows in panel order. Ranges match the command line's checks.
-  static const std::vector<ParameterField> fields = {
-    field("cage_dimension", "Cage dimension", Kind::Choice, &WeightsParameters::cage_dimension,
-      "--cage-dimension", "how to read the cage: 0 automatic, 2, 3", {}, 0, 3, { "0", "2", "3" }),
-    field("boundary_tolerance", "Boundary tolerance", Kind::Double,
-      &WeightsParameters::boundary_tolerance, "--boundary-tolerance",
-      "points closer to the cage than this fraction of its diagonal count as on the cage", {},
-      0.0, 1e-3),
-    field("validate_cage", "Validate cage", Kind::Bool, &WeightsParameters::validate_cage, "",
-      "check that the cage is closed, manifold and consistently oriented"),
-    field("threads", "Threads", Kind::Int, &WeightsParameters::threads, "--threads",
-      "0 = all cores; results do not depend on it", {}, 0, 1024),
-    field("target_cells", "Mesh cells", Kind::Int, &WeightsParameters::target_cells, "--cells",
-      "approximate number of cells of the domain mesh (0: 3000 in 2D, 20000 in 3D)",
-      { "harmonic", "bbw", "lbc" }, 0, 50000000),
-    field("max_cell_size", "Max cell size", Kind::Double, &WeightsParameters::max_cell_size,
-      "--max-volume", "maximum tetrahedron volume / triangle area (overrides the cell count)",
-      { "harmonic", "bbw", "lbc" }, 0.0, 1e9),
-    field("insert_points", "Insert points", Kind::Bool, &WeightsParameters::insert_points,
-      "--insert-points", "make the points mesh vertices (exact finite-element values there)",
-      { "harmonic", "bbw", "lbc" }),
-    field("outside", "Outside points", Kind::Choice, &WeightsParameters::outside, "--outside",
-      "points outside the cage/domain: error | nearest | nan", { "harmonic", "bbw", "lbc" }, 0,
-      0, { "error", "nearest", "nan" }),
-    field("bbw_fast", "Fast BBW", Kind::Bool, &WeightsParameters::bbw_fast, "--fast",
-      "solve each handle alone, then normalize (the paper's fast mode)", { "bbw" }),
-    field("lambda", "Lambda (SCC)", Kind::Double, &WeightsParameters::lambda, "--lambda",
-      "wrapping-sphere parameter (> 1; the coordinates do not depend on it)", { "scc" },
-      1.000001, 1e6),
-    field("lbc_locality", "Locality (LBC)", Kind::Choice, &WeightsParameters::lbc_locality,
-      "--locality",
-      "locality function tau of the geodesic distance: squared (the paper's) | constant (plain "
-      "total variation) | linear",
-      { "lbc" }, 0, 0, { "squared", "constant", "linear" }),
-    field("lbc_relaxed_epsilon", "Relaxed TV epsilon", Kind::Double,
-      &WeightsParameters::lbc_relaxed_epsilon, "--relaxed-epsilon",
-      "relaxed total variation (Eq. 7-8; 0: plain TV, > 0: C1 weights, less local)", { "lbc" },
-      0.0, 1e6),
-    field("lbc_primal_tolerance", "Primal tolerance", Kind::Double,
-      &WeightsParameters::lbc_primal_tolerance, "--primal-tolerance",
-      "ADMM primal stopping threshold per residual entry (Eq. 26)", { "lbc" }, 1e-15, 0.5),
-    field("lbc_dual_tolerance", "Dual tolerance", Kind::Double,
-      &WeightsParameters::lbc_dual_tolerance, "--dual-tolerance",
-      "ADMM dual stopping threshold per residual entry (Eq. 27)", { "lbc" }, 1e-15, 0.5),
-    field("lbc_max_iterations", "Max iterations", Kind::Int,
-      &WeightsParameters::lbc_max_iterations, "--max-iterations",
-      "ADMM iteration cap; reaching it is an error", { "lbc" }, 1, 1000000000),
-    field("lbc_distance_normalization", "Distance normalization", Kind::Choice,
-      &WeightsParameters::lbc_distance_normalization, "--distance-normalization",
-      "geodesic distances normalised per control point (Eq. 12) or globally (the authors' code)",
-      { "lbc" }, 0, 0, { "per-control-point", "global" }),
-    field("lbc_unconstrained", "Unconstrained TV", Kind::Bool,
-      &WeightsParameters::lbc_unconstrained, "--unconstrained-tv",
-      "drop partition of unity and reproduction (§3.2): not barycentric coordinates", { "lbc" }),
-    user_weights_field(),
-  };
+  // One row per setting of the core table, in its order.
+  static const std::vector<ParameterField> fields = [] {
+    std::vector<ParameterField> rows;
+    for (const bary::SettingField& setting : bary::weights_setting_fields())
+      rows.push_back(row_of(setting));
+    return rows;
+  }();
   return fields;
 }
 
 std::vector<std::string> MethodNames()
 {
   std::vector<std::string> names;
-  for (int m = 0; m < vtkBaryCoordinates::NUMBER_OF_METHODS; ++m)
-    if (const char* name = vtkBaryCoordinates::GetMethodName(m))
-      names.emplace_back(name);
+  for (const bary::MethodInfo& m : bary::method_table())
+    names.push_back(m.name);
   return names;
 }
 
 json ParametersToJson(const WeightsParameters& parameters)
 {
   json j;
-  j["method"] = parameters.method;
+  j["method"] = MethodName(parameters);
   for (const ParameterField& f : WeightsParameterFields())
     j[f.key] = f.get(parameters);
   return j;
@@ -203,7 +185,7 @@ WeightsParameters ParametersFromJson(const json& j, WeightsParameters base)
   {
     if (!j["method"].is_string())
       throw bary::Error(bary::ErrorCode::InvalidArgument, "parameter 'method' must be a string");
-    base.method = j["method"].get<std::string>();
+    base.method = bary::method_from_name(j["method"].get<std::string>());
   }
   for (const ParameterField& f : WeightsParameterFields())
     if (j.contains(f.key))
@@ -213,11 +195,11 @@ WeightsParameters ParametersFromJson(const json& j, WeightsParameters base)
 
 std::vector<std::string> CommandLineFlags(const WeightsParameters& parameters)
 {
-  std::vector<std::string> flags = { "--method", parameters.method };
+  std::vector<std::string> flags = { "--method", MethodName(parameters) };
   const WeightsParameters defaults;
   for (const ParameterField& f : WeightsParameterFields())
   {
-    if (f.cli_flag.empty() || !f.AppliesTo(parameters.method))
+    if (f.cli_flag.empty() || !f.AppliesTo(MethodName(parameters)))
       continue;
     const json value = f.get(parameters);
     if (value == f.get(defaults))

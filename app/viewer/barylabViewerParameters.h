@@ -1,8 +1,9 @@
 #pragma once
 /// @file barylabViewerParameters.h
-/// The description table of barylab::WeightsParameters that the viewer's parameter panel, its
-/// session files and its "Run in terminal" command line are generated from. A new method or
-/// parameter is a row here (and a field in WeightsParameters), not GUI code.
+/// The viewer's view of BaryLab's one settings table (bary::weights_setting_fields, in
+/// core/weight_methods.h): the parameter panel, the session files and the "Run in terminal"
+/// command line are generated from its rows. A new method or setting is a row there, not GUI
+/// code.
 
 #include "barylabPipeline.h"
 

@@ -137,6 +137,9 @@ public:
   double GetLambda() const { return this->GetSetting("lambda"); }
   void SetLBCLocality(int v) { this->SetSetting("lbc_locality", v); }
   int GetLBCLocality() const { return static_cast<int>(this->GetSetting("lbc_locality")); }
+  void SetLBCLocalityToSquared() { this->SetLBCLocality(LBC_LOCALITY_SQUARED); }
+  void SetLBCLocalityToConstant() { this->SetLBCLocality(LBC_LOCALITY_CONSTANT); }
+  void SetLBCLocalityToLinear() { this->SetLBCLocality(LBC_LOCALITY_LINEAR); }
   void SetLBCRelaxedEpsilon(double v) { this->SetSetting("lbc_relaxed_epsilon", v); }
   double GetLBCRelaxedEpsilon() const { return this->GetSetting("lbc_relaxed_epsilon"); }
   void SetLBCPrimalTolerance(double v) { this->SetSetting("lbc_primal_tolerance", v); }
