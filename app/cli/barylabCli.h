@@ -1,0 +1,82 @@
+#pragma once
+/// @file barylabCli.h
+/// What the subcommands of the barylab command line share: the usage error (exit code 2), the
+/// progress bar, output checks, the weights summary, the method options and the small input
+/// readers.
+
+#include "barylabPipeline.h"
+
+#include <nlohmann/json.hpp>
+
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace CLI
+{
+class App;
+}
+
+namespace barylab
+{
+namespace cli
+{
+
+/// A command line that parses but does not make sense (exit code 2, like a parse error).
+struct UsageError : std::runtime_error
+{
+  using std::runtime_error::runtime_error;
+};
+
+/// A progress bar on stderr when it is a terminal (nothing in logs and pipes).
+class ProgressBar
+{
+public:
+  explicit ProgressBar(bool enabled, std::string label);
+  ~ProgressBar() { done(); }
+  void update(double f);
+  void done();
+
+private:
+  bool enabled_;
+  std::string label_;
+  int last_ = -1;
+  bool shown_ = false;
+};
+
+/// Progress to @p bar; warnings to stderr as "barylab: warning: ..." unless @p quiet.
+RunCallbacks callbacks(ProgressBar& bar, bool quiet);
+
+/// The flags of a weights computation (--method, the method's options) bound to @p p
+/// (barylabMethodOptions.cxx).
+void add_method_options(CLI::App* cmd, WeightsParameters& p);
+
+/// UsageError unless the inputs fit --method @p method: a cage, a skeleton in a domain (bbw) or
+/// free control points (tcc, scc; @p controls) (barylabMethodOptions.cxx).
+void check_bbw_inputs(const std::string& method, const std::string& cage,
+  const std::string& handles, const std::string& mesh, bool controls = false);
+
+enum class OutputKind
+{
+  Data, ///< a data set: .vtp .vtu .vtk .obj .stl .ply .off
+  Json,
+  Png
+};
+
+/// Fails early (before any computation) on an output path that cannot be written: unknown or
+/// wrong extension for what is written there, or a folder that does not exist.
+void check_output(const std::string& path, OutputKind kind);
+
+/// Counts and statistics printed after a weights computation.
+void print_summary(const nlohmann::json& s);
+
+/// tcc user weights: one number per control point (whitespace separated, '#' comments), or a
+/// libigl .dmat column.
+std::vector<double> read_user_weights(const std::string& path);
+
+/// Writes one CSV: first column @p key (the longest series' values), then one column per input.
+void write_locality_csv(const std::string& path, const nlohmann::json& inputs, const char* key,
+  const char* value, const std::vector<std::string>& labels);
+
+} // namespace cli
+} // namespace barylab
