@@ -6,6 +6,8 @@
 
 #include "core/error.h"
 
+#include <CLI/CLI.hpp>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -23,6 +25,26 @@ namespace barylab
 {
 namespace cli
 {
+
+Subcommands::Subcommands(CLI::App& app)
+  : app_(app)
+{
+}
+
+CLI::App* Subcommands::Add(const std::string& name, const std::string& description, RunFunction run)
+{
+  CLI::App* command = app_.add_subcommand(name, description);
+  commands_.emplace_back(command, std::move(run));
+  return command;
+}
+
+int Subcommands::Run() const
+{
+  for (const auto& [command, run] : commands_)
+    if (*command)
+      return run();
+  return 1;
+}
 
 ProgressBar::ProgressBar(bool enabled, std::string label)
   : enabled_(enabled && isatty(fileno(stderr)))

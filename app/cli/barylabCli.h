@@ -1,15 +1,23 @@
 #pragma once
 /// @file barylabCli.h
-/// What the subcommands of the barylab command line share: the usage error (exit code 2), the
-/// progress bar, output checks, the weights summary, the method options and the small input
-/// readers.
+/// What the subcommands of the barylab command line share: the subcommand registry that `main`
+/// dispatches through, the usage error (exit code 2), the progress bar, output checks, the
+/// weights summary, the method options and the small input readers.
+///
+/// A subcommand is one file, barylabCommand<Name>.cxx, defining Add<Name>Command(): it declares
+/// the subcommand with Subcommands::Add (name, description, run function), then its options on the
+/// CLI::App that Add returns, bound to an arguments struct that the run function shares. `main`
+/// (barylab.cxx) calls every Add<Name>Command in --help order, parses, calls Subcommands::Run and
+/// turns exceptions into exit codes.
 
 #include "barylabPipeline.h"
 
 #include <nlohmann/json.hpp>
 
+#include <functional>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace CLI
@@ -27,6 +35,36 @@ struct UsageError : std::runtime_error
 {
   using std::runtime_error::runtime_error;
 };
+
+/// The subcommands of a CLI::App and what each runs once the command line is parsed.
+class Subcommands
+{
+public:
+  /// What a subcommand does with its parsed options: returns the exit code (0); throws UsageError
+  /// for a command line that makes no sense (exit 2), bary::Error or another std::exception for
+  /// bad input or a failed computation (exit 1).
+  using RunFunction = std::function<int()>;
+
+  explicit Subcommands(CLI::App& app);
+
+  /// Declares subcommand @p name (listed by --help in the order of the calls) that runs @p run;
+  /// returns it, to add its options to.
+  CLI::App* Add(const std::string& name, const std::string& description, RunFunction run);
+
+  /// Runs the subcommand given on the parsed command line; 1 when none was.
+  int Run() const;
+
+private:
+  CLI::App& app_;
+  std::vector<std::pair<CLI::App*, RunFunction>> commands_;
+};
+
+/// @name The subcommands, in --help order; each in barylabCommand<Name>.cxx.
+/// @{
+void AddWeightsCommand(Subcommands& subcommands);
+void AddDeformCommand(Subcommands& subcommands);
+void AddAnimateCommand(Subcommands& subcommands);
+/// @}
 
 /// A progress bar on stderr when it is a terminal (nothing in logs and pipes).
 class ProgressBar
