@@ -64,6 +64,11 @@ private:
 void AddWeightsCommand(Subcommands& subcommands);
 void AddDeformCommand(Subcommands& subcommands);
 void AddAnimateCommand(Subcommands& subcommands);
+void AddStatsCommand(Subcommands& subcommands);
+void AddReduceCommand(Subcommands& subcommands);
+void AddFieldsCommand(Subcommands& subcommands);
+void AddMeshCommand(Subcommands& subcommands);
+void AddRenderCommand(Subcommands& subcommands);
 /// @}
 
 /// A progress bar on stderr when it is a terminal (nothing in logs and pipes).
