@@ -69,6 +69,7 @@ void AddReduceCommand(Subcommands& subcommands);
 void AddFieldsCommand(Subcommands& subcommands);
 void AddMeshCommand(Subcommands& subcommands);
 void AddRenderCommand(Subcommands& subcommands);
+void AddDemoCommand(Subcommands& subcommands);
 /// @}
 
 /// A progress bar on stderr when it is a terminal (nothing in logs and pipes).
