@@ -4,6 +4,7 @@
 #include "barylabViewerMode.h"
 #include "barylabViewerPanel.h"
 #include "barylabViewerParameters.h"
+#include "barylabViewerViews.h"
 
 #include "vtkBaryDataIO.h"
 
@@ -31,12 +32,6 @@
 
 #include <QVTKOpenGLNativeWidget.h>
 
-#include "vtkCallbackCommand.h"
-#include "vtkCamera.h"
-#include "vtkGenericOpenGLRenderWindow.h"
-#include "vtkInteractorObserver.h"
-#include "vtkRenderWindow.h"
-#include "vtkRenderWindowInteractor.h"
 #include "vtkRenderer.h"
 
 #include <nlohmann/json.hpp>
@@ -131,6 +126,26 @@ ViewerWindow::~ViewerWindow()
   }
 }
 
+QVTKOpenGLNativeWidget* ViewerWindow::view() const
+{
+  return this->ViewPair->view();
+}
+
+QVTKOpenGLNativeWidget* ViewerWindow::compareView() const
+{
+  return this->ViewPair->compareView();
+}
+
+vtkRenderer* ViewerWindow::renderer() const
+{
+  return this->ViewPair->renderer();
+}
+
+vtkRenderer* ViewerWindow::compareRenderer() const
+{
+  return this->ViewPair->compareRenderer();
+}
+
 const Mode& ViewerWindow::currentMode() const
 {
   return ModeFor(this->Parameters.method, this->State);
@@ -157,24 +172,14 @@ ControlKind ViewerWindow::shownKind() const
 
 void ViewerWindow::buildViews()
 {
-  // views
   auto* splitter = new QSplitter(Qt::Horizontal, this);
-  this->Renderer = vtkSmartPointer<vtkRenderer>::New();
-  this->CompareRenderer = vtkSmartPointer<vtkRenderer>::New();
-  this->CompareRenderer->SetActiveCamera(this->Renderer->GetActiveCamera()); // linked cameras
-  for (int k = 0; k < 2; ++k)
-  {
-    auto* widget = new QVTKOpenGLNativeWidget(splitter);
-    vtkNew<vtkGenericOpenGLRenderWindow> window;
-    window->SetMultiSamples(0);
-    widget->setRenderWindow(window);
-    window->AddRenderer(k == 0 ? this->Renderer : this->CompareRenderer);
-    widget->setMinimumSize(320, 320);
-    splitter->addWidget(widget);
-    (k == 0 ? this->View : this->CompareView) = widget;
-  }
-  this->CompareView->hide();
+  this->ViewPair = new Views(splitter, [this]() { return this->State.posedControls(); });
   this->setCentralWidget(splitter);
+  connect(this->ViewPair, &Views::controlPressed, this, &ViewerWindow::onControlPressed);
+  connect(this->ViewPair, &Views::controlDragged, this, &ViewerWindow::onControlDragged);
+  connect(this->ViewPair, &Views::controlReleased, this, [this](int id) {
+    this->Panel->setMovePosition(this->posedControls()->GetPoint(id));
+  });
 
   // locality charts (P(t), Q(k)), hidden until asked for
   this->Locality = new LocalityPanel(this);
@@ -187,18 +192,6 @@ void ViewerWindow::buildViews()
     if (visible)
       this->updateLocality();
   });
-
-  this->InteractorCallback = vtkSmartPointer<vtkCallbackCommand>::New();
-  this->InteractorCallback->SetCallback(&ViewerWindow::OnInteractorEvent);
-  this->InteractorCallback->SetClientData(this);
-  vtkRenderWindowInteractor* interactor = this->View->interactor();
-  for (unsigned long e : { vtkCommand::LeftButtonPressEvent, vtkCommand::MouseMoveEvent,
-         vtkCommand::LeftButtonReleaseEvent })
-    interactor->AddObserver(e, this->InteractorCallback, 10.0f);
-  this->CameraCallback = vtkSmartPointer<vtkCallbackCommand>::New();
-  this->CameraCallback->SetCallback(&ViewerWindow::OnCameraModified);
-  this->CameraCallback->SetClientData(this);
-  this->Renderer->GetActiveCamera()->AddObserver(vtkCommand::ModifiedEvent, this->CameraCallback);
 
   // side panel
   this->Panel = new ControlPanel(this);
@@ -436,7 +429,7 @@ void ViewerWindow::setParameters(const WeightsParameters& parameters)
 void ViewerWindow::setCompareMethod(const QString& method)
 {
   this->CompareMethod = method;
-  this->CompareView->setVisible(!method.isEmpty());
+  this->compareView()->setVisible(!method.isEmpty());
   this->CameraNeedsReset = true; // the views' aspect changes
   QApplication::processEvents(QEventLoop::ExcludeUserInputEvents); // lay the views out
   this->State.clearCompare();
@@ -669,7 +662,7 @@ void ViewerWindow::setClipPosition(double fraction)
 
 void ViewerWindow::resetCamera()
 {
-  ResetSceneCamera(this->Renderer, this->Options.dimension);
+  ResetSceneCamera(this->renderer(), this->Options.dimension);
   this->renderViews();
 }
 
@@ -692,7 +685,7 @@ void ViewerWindow::updateScene()
   this->reporting([&]() {
     options.title = weighted ? title(this->State.computed().method) : std::string();
     vtkPointSet* deformed = this->deformedModel();
-    this->Info = BuildScene(this->Renderer, weighted,
+    this->Info = BuildScene(this->renderer(), weighted,
       weighted && deformed ? deformed->GetPoints() : nullptr, this->State.controls(),
       this->State.posedControls(), options);
     if (!this->CompareMethod.isEmpty())
@@ -700,14 +693,14 @@ void ViewerWindow::updateScene()
       vtkDataSet* compare = this->State.compareWeighted();
       vtkPointSet* compareDeformed = this->State.compareDeformed();
       options.title = compare ? title(to_std(this->State.computedCompare())) : std::string();
-      BuildScene(this->CompareRenderer, compare,
+      BuildScene(this->compareRenderer(), compare,
         compareDeformed ? compareDeformed->GetPoints() : nullptr, this->State.controls(),
         this->State.posedControls(), options);
     }
   });
   if (this->CameraNeedsReset && (weighted || this->State.controls()))
   {
-    ResetSceneCamera(this->Renderer, this->Options.dimension);
+    ResetSceneCamera(this->renderer(), this->Options.dimension);
     this->CameraNeedsReset = !weighted;
   }
   this->renderViews();
@@ -716,32 +709,7 @@ void ViewerWindow::updateScene()
 
 void ViewerWindow::renderViews()
 {
-  this->SyncingCameras = true;
-  this->Renderer->ResetCameraClippingRange();
-  this->View->renderWindow()->Render();
-  if (this->CompareView->isVisible())
-  {
-    this->CompareRenderer->ResetCameraClippingRange();
-    this->CompareView->renderWindow()->Render();
-  }
-  this->View->update();
-  this->CompareView->update();
-  this->SyncingCameras = false;
-}
-
-void ViewerWindow::OnCameraModified(vtkObject*, unsigned long, void* client, void*)
-{
-  auto* self = static_cast<ViewerWindow*>(client);
-  if (self->SyncingCameras || !self->CompareView->isVisible())
-    return;
-  // the cameras are one object; re-render the other view once the interaction step is done
-  QTimer::singleShot(0, self, [self]() {
-    self->SyncingCameras = true;
-    self->CompareRenderer->ResetCameraClippingRange();
-    self->CompareView->renderWindow()->Render();
-    self->CompareView->update();
-    self->SyncingCameras = false;
-  });
+  this->ViewPair->render();
 }
 
 // ------------------------------------------------------------------------------------------
@@ -882,71 +850,25 @@ bool ViewerWindow::saveDeformedModel(const QString& path)
 }
 
 // ------------------------------------------------------------------------------------------
-// picking and dragging control points in the view
+// dragging control points in the view
 
-int ViewerWindow::pickControl(int x, int y) const
+void ViewerWindow::onControlPressed(int id)
 {
-  vtkPoints* posed = this->State.posedControls();
-  if (!posed)
-    return -1;
-  int best = -1;
-  double bestD2 = 12.0 * 12.0; // pixels
-  for (vtkIdType i = 0; i < posed->GetNumberOfPoints(); ++i)
-  {
-    double p[3];
-    posed->GetPoint(i, p);
-    this->Renderer->SetWorldPoint(p[0], p[1], p[2], 1.0);
-    this->Renderer->WorldToDisplay();
-    const double* d = this->Renderer->GetDisplayPoint();
-    const double d2 = (d[0] - x) * (d[0] - x) + (d[1] - y) * (d[1] - y);
-    if (d2 < bestD2)
-    {
-      bestD2 = d2;
-      best = static_cast<int>(i);
-    }
-  }
-  return best;
+  if (this->shownMode().componentsAreControlPoints() && id < this->componentCount())
+    this->selectControl(id);
+  if (!this->hasWeights())
+    return;
+  this->State.pushUndo();
+  this->ViewPair->startDrag(id);
+  this->Panel->setMoveId(id);
 }
 
-void ViewerWindow::OnInteractorEvent(vtkObject* caller, unsigned long event, void* client, void*)
+void ViewerWindow::onControlDragged(int id, const double* world)
 {
-  auto* self = static_cast<ViewerWindow*>(client);
-  auto* interactor = static_cast<vtkRenderWindowInteractor*>(caller);
-  int pos[2];
-  interactor->GetEventPosition(pos);
-  if (event == vtkCommand::LeftButtonPressEvent)
-  {
-    const int id = self->pickControl(pos[0], pos[1]);
-    if (id < 0)
-      return; // the camera moves
-    self->InteractorCallback->AbortFlagOn();
-    if (self->shownMode().componentsAreControlPoints() && id < self->componentCount())
-      self->selectControl(id);
-    if (!self->hasWeights())
-      return;
-    self->State.pushUndo();
-    self->Dragging = id;
-    self->Panel->setMoveId(id);
-  }
-  else if (event == vtkCommand::MouseMoveEvent && self->Dragging >= 0)
-  {
-    self->InteractorCallback->AbortFlagOn();
-    double p[3];
-    self->posedControls()->GetPoint(self->Dragging, p);
-    double display[3];
-    vtkInteractorObserver::ComputeWorldToDisplay(self->Renderer, p[0], p[1], p[2], display);
-    double world[4];
-    vtkInteractorObserver::ComputeDisplayToWorld(self->Renderer, pos[0], pos[1], display[2], world);
-    if (self->Options.dimension == 2)
-      world[2] = p[2];
-    self->moveControlLive(self->Dragging, world);
-  }
-  else if (event == vtkCommand::LeftButtonReleaseEvent && self->Dragging >= 0)
-  {
-    self->InteractorCallback->AbortFlagOn();
-    self->Panel->setMovePosition(self->posedControls()->GetPoint(self->Dragging));
-    self->Dragging = -1;
-  }
+  double x[3] = { world[0], world[1], world[2] };
+  if (this->Options.dimension == 2)
+    x[2] = this->posedControls()->GetPoint(id)[2];
+  this->moveControlLive(id, x);
 }
 
 // ------------------------------------------------------------------------------------------
@@ -978,7 +900,7 @@ bool ViewerWindow::loadSession(const QString& path)
     return false;
   this->Parameters = file.parameters;
   this->CompareMethod = file.compare_method;
-  this->CompareView->setVisible(!this->CompareMethod.isEmpty());
+  this->compareView()->setVisible(!this->CompareMethod.isEmpty());
   if (!this->openInputs(file.inputs))
     return false;
   const SceneOptions& v = file.view;

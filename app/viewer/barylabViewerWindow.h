@@ -15,7 +15,6 @@
 #include <QMainWindow>
 #include <QStringList>
 
-#include "vtkCallbackCommand.h"
 #include "vtkDataSet.h"
 #include "vtkImageData.h"
 #include "vtkPoints.h"
@@ -31,7 +30,6 @@
 class QDockWidget;
 class QProgressBar;
 class QVTKOpenGLNativeWidget;
-class vtkObject;
 
 namespace barylab
 {
@@ -40,6 +38,7 @@ namespace viewer
 class ControlPanel;
 class LocalityPanel;
 class Mode;
+class Views;
 
 class ViewerWindow : public QMainWindow
 {
@@ -86,10 +85,10 @@ public:
   HandleTwist handleTwist(int handle) const { return this->State.twist(handle); }
   /// The equivalent `barylab weights ...` command line.
   QString commandLine() const;
-  QVTKOpenGLNativeWidget* view() const { return this->View; }
-  QVTKOpenGLNativeWidget* compareView() const { return this->CompareView; }
-  vtkRenderer* renderer() const { return this->Renderer; }
-  vtkRenderer* compareRenderer() const { return this->CompareRenderer; }
+  QVTKOpenGLNativeWidget* view() const;
+  QVTKOpenGLNativeWidget* compareView() const;
+  vtkRenderer* renderer() const;
+  vtkRenderer* compareRenderer() const;
 
   /// The locality charts (P(t), Q(k)) and the statistics they show (an array of
   /// barylab::LocalityStatisticsJson objects with "method"; empty before showLocality()).
@@ -193,9 +192,10 @@ private:
   void moveControlLive(int id, const double x[3]);
   /// Display options changed: panel and scene follow.
   void optionsChanged();
-  static void OnInteractorEvent(vtkObject* caller, unsigned long event, void* client, void* call);
-  static void OnCameraModified(vtkObject* caller, unsigned long event, void* client, void* call);
-  int pickControl(int x, int y) const;
+  /// A click on control @p id in the view: selects it (when a control point is a weight) and
+  /// starts a drag (one undo step) when there are weights to deform with.
+  void onControlPressed(int id);
+  void onControlDragged(int id, const double* world);
 
   Session State;
   WeightsParameters Parameters;
@@ -212,8 +212,6 @@ private:
   bool Busy = false; ///< a worker runs (until its result is handled)
   double LastSeconds = 0.0;
   bool CameraNeedsReset = true;
-  int Dragging = -1;
-  bool SyncingCameras = false;
 
   std::unique_ptr<QFutureWatcher<ComputeResult>> Watcher;
   std::shared_ptr<std::atomic<double>> Progress;
@@ -223,12 +221,7 @@ private:
   ControlPanel* Panel = nullptr;
   LocalityPanel* Locality = nullptr;
   QDockWidget* LocalityDock = nullptr;
-  QVTKOpenGLNativeWidget* View = nullptr;
-  QVTKOpenGLNativeWidget* CompareView = nullptr;
-  vtkSmartPointer<vtkRenderer> Renderer;
-  vtkSmartPointer<vtkRenderer> CompareRenderer;
-  vtkSmartPointer<vtkCallbackCommand> InteractorCallback;
-  vtkSmartPointer<vtkCallbackCommand> CameraCallback;
+  Views* ViewPair = nullptr;
   QProgressBar* ProgressBar = nullptr;
 };
 
