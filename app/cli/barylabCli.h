@@ -4,17 +4,18 @@
 /// dispatches through, the usage error (exit code 2), the progress bar, output checks, the
 /// weights summary, the method options and the small input readers.
 ///
-/// A subcommand is one file, barylabCommand<Name>.cxx, defining Add<Name>Command(): it declares
-/// the subcommand with Subcommands::Add (name, description, run function), then its options on the
-/// CLI::App that Add returns, bound to an arguments struct that the run function shares. `main`
-/// (barylab.cxx) calls every Add<Name>Command in --help order, parses, calls Subcommands::Run and
-/// turns exceptions into exit codes.
+/// A subcommand is one file, barylabCommand<Name>.cxx, defining Add<Name>Command() (declared
+/// below): it declares the subcommand with Subcommands::Add (name, description, run function),
+/// then its options on the CLI::App that Add returns, bound to the arguments struct that the run
+/// function receives. `main` (barylab.cxx) calls every Add<Name>Command in --help order, parses,
+/// calls Subcommands::Run and turns exceptions into exit codes.
 
 #include "barylabPipeline.h"
 
 #include <nlohmann/json.hpp>
 
 #include <functional>
+#include <memory>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -50,6 +51,17 @@ public:
   /// Declares subcommand @p name (listed by --help in the order of the calls) that runs @p run;
   /// returns it, to add its options to.
   CLI::App* Add(const std::string& name, const std::string& description, RunFunction run);
+
+  /// The usual case: a subcommand whose options are bound to the members of one @p Args
+  /// (made here) and that runs `run(args)`, @p run taking an Args or a const Args&. Returns the
+  /// subcommand and the Args, for `const auto [command, a] = subcommands.Add<Args>(...)`.
+  template <class Args, class Run>
+  std::pair<CLI::App*, std::shared_ptr<Args>> Add(
+    const std::string& name, const std::string& description, Run run)
+  {
+    auto args = std::make_shared<Args>();
+    return { Add(name, description, [args, run] { return run(*args); }), args };
+  }
 
   /// Runs the subcommand given on the parsed command line; 1 when none was.
   int Run() const;

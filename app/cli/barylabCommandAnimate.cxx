@@ -13,7 +13,6 @@
 #include <CLI/CLI.hpp>
 
 #include <iostream>
-#include <memory>
 
 using nlohmann::json;
 
@@ -82,10 +81,9 @@ int run_animate(AnimateArgs a)
 
 void AddAnimateCommand(Subcommands& subcommands)
 {
-  auto a = std::make_shared<AnimateArgs>();
-  CLI::App* command = subcommands.Add("animate",
+  const auto [command, a] = subcommands.Add<AnimateArgs>("animate",
     "deform a model by a sequence of moved cages / control points: frames + a ParaView .pvd",
-    [a] { return run_animate(*a); });
+    run_animate);
   command->add_option("--cage,-c", a->cage, "rest cage");
   command->add_option("--control-points", a->controls, "tcc|scc: rest control points");
   command->add_option("--frames", a->frames, "moved cages / control points, one file per frame")

@@ -22,7 +22,6 @@
 #include <cmath>
 #include <fstream>
 #include <iostream>
-#include <memory>
 #include <sstream>
 
 using nlohmann::json;
@@ -286,9 +285,8 @@ int run_deform(DeformArgs a)
 
 void AddDeformCommand(Subcommands& subcommands)
 {
-  auto a = std::make_shared<DeformArgs>();
-  CLI::App* command = subcommands.Add("deform", "deform a model by moving its cage or handles",
-    [a] { return run_deform(*a); });
+  const auto [command, a] = subcommands.Add<DeformArgs>("deform",
+    "deform a model by moving its cage or handles", run_deform);
   command->add_option("--cage,-c", a->cage, "rest cage");
   command->add_option("--deformed-cage,-d", a->posed, "moved cage (same points, same order)");
   command->add_option("--control-points", a->controls, "tcc|scc: rest control points");

@@ -15,7 +15,6 @@
 
 #include <algorithm>
 #include <iostream>
-#include <memory>
 
 using nlohmann::json;
 
@@ -94,11 +93,10 @@ int run_fields(const FieldsArgs& a)
 
 void AddFieldsCommand(Subcommands& subcommands)
 {
-  auto a = std::make_shared<FieldsArgs>();
-  CLI::App* command = subcommands.Add("fields",
+  const auto [command, a] = subcommands.Add<FieldsArgs>("fields",
     "gradient norms |grad w_i| of all weights and level sets of one (VTK's gradient and contour "
     "filters)",
-    [a] { return run_fields(*a); });
+    run_fields);
   command->add_option("--input,-i", a->input, "weights at the vertices of a mesh (.vtp/.vtu/.vtk)")
     ->required();
   command->add_option("--output,-o", a->output,

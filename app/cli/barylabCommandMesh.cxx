@@ -14,7 +14,6 @@
 #include <CLI/CLI.hpp>
 
 #include <iostream>
-#include <memory>
 
 using nlohmann::json;
 
@@ -61,9 +60,8 @@ int run_mesh(const MeshArgs& a)
 
 void AddMeshCommand(Subcommands& subcommands)
 {
-  auto a = std::make_shared<MeshArgs>();
-  CLI::App* command = subcommands.Add("mesh", "triangulate / tetrahedralize the interior of a cage",
-    [a] { return run_mesh(*a); });
+  const auto [command, a] = subcommands.Add<MeshArgs>("mesh",
+    "triangulate / tetrahedralize the interior of a cage", run_mesh);
   command->add_option("--cage,-c", a->cage, "cage: closed triangle surface (3D) or polygon (2D)")
     ->required();
   command->add_option("--points,-p", a->points, "points to make mesh vertices (those inside)");

@@ -12,7 +12,6 @@
 #include <CLI/CLI.hpp>
 
 #include <iostream>
-#include <memory>
 
 using nlohmann::json;
 
@@ -71,10 +70,9 @@ int run_reduce(const ReduceArgs& a)
 
 void AddReduceCommand(Subcommands& subcommands)
 {
-  auto a = std::make_shared<ReduceArgs>();
-  CLI::App* command = subcommands.Add("reduce",
+  const auto [command, a] = subcommands.Add<ReduceArgs>("reduce",
     "sparse weights: drop weights <= threshold, store <array>Indices/<array>Values (deform reads them)",
-    [a] { return run_reduce(*a); });
+    run_reduce);
   command->add_option("--input,-i", a->input, "file with a dense weights point-data array")
     ->required();
   command->add_option("--cage,-c", a->cage,

@@ -12,8 +12,6 @@
 
 #include <CLI/CLI.hpp>
 
-#include <memory>
-
 namespace barylab
 {
 namespace cli
@@ -36,6 +34,7 @@ int run_render(const RenderArgs& a)
   const std::string& controls = !a.handles.empty() ? a.handles : !a.controls.empty() ? a.controls : a.cage;
   vtkSmartPointer<vtkPolyData> cage = controls.empty() ? nullptr : vtkBaryDataIO::ReadPolyData(controls);
   barylab::RenderOptions options = a.options;
+  options.height = options.width * 7 / 9;
   options.title = a.title;
   options.skeleton = !a.handles.empty();
   options.free_points = !a.controls.empty();
@@ -48,12 +47,8 @@ int run_render(const RenderArgs& a)
 
 void AddRenderCommand(Subcommands& subcommands)
 {
-  auto a = std::make_shared<RenderArgs>();
-  CLI::App* command = subcommands.Add("render", "render one weight field to a PNG (needs X/Xvfb)",
-    [a] {
-      a->options.height = a->options.width * 7 / 9;
-      return run_render(*a);
-    });
+  const auto [command, a] = subcommands.Add<RenderArgs>("render",
+    "render one weight field to a PNG (needs X/Xvfb)", run_render);
   command->add_option("--input,-i", a->input, "file with a weights point-data array")->required();
   command->add_option("--cage,-c", a->cage, "the cage (drawn as wireframe)");
   command->add_option("--handles", a->handles, "BBW skeleton handles (bones and points) to draw");

@@ -16,7 +16,6 @@
 #include <cmath>
 #include <filesystem>
 #include <iostream>
-#include <memory>
 
 namespace fs = std::filesystem;
 using nlohmann::json;
@@ -165,9 +164,8 @@ int run_stats(const StatsArgs& a)
 
 void AddStatsCommand(Subcommands& subcommands)
 {
-  auto a = std::make_shared<StatsArgs>();
-  CLI::App* command = subcommands.Add("stats", "property statistics of a weights file",
-    [a] { return run_stats(*a); });
+  const auto [command, a] = subcommands.Add<StatsArgs>("stats",
+    "property statistics of a weights file", run_stats);
   command->add_option("--input,-i", a->inputs,
     "file with a weights point-data array (several with --locality: --input A --input B)")
     ->required();

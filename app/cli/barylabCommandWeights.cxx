@@ -13,7 +13,6 @@
 #include <CLI/CLI.hpp>
 
 #include <iostream>
-#include <memory>
 
 using nlohmann::json;
 
@@ -106,9 +105,8 @@ int run_weights(WeightsArgs a)
 
 void AddWeightsCommand(Subcommands& subcommands)
 {
-  auto a = std::make_shared<WeightsArgs>();
-  CLI::App* command = subcommands.Add("weights", "compute coordinates of points w.r.t. a cage",
-    [a] { return run_weights(*a); });
+  const auto [command, a] = subcommands.Add<WeightsArgs>("weights",
+    "compute coordinates of points w.r.t. a cage", run_weights);
   command->add_option("--cage,-c", a->cage, "cage: closed triangle surface (3D) or polygon (2D)");
   command->add_option("--control-points", a->controls,
     "tcc|scc: free control points (any point file; cells ignored; 2D if planar)");
