@@ -1,9 +1,8 @@
 #include "barylabViewerScene.h"
 
-#include "vtkBaryConversion.h"
+#include "barylabViewerMode.h"
 
 #include "core/error.h"
-#include "core/skeleton.h"
 
 #include "vtkImageData.h"
 #include "vtkImageReader2.h"
@@ -24,7 +23,6 @@
 #include "vtkDataSet.h"
 #include "vtkDataSetSurfaceFilter.h"
 #include "vtkDoubleArray.h"
-#include "vtkExtractEdges.h"
 #include "vtkGradientFilter.h"
 #include "vtkIdTypeArray.h"
 #include "vtkLookupTable.h"
@@ -147,79 +145,14 @@ double diameter_of(vtkPoints* points)
     (b[5] - b[4]) * (b[5] - b[4]));
 }
 
-void add_lines(vtkRenderer* renderer, vtkPoints* points, vtkCellArray* lines, double width,
-  const double rgb[3])
-{
-  vtkNew<vtkPolyData> wire;
-  wire->SetPoints(points);
-  wire->SetLines(lines);
-  vtkNew<vtkPolyDataMapper> mapper;
-  mapper->SetInputData(wire);
-  mapper->ScalarVisibilityOff();
-  vtkNew<vtkActor> actor;
-  actor->SetMapper(mapper);
-  actor->GetProperty()->SetColor(rgb[0], rgb[1], rgb[2]);
-  actor->GetProperty()->SetLineWidth(static_cast<float>(width));
-  renderer->AddActor(actor);
-}
-
 void add_controls(vtkRenderer* renderer, vtkPolyData* controls, vtkPoints* posed,
   const SceneOptions& options)
 {
   vtkPoints* points = posed ? posed : controls->GetPoints();
-  const double grey[3] = { 0.25, 0.25, 0.3 }, blue[3] = { 0.2, 0.35, 0.8 },
-               red[3] = { 0.9, 0.15, 0.1 };
+  const double blue[3] = { 0.2, 0.35, 0.8 }, red[3] = { 0.9, 0.15, 0.1 };
   const double radius = 0.012 * std::max(diameter_of(controls->GetPoints()), 1e-12);
   vtkNew<vtkPoints> selected;
-  if (options.controls == ControlKind::Cage)
-  {
-    vtkNew<vtkCellArray> lines;
-    if (controls->GetNumberOfPolys() > 0)
-    {
-      vtkNew<vtkPolyData> surface;
-      surface->SetPoints(points);
-      surface->SetPolys(controls->GetPolys());
-      vtkNew<vtkExtractEdges> edges;
-      edges->SetInputData(surface);
-      edges->Update();
-      lines->DeepCopy(edges->GetOutput()->GetLines());
-      add_lines(renderer, edges->GetOutput()->GetPoints(), lines, 2.0, grey);
-    }
-    else
-    {
-      const vtkBaryCage cage = vtkBaryConversion::ToCage(controls, 2);
-      const vtkIdType n = static_cast<vtkIdType>(cage.ControlPointIds.size());
-      lines->InsertNextCell(n + 1);
-      for (vtkIdType k = 0; k <= n; ++k)
-        lines->InsertCellPoint(cage.ControlPointIds[static_cast<std::size_t>(k % n)]);
-      add_lines(renderer, points, lines, 2.0, grey);
-    }
-    if (options.component >= 0 && options.component < points->GetNumberOfPoints())
-      selected->InsertNextPoint(points->GetPoint(options.component));
-  }
-  else if (options.controls == ControlKind::Skeleton)
-  {
-    const bary::Skeleton skeleton = vtkBaryConversion::ToSkeleton(controls, options.dimension);
-    vtkNew<vtkCellArray> bones, chosen;
-    for (Eigen::Index b = 0; b < skeleton.BE.rows(); ++b)
-    {
-      const vtkIdType ids[2] = { skeleton.BE(b, 0), skeleton.BE(b, 1) };
-      bones->InsertNextCell(2, ids);
-      if (options.component == skeleton.P.size() + b)
-      {
-        chosen->InsertNextCell(2, ids);
-        selected->InsertNextPoint(points->GetPoint(ids[0]));
-        selected->InsertNextPoint(points->GetPoint(ids[1]));
-      }
-    }
-    add_lines(renderer, points, bones, 4.0, grey);
-    if (chosen->GetNumberOfCells() > 0)
-      add_lines(renderer, points, chosen, 7.0, red);
-    if (options.component >= 0 && options.component < skeleton.P.size())
-      selected->InsertNextPoint(points->GetPoint(skeleton.P(options.component)));
-  }
-  else if (options.component >= 0 && options.component < points->GetNumberOfPoints())
-    selected->InsertNextPoint(points->GetPoint(options.component));
+  ModeFor(options.controls).addControlActors(renderer, controls, points, options, selected);
   AddSpheres(renderer, points, radius, blue);
   if (selected->GetNumberOfPoints() > 0)
     AddSpheres(renderer, selected, 2.0 * radius, red);
@@ -314,6 +247,22 @@ vtkSmartPointer<vtkPolyData> sliced_volume(vtkDataSet* weighted, vtkDataArray* w
   return poly;
 }
 } // namespace
+
+void AddLines(vtkRenderer* renderer, vtkPoints* points, vtkCellArray* lines, double width,
+  const double rgb[3])
+{
+  vtkNew<vtkPolyData> wire;
+  wire->SetPoints(points);
+  wire->SetLines(lines);
+  vtkNew<vtkPolyDataMapper> mapper;
+  mapper->SetInputData(wire);
+  mapper->ScalarVisibilityOff();
+  vtkNew<vtkActor> actor;
+  actor->SetMapper(mapper);
+  actor->GetProperty()->SetColor(rgb[0], rgb[1], rgb[2]);
+  actor->GetProperty()->SetLineWidth(static_cast<float>(width));
+  renderer->AddActor(actor);
+}
 
 bool IsPictureFile(const std::string& path)
 {

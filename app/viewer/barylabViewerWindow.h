@@ -2,16 +2,19 @@
 /// @file barylabViewerWindow.h
 /// barylab-viewer's main window: a thin shell over barylab::WeightsParameters and the pipeline
 /// builder (ComputeWeights, Deform, Skin). Every user action is a public slot, so tests (and
-/// scripts) drive the window exactly as a person does. No algorithm code here.
+/// scripts) drive the window exactly as a person does. No algorithm code here. The inputs,
+/// weights and pose live in a Session; what differs between families of methods (cage,
+/// skeleton, free points) is asked of their Mode; the side panel is a ControlPanel.
 
 #include "barylabPipeline.h"
+#include "barylabViewerCompute.h"
 #include "barylabViewerScene.h"
+#include "barylabViewerSession.h"
 
 #include <QFutureWatcher>
 #include <QMainWindow>
 #include <QStringList>
 
-#include "vtkCallbackCommand.h"
 #include "vtkDataSet.h"
 #include "vtkImageData.h"
 #include "vtkPoints.h"
@@ -24,55 +27,18 @@
 #include <memory>
 #include <vector>
 
-class QCheckBox;
 class QDockWidget;
-class QComboBox;
-class QDoubleSpinBox;
-class QVBoxLayout;
-class QLabel;
-class QListWidget;
 class QProgressBar;
-class QPushButton;
-class QSlider;
-class QSpinBox;
 class QVTKOpenGLNativeWidget;
-class vtkObject;
 
 namespace barylab
 {
 namespace viewer
 {
+class ControlPanel;
 class LocalityPanel;
-
-/// The files a session works on.
-struct Inputs
-{
-  QString controls; ///< cage, skeleton (.tgf: BBW handles) or free control points
-  QString model;    ///< the points / mesh the weights are computed at (and that is deformed)
-  QString domain;   ///< BBW with a skeleton: the polygon / closed surface / tet mesh to mesh
-  QString example;  ///< bundled example name, if opened from the menu
-  QString pose;     ///< the example's pose file (cage, control points or transforms)
-};
-
-/// A rotation and uniform scale of one BBW handle about its posed centre (a point handle's
-/// position, a bone's first joint), applied after the pose that the joints give: 2D about z;
-/// 3D about the bone's axis (a twist), for point handles about z.
-struct HandleTwist
-{
-  double angle_degrees = 0.0;
-  double scale = 1.0;
-  bool IsIdentity() const { return angle_degrees == 0.0 && scale == 1.0; }
-};
-
-/// What one computation produced (worker thread result).
-struct ComputeResult
-{
-  vtkSmartPointer<vtkDataSet> weighted;
-  vtkSmartPointer<vtkDataSet> compare; ///< the comparison method's weights (side-by-side)
-  QString error;
-  double seconds = 0.0;
-  bool cancelled = false;
-};
+class Mode;
+class Views;
 
 class ViewerWindow : public QMainWindow
 {
@@ -86,24 +52,27 @@ public:
 
   // --- state, for tests and scripts ---------------------------------------------------------
   bool isComputing() const { return this->Busy; }
-  bool hasWeights() const { return this->Weighted != nullptr; }
-  vtkDataSet* weighted() const { return this->Weighted; }
-  vtkDataSet* compareWeighted() const { return this->CompareWeighted; }
+  bool hasWeights() const { return this->State.weighted() != nullptr; }
+  vtkDataSet* weighted() const { return this->State.weighted(); }
+  vtkDataSet* compareWeighted() const { return this->State.compareWeighted(); }
   /// The model at the current pose (the rest model when nothing was moved).
-  vtkPointSet* deformedModel() const;
-  vtkPolyData* controls() const { return this->Controls; }
-  vtkPoints* posedControls() const { return this->PosedControls; }
+  vtkPointSet* deformedModel() const { return this->State.deformedModel(); }
+  vtkPolyData* controls() const { return this->State.controls(); }
+  vtkPoints* posedControls() const { return this->State.posedControls(); }
+  /// The inputs, weights and pose.
+  const Session& session() const { return this->State; }
+  /// The mode of the current method (cage, skeleton, free points).
+  const Mode& currentMode() const;
+  /// The mode of the weights shown (the current method's before any weights).
+  const Mode& shownMode() const;
   /// What the controls are for the current method (cage, skeleton, free points).
-  ControlKind controlKind() const { return this->kindFor(this->Parameters.method); }
+  ControlKind controlKind() const;
   /// What the controls were for the weights shown (the current method before any weights).
-  ControlKind shownKind() const
-  {
-    return this->Weighted ? this->kindFor(this->Computed.method) : this->controlKind();
-  }
+  ControlKind shownKind() const;
   int selectedControl() const { return this->Options.component; }
-  int componentCount() const;
+  int componentCount() const { return this->State.componentCount(this->Parameters.weights_name); }
   const WeightsParameters& parameters() const { return this->Parameters; }
-  const Inputs& inputs() const { return this->In; }
+  const Inputs& inputs() const { return this->State.inputs(); }
   const SceneOptions& sceneOptions() const { return this->Options; }
   const SceneInfo& sceneInfo() const { return this->Info; }
   QString compareMethod() const { return this->CompareMethod; }
@@ -111,15 +80,15 @@ public:
   /// interactive).
   const QStringList& errors() const { return this->Errors; }
   double lastComputeSeconds() const { return this->LastSeconds; }
-  std::size_t undoDepth() const { return this->UndoStack.size(); }
+  std::size_t undoDepth() const { return this->State.undoDepth(); }
   /// BBW handle @p handle's rotation / scale (identity when none or out of range).
-  HandleTwist handleTwist(int handle) const;
+  HandleTwist handleTwist(int handle) const { return this->State.twist(handle); }
   /// The equivalent `barylab weights ...` command line.
   QString commandLine() const;
-  QVTKOpenGLNativeWidget* view() const { return this->View; }
-  QVTKOpenGLNativeWidget* compareView() const { return this->CompareView; }
-  vtkRenderer* renderer() const { return this->Renderer; }
-  vtkRenderer* compareRenderer() const { return this->CompareRenderer; }
+  QVTKOpenGLNativeWidget* view() const;
+  QVTKOpenGLNativeWidget* compareView() const;
+  vtkRenderer* renderer() const;
+  vtkRenderer* compareRenderer() const;
 
   /// The locality charts (P(t), Q(k)) and the statistics they show (an array of
   /// barylab::LocalityStatisticsJson objects with "method"; empty before showLocality()).
@@ -209,58 +178,33 @@ private slots:
 
 private:
   void finishCompute(const ComputeResult& result);
-  void buildUi();
-  void buildParameterPanel();
-  void syncPanel();
+  void buildViews();
+  void buildMenus();
   void reportError(const QString& message);
+  /// Runs @p action; a bary::Error or other exception it throws is reported: false.
+  template <class Action>
+  bool reporting(Action&& action, const QString& prefix = QString());
   void updateControlList();
   void updateDeformation();
-  /// The skeleton's per-handle 3 x 4 transforms at the current pose (joints, then twists).
-  std::vector<Eigen::MatrixXd> skeletonTransforms() const;
   void updateScene();
   void renderViews();
   void updateLocality();
-  void pushUndo();
   void moveControlLive(int id, const double x[3]);
-  int modelDimension() const;
-  ControlKind kindFor(const std::string& method) const;
-  static void OnInteractorEvent(vtkObject* caller, unsigned long event, void* client, void* call);
-  static void OnCameraModified(vtkObject* caller, unsigned long event, void* client, void* call);
-  int pickControl(int x, int y) const;
+  /// Display options changed: panel and scene follow.
+  void optionsChanged();
+  /// A click on control @p id in the view: selects it (when a control point is a weight) and
+  /// starts a drag (one undo step) when there are weights to deform with.
+  void onControlPressed(int id);
+  void onControlDragged(int id, const double* world);
 
-  Inputs In;
+  Session State;
   WeightsParameters Parameters;
-  WeightsParameters Running;  ///< the parameters of the computation under way
+  WeightsParameters Running; ///< the parameters of the computation under way
   QString RunningCompare;
-  WeightsParameters Computed; ///< the parameters of the weights shown
-  QString ComputedCompare;
   QString CompareMethod;
   SceneOptions Options;
-  LocalityPanel* Locality = nullptr;
-  QDockWidget* LocalityDock = nullptr;
-  vtkSmartPointer<vtkImageData> Picture; ///< the 2D image mode's picture (null otherwise)
   SceneInfo Info;
-  vtkSmartPointer<vtkDataSet> Model;
-  vtkSmartPointer<vtkPolyData> Controls;
-  vtkSmartPointer<vtkDataSet> Domain;
-  vtkSmartPointer<vtkDataSet> Weighted;
-  vtkSmartPointer<vtkDataSet> CompareWeighted;
-  vtkSmartPointer<vtkPoints> PosedControls;
-  vtkSmartPointer<vtkPointSet> Deformed;
-  vtkSmartPointer<vtkPointSet> CompareDeformed;
-  struct PoseState
-  {
-    vtkSmartPointer<vtkPoints> points;
-    std::vector<HandleTwist> twists;
-  };
-  std::vector<PoseState> UndoStack;
-  std::vector<HandleTwist> Twists; ///< per BBW handle (empty: none)
-  std::vector<HandleTwist> PendingTwists;
-  QDoubleSpinBox* TwistAngleBox = nullptr;
-  QDoubleSpinBox* TwistScaleBox = nullptr;
-  // pending state applied when a computation finishes (session load)
-  vtkSmartPointer<vtkPoints> PendingPose;
-  int PendingSelection = -1;
+  int PendingSelection = -1; ///< applied when a computation finishes (example, session load)
 
   QStringList Errors;
   bool Interactive = true;
@@ -268,43 +212,18 @@ private:
   bool Busy = false; ///< a worker runs (until its result is handled)
   double LastSeconds = 0.0;
   bool CameraNeedsReset = true;
-  int Dragging = -1;
-  bool SyncingCameras = false;
 
   std::unique_ptr<QFutureWatcher<ComputeResult>> Watcher;
   std::shared_ptr<std::atomic<double>> Progress;
   std::shared_ptr<std::atomic<bool>> CancelFlag;
 
   // widgets
-  QVTKOpenGLNativeWidget* View = nullptr;
-  QVTKOpenGLNativeWidget* CompareView = nullptr;
-  vtkSmartPointer<vtkRenderer> Renderer;
-  vtkSmartPointer<vtkRenderer> CompareRenderer;
-  vtkSmartPointer<vtkCallbackCommand> InteractorCallback;
-  vtkSmartPointer<vtkCallbackCommand> CameraCallback;
-  QLabel* InputsLabel = nullptr;
-  QComboBox* MethodBox = nullptr;
-  QComboBox* CompareBox = nullptr;
-  QVBoxLayout* ParameterForm = nullptr;
-  std::vector<std::pair<QWidget*, QWidget*>> ParameterWidgets; ///< (row, editor) per table row
-  QPushButton* ComputeButton = nullptr;
-  QPushButton* CancelButton = nullptr;
+  ControlPanel* Panel = nullptr;
+  LocalityPanel* Locality = nullptr;
+  QDockWidget* LocalityDock = nullptr;
+  Views* ViewPair = nullptr;
   QProgressBar* ProgressBar = nullptr;
-  QListWidget* ControlList = nullptr;
-  QComboBox* FieldBox = nullptr;
-  QCheckBox* LogBox = nullptr;
-  QSpinBox* IsolineBox = nullptr;
-  QCheckBox* InfluenceBox = nullptr;
-  QCheckBox* ClipBox = nullptr;
-  QComboBox* ClipAxisBox = nullptr;
-  QSlider* ClipSlider = nullptr;
-  QSpinBox* MoveIdBox = nullptr;
-  QDoubleSpinBox* MoveBox[3] = { nullptr, nullptr, nullptr };
-  QLabel* StatsLabel = nullptr;
-  bool Updating = false; ///< panel being synchronised from the state: ignore widget signals
 };
 
 } // namespace viewer
 } // namespace barylab
-
-Q_DECLARE_METATYPE(barylab::viewer::Inputs)

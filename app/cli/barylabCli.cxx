@@ -1,0 +1,208 @@
+// Shared by the subcommands of the barylab command line (barylabCli.h).
+
+#include "barylabCli.h"
+
+#include "vtkBaryDataIO.h"
+
+#include "core/error.h"
+
+#include <CLI/CLI.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <sstream>
+#include <unistd.h>
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+namespace barylab
+{
+namespace cli
+{
+
+Subcommands::Subcommands(CLI::App& app)
+  : app_(app)
+{
+}
+
+CLI::App* Subcommands::Add(const std::string& name, const std::string& description, RunFunction run)
+{
+  CLI::App* command = app_.add_subcommand(name, description);
+  commands_.emplace_back(command, std::move(run));
+  return command;
+}
+
+int Subcommands::Run() const
+{
+  for (const auto& [command, run] : commands_)
+    if (*command)
+      return run();
+  return 1;
+}
+
+ProgressBar::ProgressBar(bool enabled, std::string label)
+  : enabled_(enabled && isatty(fileno(stderr)))
+  , label_(std::move(label))
+{
+}
+
+void ProgressBar::update(double f)
+{
+  if (!enabled_)
+    return;
+  const int percent = static_cast<int>(std::lround(100.0 * std::clamp(f, 0.0, 1.0)));
+  if (percent == last_)
+    return;
+  last_ = percent;
+  const int width = 40, filled = percent * width / 100;
+  std::fprintf(stderr, "\r%-12s [%s%s] %3d%%", label_.c_str(), std::string(filled, '#').c_str(),
+    std::string(width - filled, ' ').c_str(), percent);
+  std::fflush(stderr);
+  shown_ = true;
+}
+
+void ProgressBar::done()
+{
+  if (shown_)
+    std::fprintf(stderr, "\n");
+  shown_ = false;
+}
+
+RunCallbacks callbacks(ProgressBar& bar, bool quiet)
+{
+  RunCallbacks c;
+  c.progress = [&bar](double f) { bar.update(f); };
+  c.warning = [quiet](const std::string& w) {
+    if (!quiet)
+      std::cerr << "barylab: warning: " << w << "\n";
+  };
+  return c;
+}
+
+void check_output(const std::string& path, OutputKind kind)
+{
+  const std::string ext = vtkBaryDataIO::Extension(path);
+  const bool ok = kind == OutputKind::Data ? vtkBaryDataIO::CanWrite(path)
+    : kind == OutputKind::Json             ? ext == ".json"
+                                           : ext == ".png";
+  if (!ok)
+    throw bary::Error(bary::ErrorCode::Io,
+      "cannot write '" + path + "': unknown file extension '" + ext + "' (" +
+        (kind == OutputKind::Data ? "writable: .vtp, .vtu, .vtk, .obj, .stl, .ply, .off"
+          : kind == OutputKind::Json ? "a summary is written as .json"
+                                     : "images are written as .png") +
+        ")");
+  const fs::path parent = fs::path(path).parent_path();
+  if (!parent.empty() && !fs::is_directory(parent))
+    throw bary::Error(bary::ErrorCode::Io,
+      "cannot write '" + path + "': folder '" + parent.string() + "' does not exist");
+}
+
+void print_summary(const json& s)
+{
+  const json& p = s["points"];
+  std::cerr << "barylab: " << s["method"].get<std::string>() << " weights: " << p["count"]
+            << " points x ";
+  if (s.contains("handles") && s["handles"].contains("count"))
+    std::cerr << s["handles"]["count"] << " handles (" << s["handles"]["point_handles"]
+              << " points, " << s["handles"]["bones"] << " bones; " << s["handles"]["dimension"]
+              << "D)";
+  else if (s["cage"].contains("free_points"))
+    std::cerr << s["cage"]["control_points"] << " free control points (" << s["cage"]["dimension"]
+              << "D)";
+  else
+    std::cerr << s["cage"]["control_points"] << " control points (" << s["cage"]["dimension"]
+              << "D cage)";
+  std::cerr << " in " << s["seconds"].get<double>() << " s; " << p["inside"] << " inside, "
+            << p["outside"] << " outside, " << p["on_cage"] << " on the cage";
+  if (p["undefined"].get<long long>() > 0)
+    std::cerr << ", " << p["undefined"] << " undefined (NaN)";
+  std::cerr << "\n";
+  if (s.contains("solver"))
+  {
+    const json& v = s["solver"];
+    std::cerr << "barylab: solver:";
+    for (const char* key : { "mesh_vertices", "mesh_cells", "fast_iterations", "outer_iterations",
+           "max_kkt_residual", "max_bound_violation", "partition_error", "mean_newton_iterations",
+           "max_newton_iterations", "max_residual", "not_converged", "iterations",
+           "primal_residual", "dual_residual", "objective", "converged", "reproduction_error",
+           "solve_seconds" })
+      if (v.contains(key))
+        std::cerr << " " << key << " " << v[key].get<double>();
+    std::cerr << "\n";
+  }
+}
+
+std::vector<double> read_user_weights(const std::string& path)
+{
+  if (path.empty())
+    return {};
+  if (vtkBaryDataIO::Extension(path) == ".dmat")
+  {
+    const Eigen::MatrixXd M = vtkBaryDataIO::ReadDMAT(path);
+    return std::vector<double>(M.data(), M.data() + M.size());
+  }
+  std::ifstream in(path);
+  if (!in)
+    throw bary::Error(bary::ErrorCode::Io, "cannot read '" + path + "': no such file or not readable");
+  std::vector<double> values;
+  std::string line;
+  for (int number = 1; std::getline(in, line); ++number)
+  {
+    std::istringstream fields(line.substr(0, line.find('#')));
+    std::string token;
+    while (fields >> token)
+    {
+      char* end = nullptr;
+      const double v = std::strtod(token.c_str(), &end);
+      if (end != token.c_str() + token.size())
+        throw bary::Error(bary::ErrorCode::Io,
+          "cannot read '" + path + "' line " + std::to_string(number) + ": '" + token +
+            "' is not a number");
+      values.push_back(v);
+    }
+  }
+  return values;
+}
+
+void write_locality_csv(const std::string& path, const json& inputs, const char* key,
+  const char* value, const std::vector<std::string>& labels)
+{
+  std::size_t rows = 0, longest = 0;
+  for (std::size_t i = 0; i < inputs.size(); ++i)
+    if (inputs[i][key].size() > rows)
+    {
+      rows = inputs[i][key].size();
+      longest = i;
+    }
+  std::ofstream out(path);
+  if (!out)
+    throw bary::Error(bary::ErrorCode::Io, "cannot write '" + path + "'");
+  out.precision(17);
+  out << key;
+  for (const std::string& l : labels)
+    out << "," << value << "_" << l;
+  out << "\n";
+  for (std::size_t r = 0; r < rows; ++r)
+  {
+    out << inputs[longest][key][r].get<double>();
+    for (std::size_t i = 0; i < inputs.size(); ++i)
+    {
+      out << ",";
+      if (r < inputs[i][value].size())
+        out << inputs[i][value][r].get<double>();
+    }
+    out << "\n";
+  }
+  if (!out)
+    throw bary::Error(bary::ErrorCode::Io, "cannot write '" + path + "'");
+}
+
+} // namespace cli
+} // namespace barylab

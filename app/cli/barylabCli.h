@@ -1,0 +1,138 @@
+#pragma once
+/// @file barylabCli.h
+/// What the subcommands of the barylab command line share: the subcommand registry that `main`
+/// dispatches through, the usage error (exit code 2), the progress bar, output checks, the
+/// weights summary, the method options and the small input readers.
+///
+/// A subcommand is one file, barylabCommand<Name>.cxx, defining Add<Name>Command() (declared
+/// below): it declares the subcommand with Subcommands::Add (name, description, run function),
+/// then its options on the CLI::App that Add returns, bound to the arguments struct that the run
+/// function receives. `main` (barylab.cxx) calls every Add<Name>Command in --help order, parses,
+/// calls Subcommands::Run and turns exceptions into exit codes.
+
+#include "barylabPipeline.h"
+
+#include <nlohmann/json.hpp>
+
+#include <functional>
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace CLI
+{
+class App;
+}
+
+namespace barylab
+{
+namespace cli
+{
+
+/// A command line that parses but does not make sense (exit code 2, like a parse error).
+struct UsageError : std::runtime_error
+{
+  using std::runtime_error::runtime_error;
+};
+
+/// The subcommands of a CLI::App and what each runs once the command line is parsed.
+class Subcommands
+{
+public:
+  /// What a subcommand does with its parsed options: returns the exit code (0); throws UsageError
+  /// for a command line that makes no sense (exit 2), bary::Error or another std::exception for
+  /// bad input or a failed computation (exit 1).
+  using RunFunction = std::function<int()>;
+
+  explicit Subcommands(CLI::App& app);
+
+  /// Declares subcommand @p name (listed by --help in the order of the calls) that runs @p run;
+  /// returns it, to add its options to.
+  CLI::App* Add(const std::string& name, const std::string& description, RunFunction run);
+
+  /// The usual case: a subcommand whose options are bound to the members of one @p Args
+  /// (made here) and that runs `run(args)`, @p run taking an Args or a const Args&. Returns the
+  /// subcommand and the Args, for `const auto [command, a] = subcommands.Add<Args>(...)`.
+  template <class Args, class Run>
+  std::pair<CLI::App*, std::shared_ptr<Args>> Add(
+    const std::string& name, const std::string& description, Run run)
+  {
+    auto args = std::make_shared<Args>();
+    return { Add(name, description, [args, run] { return run(*args); }), args };
+  }
+
+  /// Runs the subcommand given on the parsed command line; 1 when none was.
+  int Run() const;
+
+private:
+  CLI::App& app_;
+  std::vector<std::pair<CLI::App*, RunFunction>> commands_;
+};
+
+/// @name The subcommands, in --help order; each in barylabCommand<Name>.cxx.
+/// @{
+void AddWeightsCommand(Subcommands& subcommands);
+void AddDeformCommand(Subcommands& subcommands);
+void AddAnimateCommand(Subcommands& subcommands);
+void AddStatsCommand(Subcommands& subcommands);
+void AddReduceCommand(Subcommands& subcommands);
+void AddFieldsCommand(Subcommands& subcommands);
+void AddMeshCommand(Subcommands& subcommands);
+void AddRenderCommand(Subcommands& subcommands);
+void AddDemoCommand(Subcommands& subcommands);
+/// @}
+
+/// A progress bar on stderr when it is a terminal (nothing in logs and pipes).
+class ProgressBar
+{
+public:
+  explicit ProgressBar(bool enabled, std::string label);
+  ~ProgressBar() { done(); }
+  void update(double f);
+  void done();
+
+private:
+  bool enabled_;
+  std::string label_;
+  int last_ = -1;
+  bool shown_ = false;
+};
+
+/// Progress to @p bar; warnings to stderr as "barylab: warning: ..." unless @p quiet.
+RunCallbacks callbacks(ProgressBar& bar, bool quiet);
+
+/// The flags of a weights computation (--method, the method's options) bound to @p p
+/// (barylabMethodOptions.cxx).
+void add_method_options(CLI::App* cmd, WeightsParameters& p);
+
+/// UsageError unless the inputs fit --method @p method: a cage, a skeleton in a domain (bbw) or
+/// free control points (tcc, scc; @p controls) (barylabMethodOptions.cxx).
+void check_bbw_inputs(const std::string& method, const std::string& cage,
+  const std::string& handles, const std::string& mesh, bool controls = false);
+
+enum class OutputKind
+{
+  Data, ///< a data set: .vtp .vtu .vtk .obj .stl .ply .off
+  Json,
+  Png
+};
+
+/// Fails early (before any computation) on an output path that cannot be written: unknown or
+/// wrong extension for what is written there, or a folder that does not exist.
+void check_output(const std::string& path, OutputKind kind);
+
+/// Counts and statistics printed after a weights computation.
+void print_summary(const nlohmann::json& s);
+
+/// tcc user weights: one number per control point (whitespace separated, '#' comments), or a
+/// libigl .dmat column.
+std::vector<double> read_user_weights(const std::string& path);
+
+/// Writes one CSV: first column @p key (the longest series' values), then one column per input.
+void write_locality_csv(const std::string& path, const nlohmann::json& inputs, const char* key,
+  const char* value, const std::vector<std::string>& labels);
+
+} // namespace cli
+} // namespace barylab

@@ -1,0 +1,106 @@
+// barylab animate: a model deformed by a sequence of moved cages / control points.
+
+#include "barylabCli.h"
+
+#include "vtkBaryDataIO.h"
+
+#include "core/error.h"
+
+#include "vtkDataSet.h"
+#include "vtkPointSet.h"
+#include "vtkPolyData.h"
+
+#include <CLI/CLI.hpp>
+
+#include <iostream>
+
+using nlohmann::json;
+
+namespace barylab
+{
+namespace cli
+{
+namespace
+{
+
+struct AnimateArgs
+{
+  WeightsParameters parameters;
+  std::string cage, controls, points, output_dir, prefix = "animation", json_path, user_weights;
+  std::vector<std::string> frames;
+  double period = 1.0;
+  bool quiet = false;
+};
+
+int run_animate(AnimateArgs a)
+{
+  barylab::MethodFromName(a.parameters.method);
+  if (a.parameters.method == "bbw")
+    throw UsageError("animate moves cages or control points; for skeletons use 'deform --method bbw' per pose");
+  if (!a.controls.empty() && !a.cage.empty())
+    throw UsageError("give --cage or --control-points, not both");
+  check_bbw_inputs(a.parameters.method, a.controls.empty() ? a.cage : a.controls, "", "",
+    !a.controls.empty());
+  if (!a.controls.empty())
+    a.cage = a.controls;
+  if (!a.user_weights.empty() && a.parameters.method != "tcc")
+    throw UsageError("--user-weights is for --method tcc (Eq. 8's s_i)");
+  a.parameters.user_weights = read_user_weights(a.user_weights);
+  if (!a.json_path.empty())
+    check_output(a.json_path, OutputKind::Json);
+  auto cage = vtkBaryDataIO::ReadPolyData(a.cage);
+  std::vector<vtkSmartPointer<vtkPointSet>> frames;
+  for (const std::string& f : a.frames)
+  {
+    auto data = vtkBaryDataIO::Read(f);
+    vtkSmartPointer<vtkPointSet> set = vtkPointSet::SafeDownCast(data);
+    if (!set || set->GetNumberOfPoints() != cage->GetNumberOfPoints())
+      throw bary::Error(bary::ErrorCode::SizeMismatch,
+        "frame '" + f + "' must hold the " + std::to_string(cage->GetNumberOfPoints()) +
+          " points of '" + a.cage + "', moved (same order)");
+    frames.push_back(set);
+  }
+  auto model = vtkBaryDataIO::Read(a.points);
+  ProgressBar bar(!a.quiet, "weights");
+  json summary;
+  auto weighted = barylab::ComputeWeights(model, cage, a.parameters, callbacks(bar, a.quiet), &summary);
+  bar.done();
+  json animation;
+  const std::string pvd = barylab::WriteAnimation(vtkPointSet::SafeDownCast(weighted), cage, frames,
+    a.parameters, a.output_dir, a.prefix, a.period, &animation);
+  summary["animation"] = animation;
+  if (!a.json_path.empty())
+    barylab::WriteJson(summary, a.json_path);
+  if (!a.quiet)
+    std::cerr << "barylab: wrote " << frames.size() << " frames and " << pvd << " ("
+              << animation["seconds_per_frame"].get<double>() * 1e3 << " ms per frame)\n";
+  return 0;
+}
+
+} // namespace
+
+void AddAnimateCommand(Subcommands& subcommands)
+{
+  const auto [command, a] = subcommands.Add<AnimateArgs>("animate",
+    "deform a model by a sequence of moved cages / control points: frames + a ParaView .pvd",
+    run_animate);
+  command->add_option("--cage,-c", a->cage, "rest cage");
+  command->add_option("--control-points", a->controls, "tcc|scc: rest control points");
+  command->add_option("--frames", a->frames, "moved cages / control points, one file per frame")
+    ->required()
+    ->expected(1, -1);
+  command->add_option("--points,-p", a->points, "model to deform")->required();
+  command->add_option("--output-dir", a->output_dir, "folder for the frames and the .pvd")
+    ->required();
+  command->add_option("--prefix", a->prefix, "file name prefix")->default_val(a->prefix);
+  command->add_option("--period", a->period, "time of the whole sequence (the .pvd's time steps)")
+    ->default_val(1.0)
+    ->check(CLI::PositiveNumber);
+  command->add_option("--user-weights", a->user_weights, "tcc: s_i of Eq. 8 (text or .dmat)");
+  command->add_option("--json", a->json_path, "write a JSON summary");
+  command->add_flag("--quiet,-q", a->quiet, "no progress bar or summary");
+  add_method_options(command, a->parameters);
+}
+
+} // namespace cli
+} // namespace barylab

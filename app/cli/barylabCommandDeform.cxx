@@ -1,0 +1,317 @@
+// barylab deform: a model moved with its cage or control points, or skinned by a BBW skeleton.
+
+#include "barylabCli.h"
+
+#include "vtkBaryConversion.h"
+#include "vtkBaryDataIO.h"
+
+#include "core/error.h"
+#include "core/skeleton.h"
+
+#include "vtkDataArray.h"
+#include "vtkDataSet.h"
+#include "vtkFieldData.h"
+#include "vtkPointData.h"
+#include "vtkPointSet.h"
+#include "vtkPolyData.h"
+
+#include <CLI/CLI.hpp>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <fstream>
+#include <iostream>
+#include <sstream>
+
+using nlohmann::json;
+
+namespace barylab
+{
+namespace cli
+{
+namespace
+{
+
+struct DeformArgs
+{
+  WeightsParameters parameters;
+  std::string cage, posed, controls, posed_controls, user_weights;
+  std::string handles, mesh, transforms, posed_handles, pseudo_edges;
+  std::string points, weights, output, json_path;
+  bool quiet = false;
+};
+
+/// The model to deform with the weights read from @p weights_path attached (checked against
+/// @p model when both are given), or @p model alone.
+vtkSmartPointer<vtkDataSet> attach_weights(vtkSmartPointer<vtkDataSet> model,
+  const std::string& model_path, const std::string& weights_path, const std::string& array,
+  vtkIdType components, const std::string& what)
+{
+  if (weights_path.empty())
+    return model;
+  auto weighted = vtkBaryDataIO::Read(weights_path);
+  vtkDataArray* w = weighted->GetPointData()->GetArray(array.c_str());
+  // or the compact pair written by 'barylab reduce' (sparse weights)
+  vtkDataArray* wi = w ? nullptr : weighted->GetPointData()->GetArray((array + "Indices").c_str());
+  vtkDataArray* wv = w ? nullptr : weighted->GetPointData()->GetArray((array + "Values").c_str());
+  vtkDataArray* wn =
+    weighted->GetFieldData()->GetArray((array + "NumberOfControlPoints").c_str());
+  if (!w && !(wi && wv))
+    throw bary::Error(bary::ErrorCode::InvalidArgument,
+      "'" + weights_path + "' has no point-data array '" + array + "' and no compact pair '" +
+        array + "Indices'/'" + array + "Values' (write them with 'barylab weights' / 'barylab reduce')");
+  if (!w && wn && wn->GetNumberOfTuples() > 0 &&
+    static_cast<vtkIdType>(wn->GetComponent(0, 0)) != components)
+    throw bary::Error(bary::ErrorCode::SizeMismatch,
+      "the compact weights in '" + weights_path + "' are for " +
+        std::to_string(static_cast<vtkIdType>(wn->GetComponent(0, 0))) + " control points but " +
+        what + " has " + std::to_string(components));
+  if (w && w->GetNumberOfComponents() != components)
+    throw bary::Error(bary::ErrorCode::SizeMismatch,
+      "the weights in '" + weights_path + "' have " + std::to_string(w->GetNumberOfComponents()) +
+        " components but " + what + " has " + std::to_string(components));
+  if (!model)
+    return weighted;
+  if (model->GetNumberOfPoints() != weighted->GetNumberOfPoints())
+    throw bary::Error(bary::ErrorCode::SizeMismatch,
+      "the weights in '" + weights_path + "' are for " +
+        std::to_string(weighted->GetNumberOfPoints()) + " points but '" + model_path + "' has " +
+        std::to_string(model->GetNumberOfPoints()));
+  const double scale = model->GetLength();
+  for (vtkIdType i = 0; i < model->GetNumberOfPoints(); ++i)
+  {
+    double x[3], y[3];
+    model->GetPoint(i, x);
+    weighted->GetPoint(i, y);
+    if (std::abs(x[0] - y[0]) + std::abs(x[1] - y[1]) + std::abs(x[2] - y[2]) > 1e-9 * scale)
+      throw bary::Error(bary::ErrorCode::SizeMismatch,
+        "the weights in '" + weights_path + "' were computed for other points: point " +
+          std::to_string(i) + " differs from '" + model_path + "'");
+  }
+  if (w)
+    model->GetPointData()->AddArray(w);
+  else
+  {
+    model->GetPointData()->AddArray(wi);
+    model->GetPointData()->AddArray(wv);
+    if (wn)
+      model->GetFieldData()->AddArray(wn);
+  }
+  return model;
+}
+
+/// Pseudo-edges file: one pair of point-handle indices (0-based) per line, '#' comments.
+Eigen::MatrixXi read_pseudo_edges(const std::string& path)
+{
+  if (path.empty())
+    return Eigen::MatrixXi();
+  std::ifstream in(path);
+  if (!in)
+    throw bary::Error(bary::ErrorCode::Io, "cannot read '" + path + "': no such file or not readable");
+  std::vector<std::array<int, 2>> edges;
+  std::string line;
+  for (int number = 1; std::getline(in, line); ++number)
+  {
+    line = line.substr(0, line.find('#'));
+    std::istringstream fields(line);
+    int a = 0, b = 0;
+    std::string rest;
+    if (!(fields >> a))
+      continue;
+    if (!(fields >> b) || (fields >> rest))
+      throw bary::Error(bary::ErrorCode::Io,
+        "cannot read '" + path + "' line " + std::to_string(number) +
+          ": a pseudo-edge line holds two point-handle indices");
+    edges.push_back({ a, b });
+  }
+  Eigen::MatrixXi E(static_cast<Eigen::Index>(edges.size()), 2);
+  for (std::size_t e = 0; e < edges.size(); ++e)
+    E.row(static_cast<Eigen::Index>(e)) << edges[e][0], edges[e][1];
+  return E;
+}
+
+int run_deform_bbw(const DeformArgs& a)
+{
+  if (a.transforms.empty() == a.posed_handles.empty())
+    throw UsageError("--method bbw with --handles needs either --transforms POSE or "
+                     "--deformed-handles POSED");
+  if (!a.pseudo_edges.empty() && a.posed_handles.empty())
+    throw UsageError("--pseudo-edges goes with --deformed-handles");
+  if (a.points.empty() && a.weights.empty())
+    throw UsageError("give --points MODEL or --weights FILE");
+  if (a.mesh.empty() && a.weights.empty())
+    throw UsageError("--method bbw needs --mesh DOMAIN to compute the weights (or --weights FILE)");
+  check_output(a.output, OutputKind::Data);
+  if (!a.json_path.empty())
+    check_output(a.json_path, OutputKind::Json);
+  auto handles = vtkBaryDataIO::ReadPolyData(a.handles);
+  vtkSmartPointer<vtkDataSet> domain = a.mesh.empty() ? nullptr : vtkBaryDataIO::Read(a.mesh);
+  int dim = 3;
+  if (domain)
+    dim = vtkBaryConversion::DomainDimension(domain);
+  else
+  {
+    double b[6];
+    handles->GetBounds(b);
+    dim = b[5] - b[4] <= 1e-9 * std::max(1.0, std::max(b[1] - b[0], b[3] - b[2])) ? 2 : 3;
+  }
+  const bary::Skeleton skeleton = vtkBaryConversion::ToSkeleton(handles, dim);
+  std::vector<Eigen::MatrixXd> pose;
+  if (!a.transforms.empty())
+    pose = vtkBaryDataIO::ReadPose(a.transforms, skeleton.handle_count(), &skeleton);
+  else
+  {
+    auto posed = vtkBaryDataIO::Read(a.posed_handles);
+    auto* posedSet = vtkPointSet::SafeDownCast(posed);
+    if (!posedSet || posedSet->GetNumberOfPoints() != handles->GetNumberOfPoints())
+      throw bary::Error(bary::ErrorCode::SizeMismatch,
+        "'" + a.posed_handles + "' must hold the " + std::to_string(handles->GetNumberOfPoints()) +
+          " joints of '" + a.handles + "' moved (same points, same order)");
+    const Eigen::MatrixXd posedC = vtkBaryConversion::PointsToMatrix(posedSet, dim);
+    for (Eigen::MatrixXd T :
+      bary::transforms_from_joints(skeleton, posedC, read_pseudo_edges(a.pseudo_edges)))
+    {
+      if (dim == 2)
+      {
+        Eigen::MatrixXd L = Eigen::MatrixXd::Zero(3, 4);
+        L.topLeftCorner(2, 2) = T.leftCols(2);
+        L.block(0, 3, 2, 1) = T.col(2);
+        L(2, 2) = 1.0;
+        T = L;
+      }
+      pose.push_back(T);
+    }
+  }
+  vtkSmartPointer<vtkDataSet> model = a.points.empty() ? nullptr : vtkBaryDataIO::Read(a.points);
+  model = attach_weights(model, a.points, a.weights, a.parameters.weights_name,
+    skeleton.handle_count(), "the skeleton '" + a.handles + "'");
+  ProgressBar bar(!a.quiet, "deform");
+  json summary;
+  bool computed = false;
+  if (a.weights.empty())
+  {
+    json weights_summary;
+    model = barylab::ComputeWeights(model, handles, a.parameters, callbacks(bar, a.quiet),
+      &weights_summary, domain);
+    summary["weights"] = weights_summary;
+    computed = true;
+  }
+  vtkPointSet* weighted = vtkPointSet::SafeDownCast(model);
+  if (!weighted)
+    throw bary::Error(bary::ErrorCode::Io, "the model does not hold a point set");
+  json skin_summary;
+  auto deformed = barylab::Skin(weighted, pose, a.parameters, {}, &skin_summary);
+  bar.done();
+  summary["skinning"] = skin_summary;
+  summary["weights_computed"] = computed;
+  vtkBaryDataIO::Write(deformed, a.output);
+  if (!a.json_path.empty())
+    barylab::WriteJson(summary, a.json_path);
+  if (!a.quiet)
+    std::cerr << "barylab: skinned " << weighted->GetNumberOfPoints() << " points with "
+              << pose.size() << " handle transforms ("
+              << (computed ? "weights computed" : "weights from the input") << ")\n";
+  return 0;
+}
+
+int run_deform(DeformArgs a)
+{
+  barylab::MethodFromName(a.parameters.method);
+  if (a.parameters.method == "bbw" && !a.handles.empty())
+    return run_deform_bbw(a);
+  if (!a.controls.empty() && !a.cage.empty())
+    throw UsageError("give --cage or --control-points, not both");
+  if (!a.posed_controls.empty() && !a.posed.empty())
+    throw UsageError("give --deformed-cage or --deformed-control-points, not both");
+  if (a.parameters.method == "lbc" && !a.mesh.empty())
+    throw UsageError("deform --method lbc meshes the cage; for weights on a given mesh run "
+                     "'barylab weights --method lbc --mesh DOMAIN --points MODEL' and pass them "
+                     "with --weights");
+  check_bbw_inputs(a.parameters.method, a.controls.empty() ? a.cage : a.controls, a.handles,
+    a.mesh, !a.controls.empty());
+  if (!a.user_weights.empty() && a.parameters.method != "tcc")
+    throw UsageError("--user-weights is for --method tcc (Eq. 8's s_i)");
+  if (!a.controls.empty())
+  {
+    if (a.posed_controls.empty())
+      throw UsageError("--deformed-control-points is required with --control-points");
+    a.cage = a.controls;
+    a.posed = a.posed_controls;
+  }
+  else if (!a.posed_controls.empty())
+    throw UsageError("--deformed-control-points goes with --control-points");
+  a.parameters.user_weights = read_user_weights(a.user_weights);
+  if (a.posed.empty())
+    throw UsageError("--deformed-cage is required (or, for --method bbw, --handles with "
+                     "--transforms / --deformed-handles)");
+  if (!a.transforms.empty() || !a.posed_handles.empty())
+    throw UsageError("--transforms and --deformed-handles go with --method bbw --handles");
+  check_output(a.output, OutputKind::Data);
+  if (!a.json_path.empty())
+    check_output(a.json_path, OutputKind::Json);
+  if (a.points.empty() && a.weights.empty())
+    throw UsageError("give --points MODEL or --weights FILE");
+  auto cage = vtkBaryDataIO::ReadPolyData(a.cage);
+  auto posedData = vtkBaryDataIO::Read(a.posed);
+  vtkPointSet* posed = vtkPointSet::SafeDownCast(posedData);
+  if (!posed)
+    throw bary::Error(bary::ErrorCode::Io, "'" + a.posed + "' does not hold a point set");
+
+  vtkSmartPointer<vtkDataSet> modelData = a.points.empty() ? nullptr : vtkBaryDataIO::Read(a.points);
+  modelData = attach_weights(modelData, a.points, a.weights, a.parameters.weights_name,
+    cage->GetNumberOfPoints(), "the cage '" + a.cage + "'");
+  vtkPointSet* model = vtkPointSet::SafeDownCast(modelData);
+  if (!model)
+    throw bary::Error(bary::ErrorCode::Io, "the model does not hold a point set");
+  ProgressBar bar(!a.quiet, "deform");
+  json summary;
+  auto deformed =
+    barylab::Deform(model, cage, posed, a.parameters, callbacks(bar, a.quiet), &summary);
+  bar.done();
+  vtkBaryDataIO::Write(deformed, a.output);
+  if (!a.json_path.empty())
+    barylab::WriteJson(summary, a.json_path);
+  if (!a.quiet)
+    std::cerr << "barylab: deformed " << model->GetNumberOfPoints() << " points in "
+              << summary["seconds"].get<double>() << " s ("
+              << (summary["weights_computed"].get<bool>() ? "weights computed"
+                                                          : "weights from the input")
+              << ")\n";
+  return 0;
+}
+
+} // namespace
+
+void AddDeformCommand(Subcommands& subcommands)
+{
+  const auto [command, a] = subcommands.Add<DeformArgs>("deform",
+    "deform a model by moving its cage or handles", run_deform);
+  command->add_option("--cage,-c", a->cage, "rest cage");
+  command->add_option("--deformed-cage,-d", a->posed, "moved cage (same points, same order)");
+  command->add_option("--control-points", a->controls, "tcc|scc: rest control points");
+  command->add_option("--deformed-control-points", a->posed_controls,
+    "tcc|scc: the control points moved (same points, same order)");
+  command->add_option("--user-weights", a->user_weights, "tcc: s_i of Eq. 8 (text or .dmat)");
+  command->add_option("--handles", a->handles, "bbw: skeleton (.tgf or .vtp points + lines)");
+  command->add_option("--mesh", a->mesh, "bbw: domain mesh or closed surface (see 'weights')");
+  command->add_option("--transforms", a->transforms,
+    "bbw: pose, one affine transform per handle (text: 12 numbers [A|t] row-major per line, 6 "
+    "in 2D; or libigl .dmat: per-bone quaternions or stacked transforms)");
+  command->add_option("--deformed-handles", a->posed_handles,
+    "bbw: the skeleton's joints moved (same points, same order): bones rotate onto them");
+  command->add_option("--pseudo-edges", a->pseudo_edges,
+    "bbw with --deformed-handles: pairs of point-handle indices whose rotations drive the "
+    "point handles' rotations (paper §3.4)");
+  command->add_option("--points,-p", a->points, "model to deform");
+  command->add_option("--weights,-w", a->weights,
+    "reuse weights from a file written by 'barylab weights', or the compact (sparse) ones "
+    "written by 'barylab reduce' (then --points is optional)");
+  command->add_option("--output,-o", a->output, "output file")->required();
+  command->add_option("--json", a->json_path, "write a JSON summary");
+  command->add_flag("--quiet,-q", a->quiet, "no progress bar, summary or warnings (errors still)");
+  add_method_options(command, a->parameters);
+}
+
+} // namespace cli
+} // namespace barylab

@@ -1,0 +1,132 @@
+// barylab weights: coordinates of points w.r.t. a cage, control points or skeleton handles.
+
+#include "barylabCli.h"
+
+#include "vtkBaryDataIO.h"
+
+#include "core/error.h"
+
+#include "vtkDataSet.h"
+#include "vtkPolyData.h"
+#include "vtkUnstructuredGrid.h"
+
+#include <CLI/CLI.hpp>
+
+#include <iostream>
+
+using nlohmann::json;
+
+namespace barylab
+{
+namespace cli
+{
+namespace
+{
+
+struct WeightsArgs
+{
+  WeightsParameters parameters;
+  std::string cage, controls, handles, mesh, points, output, json_path, user_weights;
+  bool quiet = false;
+};
+
+int run_weights(WeightsArgs a)
+{
+  barylab::MethodFromName(a.parameters.method);
+  if (!a.controls.empty() && !a.cage.empty())
+    throw UsageError("give --cage or --control-points, not both");
+  check_bbw_inputs(a.parameters.method, a.controls.empty() ? a.cage : a.controls, a.handles,
+    a.mesh, !a.controls.empty());
+  if (!a.user_weights.empty() && a.parameters.method != "tcc")
+    throw UsageError("--user-weights is for --method tcc (Eq. 8's s_i)");
+  if (!a.controls.empty())
+    a.cage = a.controls;
+  a.parameters.user_weights = read_user_weights(a.user_weights);
+  // Mesh-based methods with a cage and no points: the weights at the vertices of the domain
+  // mesh (made here as the method makes it, or --mesh for lbc), written as that mesh.
+  const bool mesh_based = a.parameters.method == "harmonic" || a.parameters.method == "lbc" ||
+    (a.parameters.method == "bbw" && a.handles.empty());
+  if (a.points.empty() && a.mesh.empty() && !mesh_based)
+    throw UsageError("--points is required (the points to compute weights at)");
+  check_output(a.output, OutputKind::Data);
+  if (!a.json_path.empty())
+    check_output(a.json_path, OutputKind::Json);
+  const bool skeleton = !a.handles.empty();
+  auto cage = vtkBaryDataIO::ReadPolyData(skeleton ? a.handles : a.cage);
+  vtkSmartPointer<vtkDataSet> domain = a.mesh.empty() ? nullptr : vtkBaryDataIO::Read(a.mesh);
+  vtkSmartPointer<vtkDataSet> points;
+  if (!a.points.empty())
+    points = vtkBaryDataIO::Read(a.points);
+  else if (domain)
+    points = domain;
+  else
+  {
+    // the mesher's defaults are the methods' (deterministic: the same mesh again inside)
+    barylab::MeshParameters mp;
+    mp.cage_dimension = a.parameters.cage_dimension;
+    const int dim = barylab::CageDimension(cage, a.parameters.cage_dimension);
+    mp.target_cells = a.parameters.target_cells > 0 ? a.parameters.target_cells
+                                                    : (dim == 2 ? 3000 : 20000);
+    mp.max_cell_size = a.parameters.max_cell_size;
+    points = barylab::MeshCage(cage, nullptr, mp);
+    if (a.parameters.method == "lbc")
+      domain = points; // used as is: no second meshing
+  }
+  ProgressBar bar(!a.quiet, "weights");
+  json summary;
+  auto result = barylab::ComputeWeights(
+    points, cage, a.parameters, callbacks(bar, a.quiet), &summary, domain);
+  bar.done();
+  summary[skeleton ? "handles" : "cage"]["file"] = skeleton ? a.handles : a.cage;
+  if (!a.user_weights.empty())
+    summary["user_weights"] = a.user_weights;
+  if (domain)
+    summary["domain"] = { { "file", a.mesh.empty() ? "(meshed)" : a.mesh } };
+  summary["points"]["file"] =
+    !a.points.empty() ? a.points : !a.mesh.empty() ? a.mesh : "(the domain mesh's vertices)";
+  summary["output"] = a.output;
+  summary["statistics"] = barylab::WeightStatisticsJson(result, a.parameters.weights_name,
+    skeleton ? nullptr : cage.Get(), -1.0, a.parameters.cage_dimension);
+  vtkBaryDataIO::Write(result, a.output);
+  if (!a.json_path.empty())
+    barylab::WriteJson(summary, a.json_path);
+  if (!a.quiet)
+  {
+    print_summary(summary);
+    if (summary["points"]["outside"].get<long long>() > 0 && a.parameters.method == "mvc")
+      std::cerr << "barylab: note: " << summary["points"]["outside"]
+                << " point(s) lie outside the cage; mean value coordinates are defined there "
+                   "but may be negative\n";
+  }
+  return 0;
+}
+
+} // namespace
+
+void AddWeightsCommand(Subcommands& subcommands)
+{
+  const auto [command, a] = subcommands.Add<WeightsArgs>("weights",
+    "compute coordinates of points w.r.t. a cage", run_weights);
+  command->add_option("--cage,-c", a->cage, "cage: closed triangle surface (3D) or polygon (2D)");
+  command->add_option("--control-points", a->controls,
+    "tcc|scc: free control points (any point file; cells ignored; 2D if planar)");
+  command->add_option("--user-weights", a->user_weights,
+    "tcc: s_i of Eq. 8, one number per control point (text or .dmat)");
+  command->add_option("--handles", a->handles,
+    "bbw: skeleton (.tgf, or .vtp points + lines): bones and point handles");
+  command->add_option("--mesh", a->mesh,
+    "bbw: domain: tet/triangle mesh (.vtu, .mesh) or a closed surface / polygon to mesh; lbc: a "
+    "tet/triangle mesh of the cage's interior, used as is (its boundary vertices include the "
+    "cage's)");
+  command->add_option("--points,-p", a->points,
+    "points/mesh to evaluate at (default: bbw, lbc: the --mesh itself; harmonic, lbc, bbw with "
+    "--cage: the domain mesh made of the cage, written with its weights)");
+  command->add_option("--output,-o", a->output, "output file (.vtp/.vtu/.vtk keep the weights)")
+    ->required();
+  command->add_option("--json", a->json_path, "write a JSON summary (counts, timings, statistics)");
+  command->add_flag("--quiet,-q", a->quiet, "no progress bar, summary or warnings (errors still)");
+  add_method_options(command, a->parameters);
+}
+
+} // namespace cli
+} // namespace barylab

@@ -1,0 +1,22 @@
+#include "barylabViewerFreePointsMode.h"
+
+#include "barylabPipeline.h"
+#include "barylabViewerSession.h"
+
+namespace barylab
+{
+namespace viewer
+{
+
+bool FreePointsMode::serves(const std::string& method, const Session&) const
+{
+  return IsPointBasedMethod(method);
+}
+
+QStringList FreePointsMode::commandLineInputs(const Inputs& inputs) const
+{
+  return { "--control-points", ShellQuoted(inputs.controls) };
+}
+
+} // namespace viewer
+} // namespace barylab

@@ -1,0 +1,53 @@
+#pragma once
+/// @file barylabViewerSkeletonMode.h
+/// The skeleton mode: bounded biharmonic weights (bbw) of a .tgf skeleton. Weights components
+/// are the point handles, then the bones; the joints are dragged, the selected handle is
+/// rotated and scaled about its centre (HandleTwist: keys ] [ + -, the panel's
+/// "Rotate/scale handle" row), and the model is skinned with one transform per handle
+/// (bary::transforms_from_joints, then the twist: Eq. 1 of the BBW paper).
+
+#include "barylabViewerMode.h"
+
+#include <Eigen/Core>
+
+namespace barylab
+{
+namespace viewer
+{
+
+class SkeletonMode : public Mode
+{
+public:
+  ControlKind controlKind() const override { return ControlKind::Skeleton; }
+  /// bbw with controls that are a skeleton (lines and no polygons, or a .tgf file).
+  bool serves(const std::string& method, const Session& session) const override;
+  /// The bones; the selected handle's bone (thick, red) or joint.
+  void addControlActors(vtkRenderer* renderer, vtkPolyData* controls, vtkPoints* points,
+    const SceneOptions& options, vtkPoints* selected) const override;
+  /// "point handle j (joint i)", then "bone b (joints a-c)".
+  QStringList controlLabels(const Session& session, int components) const override;
+  bool componentsAreControlPoints() const override { return false; }
+  bool twistsHandles() const override { return true; }
+  /// Rotate the selected handle by +-15 degrees (] [), scale it by 1.1 (+ -).
+  void addActions(QMenu* edit, ViewerWindow& window) const override;
+  /// The selected handle's angle and scale, and "Rotate/scale handle".
+  void addPanelWidgets(QBoxLayout* deformation, ViewerWindow& window) const override;
+  /// barylab::Skin with transforms().
+  vtkSmartPointer<vtkPointSet> deform(const Session& session, vtkDataSet* weighted,
+    const WeightsParameters& parameters) const override;
+  /// A .txt / .dmat file holds transforms (BaryLab pose text); other files posed joints.
+  vtkSmartPointer<vtkPoints> readPose(const Session& session, const QString& path) const override;
+  /// With weights, a .txt file gets the per-handle transforms; other files posed joints.
+  void writePose(const Session& session, const QString& path) const override;
+  /// "handle_twists": [[angle_degrees, scale], ...] per handle.
+  void writeSession(const Session& session, nlohmann::json& document) const override;
+  void readSession(const nlohmann::json& document, SessionFile& file) const override;
+  /// `--handles SKELETON --mesh DOMAIN`.
+  QStringList commandLineInputs(const Inputs& inputs) const override;
+
+  /// The per-handle 3 x 4 transforms at @p session's pose: from the joints, then the twists.
+  static std::vector<Eigen::MatrixXd> Transforms(const Session& session);
+};
+
+} // namespace viewer
+} // namespace barylab
