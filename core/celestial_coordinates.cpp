@@ -1054,6 +1054,95 @@ struct ChunkSolver
 
 namespace
 {
+/// Input checks of compute(): @p X is #P by @p dim and finite, @p edges #E by 2 within [0, #P).
+void check_query(const Points& X, const Eigen::MatrixXi& edges, int dim)
+{
+  const Index np = X.rows();
+  if (X.cols() != dim)
+    throw Error(ErrorCode::SizeMismatch,
+      "the points have " + std::to_string(X.cols()) +
+        " coordinates but the control points have " + std::to_string(dim));
+  for (Index p = 0; p < np; ++p)
+    if (!X.row(p).allFinite())
+      throw Error(ErrorCode::NonFinite,
+        "point " + std::to_string(p) + " has a non-finite coordinate " + detail::format_row(X, p));
+  if (edges.size() != 0)
+  {
+    if (edges.cols() != 2)
+      throw Error(ErrorCode::SizeMismatch,
+        "edges must be #E by 2 (vertex pairs), got " + std::to_string(edges.cols()) + " columns");
+    for (Index e = 0; e < edges.rows(); ++e)
+      for (int k = 0; k < 2; ++k)
+        if (edges(e, k) < 0 || edges(e, k) >= np)
+          throw Error(ErrorCode::InvalidArgument,
+            "edge " + std::to_string(e) + " refers to point " + std::to_string(edges(e, k)) +
+              " but there are " + std::to_string(np) + " points");
+  }
+}
+
+/// The points' neighbours from the mesh @p edges (self-loops dropped), compressed: the
+/// neighbours of p are adj[adj_start[p] .. adj_start[p + 1]).
+void point_graph(
+  const Eigen::MatrixXi& edges, Index np, std::vector<Index>& adj_start, std::vector<Index>& adj)
+{
+  adj_start.assign(static_cast<std::size_t>(np + 1), 0);
+  for (Index e = 0; e < edges.rows(); ++e)
+    if (edges(e, 0) != edges(e, 1))
+    {
+      ++adj_start[static_cast<std::size_t>(edges(e, 0)) + 1];
+      ++adj_start[static_cast<std::size_t>(edges(e, 1)) + 1];
+    }
+  std::partial_sum(adj_start.begin(), adj_start.end(), adj_start.begin());
+  adj.resize(static_cast<std::size_t>(adj_start.back()));
+  std::vector<Index> fill(adj_start.begin(), adj_start.end() - 1);
+  for (Index e = 0; e < edges.rows(); ++e)
+    if (edges(e, 0) != edges(e, 1))
+    {
+      adj[static_cast<std::size_t>(fill[static_cast<std::size_t>(edges(e, 0))]++)] = edges(e, 1);
+      adj[static_cast<std::size_t>(fill[static_cast<std::size_t>(edges(e, 1))]++)] = edges(e, 0);
+    }
+}
+
+/// Breadth-first order over the graph (adj_start, adj), the neighbours of a point nearest first
+/// (Sect. 4.2), a new search started from each not yet visited point of @p seeds in turn.
+std::vector<Index> breadth_first_order(const std::vector<Index>& seeds,
+  const std::vector<Index>& adj_start, const std::vector<Index>& adj,
+  const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>& X)
+{
+  const Index np = X.rows();
+  std::vector<char> seen(static_cast<std::size_t>(np), 0);
+  std::vector<Index> bfs;
+  bfs.reserve(static_cast<std::size_t>(np));
+  std::vector<std::pair<double, Index>> next;
+  for (Index seed : seeds)
+  {
+    if (seen[static_cast<std::size_t>(seed)])
+      continue;
+    seen[static_cast<std::size_t>(seed)] = 1;
+    std::size_t head = bfs.size();
+    bfs.push_back(seed);
+    while (head < bfs.size())
+    {
+      const Index u = bfs[head++];
+      next.clear();
+      for (Index a = adj_start[static_cast<std::size_t>(u)];
+           a < adj_start[static_cast<std::size_t>(u) + 1]; ++a)
+      {
+        const Index v = adj[static_cast<std::size_t>(a)];
+        if (!seen[static_cast<std::size_t>(v)])
+        {
+          seen[static_cast<std::size_t>(v)] = 1;
+          next.emplace_back((X.row(v) - X.row(u)).squaredNorm(), v);
+        }
+      }
+      std::sort(next.begin(), next.end());
+      for (const auto& [dist, v] : next)
+        bfs.push_back(v);
+    }
+  }
+  return bfs;
+}
+
 /// The fields CelestialResult shares with every method (see its comment), from its own.
 void fill_weights_result(CelestialResult& result, Index hull_facets)
 {
@@ -1106,26 +1195,7 @@ CelestialResult CelestialCoordinates::compute(
   const CelestialOptions& opt = im.options;
   const int dim = im.dim;
   const Index np = Xin.rows(), nc = im.V.rows();
-  if (Xin.cols() != dim)
-    throw Error(ErrorCode::SizeMismatch,
-      "the points have " + std::to_string(Xin.cols()) +
-        " coordinates but the control points have " + std::to_string(dim));
-  for (Index p = 0; p < np; ++p)
-    if (!Xin.row(p).allFinite())
-      throw Error(ErrorCode::NonFinite,
-        "point " + std::to_string(p) + " has a non-finite coordinate " + detail::format_row(Xin, p));
-  if (edges.size() != 0)
-  {
-    if (edges.cols() != 2)
-      throw Error(ErrorCode::SizeMismatch,
-        "edges must be #E by 2 (vertex pairs), got " + std::to_string(edges.cols()) + " columns");
-    for (Index e = 0; e < edges.rows(); ++e)
-      for (int k = 0; k < 2; ++k)
-        if (edges(e, k) < 0 || edges(e, k) >= np)
-          throw Error(ErrorCode::InvalidArgument,
-            "edge " + std::to_string(e) + " refers to point " + std::to_string(edges(e, k)) +
-              " but there are " + std::to_string(np) + " points");
-  }
+  check_query(Xin, edges, dim);
 
   CelestialResult result;
   result.W.resize(np, nc); // every row is written below (a zero fill is a pass over #P x #C)
@@ -1185,54 +1255,8 @@ CelestialResult CelestialCoordinates::compute(
   }
   if (use_edges)
   {
-    adj_start.assign(static_cast<std::size_t>(np + 1), 0);
-    for (Index e = 0; e < edges.rows(); ++e)
-      if (edges(e, 0) != edges(e, 1))
-      {
-        ++adj_start[static_cast<std::size_t>(edges(e, 0)) + 1];
-        ++adj_start[static_cast<std::size_t>(edges(e, 1)) + 1];
-      }
-    std::partial_sum(adj_start.begin(), adj_start.end(), adj_start.begin());
-    adj.resize(static_cast<std::size_t>(adj_start.back()));
-    std::vector<Index> fill(adj_start.begin(), adj_start.end() - 1);
-    for (Index e = 0; e < edges.rows(); ++e)
-      if (edges(e, 0) != edges(e, 1))
-      {
-        adj[static_cast<std::size_t>(fill[static_cast<std::size_t>(edges(e, 0))]++)] = edges(e, 1);
-        adj[static_cast<std::size_t>(fill[static_cast<std::size_t>(edges(e, 1))]++)] = edges(e, 0);
-      }
-    // breadth first, neighbours nearest first (Sect. 4.2); seeds in Hilbert order
-    std::vector<char> seen(static_cast<std::size_t>(np), 0);
-    std::vector<Index> bfs;
-    bfs.reserve(static_cast<std::size_t>(np));
-    std::vector<std::pair<double, Index>> next;
-    for (Index seed : order)
-    {
-      if (seen[static_cast<std::size_t>(seed)])
-        continue;
-      seen[static_cast<std::size_t>(seed)] = 1;
-      std::size_t head = bfs.size();
-      bfs.push_back(seed);
-      while (head < bfs.size())
-      {
-        const Index u = bfs[head++];
-        next.clear();
-        for (Index a = adj_start[static_cast<std::size_t>(u)];
-             a < adj_start[static_cast<std::size_t>(u) + 1]; ++a)
-        {
-          const Index v = adj[static_cast<std::size_t>(a)];
-          if (!seen[static_cast<std::size_t>(v)])
-          {
-            seen[static_cast<std::size_t>(v)] = 1;
-            next.emplace_back((X.row(v) - X.row(u)).squaredNorm(), v);
-          }
-        }
-        std::sort(next.begin(), next.end());
-        for (const auto& [dist, v] : next)
-          bfs.push_back(v);
-      }
-    }
-    order = std::move(bfs);
+    point_graph(edges, np, adj_start, adj);
+    order = breadth_first_order(order, adj_start, adj, X);
     position.resize(static_cast<std::size_t>(np));
     for (Index k = 0; k < np; ++k)
       position[static_cast<std::size_t>(order[static_cast<std::size_t>(k)])] = k;
