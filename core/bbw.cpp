@@ -1,23 +1,17 @@
 #include "bbw.h"
 
+#include "detail/parallel_for.h"
+#include "detail/format.h"
 #include "error.h"
 #include "fem_operators.h"
 #include "min_quad_with_fixed.h"
 
-#ifdef _OPENMP
-#include <omp.h>
-#endif
-
 #include <algorithm>
-#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstdint>
-#include <exception>
 #include <limits>
-#include <mutex>
 #include <numeric>
-#include <sstream>
 #include <string>
 #include <unordered_set>
 #include <utility>
@@ -35,29 +29,22 @@ double seconds_since(Clock::time_point start)
   return std::chrono::duration<double>(Clock::now() - start).count();
 }
 
-std::string fmt(double x)
-{
-  std::ostringstream s;
-  s << x;
-  return s.str();
-}
-
 void validate_options(const BBWOptions& o)
 {
   auto fail = [](const std::string& what) { throw Error(ErrorCode::InvalidArgument, what); };
   if (o.mode != BBWMode::Fast && o.mode != BBWMode::Coupled)
     fail("BBWOptions::mode is not a BBWMode value");
   if (!(o.tolerance > 0.0 && o.tolerance < 1.0))
-    fail("BBWOptions::tolerance must be in (0, 1), got " + fmt(o.tolerance));
+    fail("BBWOptions::tolerance must be in (0, 1), got " + detail::format_number(o.tolerance));
   if (o.max_iterations < 1)
     fail("BBWOptions::max_iterations must be >= 1, got " + std::to_string(o.max_iterations));
   if (!(o.partition_tolerance > 0.0 && o.partition_tolerance < 1.0))
-    fail("BBWOptions::partition_tolerance must be in (0, 1), got " + fmt(o.partition_tolerance));
+    fail("BBWOptions::partition_tolerance must be in (0, 1), got " + detail::format_number(o.partition_tolerance));
   if (o.max_outer_iterations < 1)
     fail("BBWOptions::max_outer_iterations must be >= 1, got " +
       std::to_string(o.max_outer_iterations));
   if (!(o.penalty > 0.0 && std::isfinite(o.penalty)))
-    fail("BBWOptions::penalty must be finite and > 0, got " + fmt(o.penalty));
+    fail("BBWOptions::penalty must be finite and > 0, got " + detail::format_number(o.penalty));
   if (o.threads < 0)
     fail("BBWOptions::threads must be >= 0 (0 = OpenMP's default), got " +
       std::to_string(o.threads));
@@ -78,25 +65,12 @@ BoxQPOptions qp_options(const BBWOptions& o, const ProgressReporter& reporter)
 template<typename Fn>
 void for_each_handle(Index m, int threads, const Fn& fn)
 {
-  std::exception_ptr failure;
-  std::mutex failure_mutex;
-#pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
-  for (Index j = 0; j < m; ++j)
-  {
-    try
-    {
-      fn(j);
-    }
-    catch (...)
-    {
-      std::lock_guard<std::mutex> lock(failure_mutex);
-      if (!failure)
-        failure = std::current_exception();
-    }
-  }
-  (void)threads;
-  if (failure)
-    std::rethrow_exception(failure);
+  ProgressReporter silent({}, m);
+  detail::parallel_for(m, 1, threads, silent, "bounded biharmonic weights",
+    [&fn](Index begin, Index end) {
+      for (Index j = begin; j < end; ++j)
+        fn(j);
+    });
 }
 
 /// BBWResult::statistics (see its comment) from its fields, for a mesh of @p vertices and
@@ -158,11 +132,7 @@ CoupledOutcome solve_coupled(const BoxConstrainedQP& qp, const BBWBoundaryCondit
 {
   const SparseMatrix& Q = qp.matrix();
   const Index n = Q.rows(), m = start.cols();
-#ifdef _OPENMP
-  const int threads = o.threads > 0 ? o.threads : omp_get_max_threads();
-#else
-  const int threads = 1;
-#endif
+  const int threads = detail::thread_count(o.threads);
   std::vector<char> known(static_cast<std::size_t>(n), 0);
   for (Index k = 0; k < bc.vertices.size(); ++k)
     known[static_cast<std::size_t>(bc.vertices(k))] = 1;
@@ -684,14 +654,14 @@ BBWBoundaryConditions bbw_boundary_conditions(const BBWHandles& handles, Index v
           "fixed_values(" + std::to_string(f) + ", " + std::to_string(j) + ") is not finite");
       if (w < 0.0 || w > 1.0)
         throw Error(ErrorCode::InvalidArgument,
-          "fixed_values(" + std::to_string(f) + ", " + std::to_string(j) + ") = " + fmt(w) +
+          "fixed_values(" + std::to_string(f) + ", " + std::to_string(j) + ") = " + detail::format_number(w) +
             " is outside [0, 1] (Eq. 6 bounds every weight)");
       sum += w;
     }
     if (std::abs(sum - 1.0) > 1e-9)
       throw Error(ErrorCode::InvalidArgument,
         "the fixed values of vertex " + std::to_string(v) + " (fixed_values row " +
-          std::to_string(f) + ") sum to " + fmt(sum) +
+          std::to_string(f) + ") sum to " + detail::format_number(sum) +
           ", not 1: partition of unity (Eq. 5) needs every fixed row to sum to 1");
   }
 
@@ -756,8 +726,8 @@ BBWHandles handles_from_skeleton(const Eigen::MatrixXd& V, const Eigen::MatrixXd
     if (distance > tolerance)
       throw Error(ErrorCode::InvalidArgument,
         "point handle " + std::to_string(p) + " (joint " + std::to_string(P(p)) +
-          ") is at distance " + fmt(distance) + " from the nearest mesh vertex, more than the "
-          "tolerance " + fmt(tolerance),
+          ") is at distance " + detail::format_number(distance) + " from the nearest mesh vertex, more than the "
+          "tolerance " + detail::format_number(tolerance),
         "make the handle a vertex of the mesh");
     handles.point_vertex(p) = static_cast<int>(nearest);
   }
@@ -778,7 +748,7 @@ BBWHandles handles_from_skeleton(const Eigen::MatrixXd& V, const Eigen::MatrixXd
     if (samples.empty())
       throw Error(ErrorCode::InvalidArgument,
         owner + " (joints " + std::to_string(BE(b, 0)) + " - " + std::to_string(BE(b, 1)) +
-          ") has no mesh vertex within " + fmt(tolerance),
+          ") has no mesh vertex within " + detail::format_number(tolerance),
         "mesh the domain with the bone sampled (its joints and points along it as vertices)");
     handles.bone_vertices.push_back(std::move(samples));
   }
@@ -829,7 +799,7 @@ BoundedBiharmonicWeights::BoundedBiharmonicWeights(
     for (Index t = 0; t < rho.size(); ++t)
       if (!std::isfinite(rho(t)) || rho(t) < 0.0)
         throw Error(std::isfinite(rho(t)) ? ErrorCode::InvalidArgument : ErrorCode::NonFinite,
-          "BBWOptions::shape_preservation(" + std::to_string(t) + ") = " + fmt(rho(t)) +
+          "BBWOptions::shape_preservation(" + std::to_string(t) + ") = " + detail::format_number(rho(t)) +
             " must be finite and >= 0");
     // Eq. 9: G^T diag(rho_t vol_t, repeated dim times) G, the rho-weighted stiffness matrix.
     const SparseMatrix G = gradient_operator(V, T);
@@ -903,12 +873,6 @@ BBWResult BoundedBiharmonicWeights::compute(
   {
     ProgressReporter reporter(progress, m, 0.1, fast_end);
     const BoxQPOptions box = qp_options(o, reporter);
-    std::exception_ptr failure;
-    std::mutex failure_mutex;
-    std::atomic<bool> stop{ false };
-#ifdef _OPENMP
-    const int threads = o.threads > 0 ? o.threads : omp_get_max_threads();
-#endif
     // Handle j's QP: [0, 1] bounds, its fixed rows, started from the active set of its
     // unconstrained weights; written into column j only.
     auto solve_handle = [&](Index j) {
@@ -928,48 +892,14 @@ BBWResult BoundedBiharmonicWeights::compute(
       result.kkt_residual[jj] = r.kkt_residual;
       handle_converged[jj] = r.converged;
     };
-    // One parallel region; OpenMP's thread 0 reports progress (so fractions never decrease).
-    // Every handle is solved by the same sequential code into its own column, so the weights do
-    // not depend on the number of threads.
-    std::atomic<Index> done{ 0 };
-#pragma omp parallel num_threads(threads)
-    {
-#ifdef _OPENMP
-      const bool reporting_thread = omp_get_thread_num() == 0;
-#else
-      const bool reporting_thread = true;
-#endif
-      Index reported = 0;
-#pragma omp for schedule(dynamic, 1)
-      for (Index j = 0; j < m; ++j)
-      {
-        if (stop.load())
-          continue;
-        try
-        {
+    // One handle per chunk (detail/parallel_for.h). Every handle is solved by the same
+    // sequential code into its own column, so the weights do not depend on the number of
+    // threads.
+    detail::parallel_for(m, 1, o.threads, reporter, "bounded biharmonic weights",
+      [&](Index begin, Index end) {
+        for (Index j = begin; j < end; ++j)
           solve_handle(j);
-          const Index now = ++done;
-          if (reporting_thread)
-          {
-            if (!reporter.step(now - reported))
-              stop = true;
-            reported = now;
-          }
-        }
-        catch (...)
-        {
-          std::lock_guard<std::mutex> lock(failure_mutex);
-          if (!failure)
-            failure = std::current_exception();
-          stop = true;
-        }
-      }
-    }
-    if (failure)
-      std::rethrow_exception(failure);
-    reporter.throw_if_cancelled("bounded biharmonic weights");
-    reporter.finish();
-    reporter.throw_if_cancelled("bounded biharmonic weights");
+      });
   }
   result.fast_seconds = seconds_since(phase_start);
   result.converged = true;
@@ -984,8 +914,8 @@ BBWResult BoundedBiharmonicWeights::compute(
         throw_not_converged("the QP of handle " + std::to_string(j) + " did not converge in " +
           std::to_string(result.iterations[static_cast<std::size_t>(j)]) +
           " active-set iterations (KKT residual " +
-          fmt(result.kkt_residual[static_cast<std::size_t>(j)]) + ", tolerance " +
-          fmt(o.tolerance) + ")");
+          detail::format_number(result.kkt_residual[static_cast<std::size_t>(j)]) + ", tolerance " +
+          detail::format_number(o.tolerance) + ")");
     }
   }
 
@@ -1036,7 +966,7 @@ BBWResult BoundedBiharmonicWeights::compute(
       if (o.require_convergence)
         throw_not_converged("the coupled solver did not converge in " +
           std::to_string(outcome.iterations) + " active-set iterations (KKT residual " +
-          fmt(outcome.kkt_residual) + ", partition error " + fmt(outcome.partition_error) +
+          detail::format_number(outcome.kkt_residual) + ", partition error " + detail::format_number(outcome.partition_error) +
           ", " + std::to_string(outcome.violators) + " violators left)");
     }
     result.W = W;

@@ -1,14 +1,13 @@
 #include "box_constrained_qp.h"
 
+#include "detail/format.h"
 #include "error.h"
-
 
 #include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cmath>
 #include <limits>
-#include <sstream>
 #include <string>
 #include <unordered_set>
 #include <utility>
@@ -26,13 +25,6 @@ using StateVector = Eigen::Matrix<BoxQPState, Eigen::Dynamic, 1>;
 double seconds_since(Clock::time_point start)
 {
   return std::chrono::duration<double>(Clock::now() - start).count();
-}
-
-std::string fmt(double x)
-{
-  std::ostringstream s;
-  s << x;
-  return s.str();
 }
 
 std::uint64_t next_id()
@@ -108,7 +100,7 @@ void BoxConstrainedQP::precompute(const SparseMatrix& A)
     if (!(diagonal(i) > 0.0))
       throw Error(ErrorCode::InvalidArgument,
         "the quadratic term A is not positive definite: its diagonal entry (" +
-          std::to_string(i) + ", " + std::to_string(i) + ") is " + fmt(diagonal(i)) +
+          std::to_string(i) + ", " + std::to_string(i) + ") is " + detail::format_number(diagonal(i)) +
           ", not > 0; a convex QP needs A symmetric positive definite");
   SparseMatrix stored = A;
   stored.makeCompressed();
@@ -119,7 +111,7 @@ void BoxConstrainedQP::precompute(const SparseMatrix& A)
         throw Error(ErrorCode::InvalidArgument,
           "the quadratic term A is not symmetric: entries (" + std::to_string(it.row()) + ", " +
             std::to_string(it.col()) + ") and (" + std::to_string(it.col()) + ", " +
-            std::to_string(it.row()) + ") differ by " + fmt(it.value()) +
+            std::to_string(it.row()) + ") differ by " + detail::format_number(it.value()) +
             "; store both triangles of a symmetric matrix");
   // One fill-reducing ordering of A (AMD); the factorizations of the free blocks use its
   // restriction to the free set instead of ordering every block anew.
@@ -154,22 +146,22 @@ BoxQPResult BoxConstrainedQP::solve(const Eigen::VectorXd& b, const Eigen::Vecto
         "missing bound");
     if (l(i) > u(i))
       throw Error(ErrorCode::InvalidArgument,
-        "the bounds of variable " + std::to_string(i) + " are empty: l = " + fmt(l(i)) +
-          " > u = " + fmt(u(i)) + "; the problem is infeasible");
+        "the bounds of variable " + std::to_string(i) + " are empty: l = " + detail::format_number(l(i)) +
+          " > u = " + detail::format_number(u(i)) + "; the problem is infeasible");
     if (l(i) == u(i) && !std::isfinite(l(i)))
       throw Error(ErrorCode::InvalidArgument,
         "variable " + std::to_string(i) + " is fixed at an infinite value (l = u = " +
-          fmt(l(i)) + ")");
+          detail::format_number(l(i)) + ")");
   }
   if (!(options.tolerance > 0.0 && options.tolerance < 1.0))
     throw Error(ErrorCode::InvalidArgument,
-      "BoxQPOptions::tolerance must be in (0, 1), got " + fmt(options.tolerance));
+      "BoxQPOptions::tolerance must be in (0, 1), got " + detail::format_number(options.tolerance));
   if (options.max_iterations < 1)
     throw Error(ErrorCode::InvalidArgument,
       "BoxQPOptions::max_iterations must be >= 1, got " + std::to_string(options.max_iterations));
   if (!(options.gradient_scale >= 0.0 && std::isfinite(options.gradient_scale)))
     throw Error(ErrorCode::InvalidArgument,
-      "BoxQPOptions::gradient_scale must be finite and >= 0, got " + fmt(options.gradient_scale));
+      "BoxQPOptions::gradient_scale must be finite and >= 0, got " + detail::format_number(options.gradient_scale));
   if (options.block_attempts < 0)
     throw Error(ErrorCode::InvalidArgument,
       "BoxQPOptions::block_attempts must be >= 0, got " + std::to_string(options.block_attempts));

@@ -1,6 +1,7 @@
 #include "cage.h"
 
 #include "detail/cgal_intersections.h"
+#include "detail/format.h"
 #include "error.h"
 
 #include <Eigen/Geometry>
@@ -9,23 +10,12 @@
 #include <cmath>
 #include <map>
 #include <numeric>
-#include <sstream>
 #include <utility>
 
 namespace bary
 {
 namespace
 {
-
-std::string fmt_point(const Eigen::MatrixXd& V, Index i)
-{
-  std::ostringstream s;
-  s << "(";
-  for (Index k = 0; k < V.cols(); ++k)
-    s << (k ? ", " : "") << V(i, k);
-  s << ")";
-  return s.str();
-}
 
 [[noreturn]] void fail(const std::string& what)
 {
@@ -44,7 +34,7 @@ void check_common(const Cage& cage)
     if (!cage.V.row(i).allFinite())
       throw Error(ErrorCode::NonFinite,
         "cage vertex " + std::to_string(i) + " has a non-finite coordinate " +
-          fmt_point(cage.V, i));
+          detail::format_row(cage.V, i));
 }
 
 void validate_polygon(const Cage& cage, const CageValidationOptions& options)
@@ -62,7 +52,7 @@ void validate_polygon(const Cage& cage, const CageValidationOptions& options)
     const Index j = (i + 1) % n;
     if ((V.row(j) - V.row(i)).norm() <= tol)
       fail("polygon vertices " + std::to_string(i) + " and " + std::to_string(j) +
-        " coincide at " + fmt_point(V, i) + " (zero-length edge " + std::to_string(i) +
+        " coincide at " + detail::format_row(V, i) + " (zero-length edge " + std::to_string(i) +
         "); remove the duplicate vertex");
   }
   // All vertices on one line: nothing is enclosed (reported as such, not as the edge overlap
@@ -159,7 +149,7 @@ void validate_triangles(const Cage& cage, const CageValidationOptions& options)
   {
     auto& ring = link[static_cast<std::size_t>(v)];
     if (ring.empty())
-      fail("vertex " + std::to_string(v) + " " + fmt_point(V, v) +
+      fail("vertex " + std::to_string(v) + " " + detail::format_row(V, v) +
         " is not used by any face; remove it or connect it");
     // Walk the oriented link cycle starting at the first face's edge.
     std::map<int, int> next;
@@ -174,7 +164,7 @@ void validate_triangles(const Cage& cage, const CageValidationOptions& options)
       ++steps;
     } while (cur != start && steps <= ring.size());
     if (steps != ring.size())
-      fail("the cage is not manifold at vertex " + std::to_string(v) + " " + fmt_point(V, v) +
+      fail("the cage is not manifold at vertex " + std::to_string(v) + " " + detail::format_row(V, v) +
         ": its faces form more than one fan (two surface sheets touch there)");
   }
 

@@ -1,5 +1,7 @@
 #include "celestial_coordinates.h"
 
+#include "detail/format.h"
+#include "detail/parallel_for.h"
 #include "error.h"
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
@@ -12,7 +14,6 @@
 
 #include <algorithm>
 #include <array>
-#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstdint>
@@ -20,13 +21,8 @@
 #include <limits>
 #include <map>
 #include <numeric>
-#include <sstream>
 #include <string>
 #include <utility>
-
-#ifdef _OPENMP
-#include <omp.h>
-#endif
 
 // Notation: p the query point, v_i the controls, d_i = |v_i - p|, q_i = (v_i - p) / d_i.
 //
@@ -65,24 +61,6 @@ constexpr Index kChunk = 256;      // points per warm-start chunk (independent o
 constexpr int kMaxBacktracks = 50; // halvings of the Newton step before giving up
 constexpr double kArmijo = 1e-4;
 constexpr double kResidualSwitch = 1e-6; // below: also accept residual-norm decrease
-
-std::string fmt(double v)
-{
-  std::ostringstream s;
-  s.precision(3);
-  s << v;
-  return s.str();
-}
-
-std::string fmt_point(const Eigen::MatrixXd& V, Index i)
-{
-  std::ostringstream s;
-  s << "(";
-  for (Index k = 0; k < V.cols(); ++k)
-    s << (k ? ", " : "") << V(i, k);
-  s << ")";
-  return s.str();
-}
 
 /// m(a) = a + sqrt(a^2 + 1) without cancellation; r = sqrt(a^2 + 1).
 inline double m_of(double a, double r)
@@ -720,13 +698,13 @@ void CelestialCoordinates::Impl::validate()
   if (!(o.lambda > 1.0 && o.lambda <= 1e6))
     bad("lambda must lie in (1, 1e6] (the wrapping sphere must contain the unit sphere, "
         "Sect. 5), got " +
-      fmt(o.lambda));
+      detail::format_number(o.lambda, 3));
   if (!(o.tolerance >= 1e-15 && o.tolerance <= 1e-3))
-    bad("tolerance must lie in [1e-15, 1e-3], got " + fmt(o.tolerance));
+    bad("tolerance must lie in [1e-15, 1e-3], got " + detail::format_number(o.tolerance, 3));
   if (o.max_iterations < 1 || o.max_iterations > 10000)
     bad("max_iterations must lie in [1, 10000], got " + std::to_string(o.max_iterations));
   if (!(o.boundary_tolerance >= 1e-15 && o.boundary_tolerance <= 1e-6))
-    bad("boundary_tolerance must lie in [1e-15, 1e-6], got " + fmt(o.boundary_tolerance));
+    bad("boundary_tolerance must lie in [1e-15, 1e-6], got " + detail::format_number(o.boundary_tolerance, 3));
   if (o.threads < 0)
     bad("threads must be >= 0 (0 = OpenMP's default), got " + std::to_string(o.threads));
 
@@ -740,7 +718,7 @@ void CelestialCoordinates::Impl::validate()
   for (Index i = 0; i < n; ++i)
     if (!V.row(i).allFinite())
       throw Error(ErrorCode::NonFinite,
-        "control point " + std::to_string(i) + " has a non-finite coordinate " + fmt_point(V, i));
+        "control point " + std::to_string(i) + " has a non-finite coordinate " + detail::format_row(V, i));
 
   if (o.user_weights.size() != 0)
   {
@@ -755,7 +733,7 @@ void CelestialCoordinates::Impl::validate()
       if (!std::isfinite(o.user_weights[i]))
         throw Error(ErrorCode::NonFinite, "user weight " + std::to_string(i) + " is not finite");
       else if (o.user_weights[i] < 0.0)
-        bad("user weight " + std::to_string(i) + " is " + fmt(o.user_weights[i]) +
+        bad("user weight " + std::to_string(i) + " is " + detail::format_number(o.user_weights[i], 3) +
           "; the s_i of Eq. (8) must be >= 0");
     if (o.user_weights.cwiseAbs().maxCoeff() > 0.0)
       s.assign(o.user_weights.data(), o.user_weights.data() + n);
@@ -786,9 +764,9 @@ void CelestialCoordinates::Impl::validate()
         }
     if (first.first >= 0)
       bad("control points " + std::to_string(first.first) + " and " + std::to_string(first.second) +
-        " coincide at " + fmt_point(V, first.first) + " (distance " +
-        fmt((V.row(first.first) - V.row(first.second)).norm()) +
-        " <= boundary_tolerance * diagonal = " + fmt(tol) + "); remove one of them");
+        " coincide at " + detail::format_row(V, first.first) + " (distance " +
+        detail::format_number((V.row(first.first) - V.row(first.second)).norm(), 3) +
+        " <= boundary_tolerance * diagonal = " + detail::format_number(tol, 3) + "); remove one of them");
   }
 
   // Affine rank: control 0, the farthest from it, the farthest from their line (and from
@@ -810,7 +788,7 @@ void CelestialCoordinates::Impl::validate()
       }
     }
     if (d2 <= tol)
-      bad("the control points are collinear (all within " + fmt(d2) +
+      bad("the control points are collinear (all within " + detail::format_number(d2, 3) +
         " of the line through control points 0 and " + std::to_string(i1) +
         "): their convex hull has no interior; add a control point off that line");
     if (dim == 3)
@@ -821,7 +799,7 @@ void CelestialCoordinates::Impl::validate()
       for (Index i = 0; i < n; ++i)
         d3 = std::max(d3, std::abs(nrm.dot(Eigen::Vector3d(V.row(i)) - a)));
       if (d3 <= tol)
-        bad("the control points are coplanar (all within " + fmt(d3) +
+        bad("the control points are coplanar (all within " + detail::format_number(d3, 3) +
           " of the plane through control points 0, " + std::to_string(i1) + " and " +
           std::to_string(i2) +
           "): their convex hull has no interior; add a control point off "
@@ -1076,6 +1054,95 @@ struct ChunkSolver
 
 namespace
 {
+/// Input checks of compute(): @p X is #P by @p dim and finite, @p edges #E by 2 within [0, #P).
+void check_query(const Points& X, const Eigen::MatrixXi& edges, int dim)
+{
+  const Index np = X.rows();
+  if (X.cols() != dim)
+    throw Error(ErrorCode::SizeMismatch,
+      "the points have " + std::to_string(X.cols()) +
+        " coordinates but the control points have " + std::to_string(dim));
+  for (Index p = 0; p < np; ++p)
+    if (!X.row(p).allFinite())
+      throw Error(ErrorCode::NonFinite,
+        "point " + std::to_string(p) + " has a non-finite coordinate " + detail::format_row(X, p));
+  if (edges.size() != 0)
+  {
+    if (edges.cols() != 2)
+      throw Error(ErrorCode::SizeMismatch,
+        "edges must be #E by 2 (vertex pairs), got " + std::to_string(edges.cols()) + " columns");
+    for (Index e = 0; e < edges.rows(); ++e)
+      for (int k = 0; k < 2; ++k)
+        if (edges(e, k) < 0 || edges(e, k) >= np)
+          throw Error(ErrorCode::InvalidArgument,
+            "edge " + std::to_string(e) + " refers to point " + std::to_string(edges(e, k)) +
+              " but there are " + std::to_string(np) + " points");
+  }
+}
+
+/// The points' neighbours from the mesh @p edges (self-loops dropped), compressed: the
+/// neighbours of p are adj[adj_start[p] .. adj_start[p + 1]).
+void point_graph(
+  const Eigen::MatrixXi& edges, Index np, std::vector<Index>& adj_start, std::vector<Index>& adj)
+{
+  adj_start.assign(static_cast<std::size_t>(np + 1), 0);
+  for (Index e = 0; e < edges.rows(); ++e)
+    if (edges(e, 0) != edges(e, 1))
+    {
+      ++adj_start[static_cast<std::size_t>(edges(e, 0)) + 1];
+      ++adj_start[static_cast<std::size_t>(edges(e, 1)) + 1];
+    }
+  std::partial_sum(adj_start.begin(), adj_start.end(), adj_start.begin());
+  adj.resize(static_cast<std::size_t>(adj_start.back()));
+  std::vector<Index> fill(adj_start.begin(), adj_start.end() - 1);
+  for (Index e = 0; e < edges.rows(); ++e)
+    if (edges(e, 0) != edges(e, 1))
+    {
+      adj[static_cast<std::size_t>(fill[static_cast<std::size_t>(edges(e, 0))]++)] = edges(e, 1);
+      adj[static_cast<std::size_t>(fill[static_cast<std::size_t>(edges(e, 1))]++)] = edges(e, 0);
+    }
+}
+
+/// Breadth-first order over the graph (adj_start, adj), the neighbours of a point nearest first
+/// (Sect. 4.2), a new search started from each not yet visited point of @p seeds in turn.
+std::vector<Index> breadth_first_order(const std::vector<Index>& seeds,
+  const std::vector<Index>& adj_start, const std::vector<Index>& adj,
+  const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>& X)
+{
+  const Index np = X.rows();
+  std::vector<char> seen(static_cast<std::size_t>(np), 0);
+  std::vector<Index> bfs;
+  bfs.reserve(static_cast<std::size_t>(np));
+  std::vector<std::pair<double, Index>> next;
+  for (Index seed : seeds)
+  {
+    if (seen[static_cast<std::size_t>(seed)])
+      continue;
+    seen[static_cast<std::size_t>(seed)] = 1;
+    std::size_t head = bfs.size();
+    bfs.push_back(seed);
+    while (head < bfs.size())
+    {
+      const Index u = bfs[head++];
+      next.clear();
+      for (Index a = adj_start[static_cast<std::size_t>(u)];
+           a < adj_start[static_cast<std::size_t>(u) + 1]; ++a)
+      {
+        const Index v = adj[static_cast<std::size_t>(a)];
+        if (!seen[static_cast<std::size_t>(v)])
+        {
+          seen[static_cast<std::size_t>(v)] = 1;
+          next.emplace_back((X.row(v) - X.row(u)).squaredNorm(), v);
+        }
+      }
+      std::sort(next.begin(), next.end());
+      for (const auto& [dist, v] : next)
+        bfs.push_back(v);
+    }
+  }
+  return bfs;
+}
+
 /// The fields CelestialResult shares with every method (see its comment), from its own.
 void fill_weights_result(CelestialResult& result, Index hull_facets)
 {
@@ -1128,26 +1195,7 @@ CelestialResult CelestialCoordinates::compute(
   const CelestialOptions& opt = im.options;
   const int dim = im.dim;
   const Index np = Xin.rows(), nc = im.V.rows();
-  if (Xin.cols() != dim)
-    throw Error(ErrorCode::SizeMismatch,
-      "the points have " + std::to_string(Xin.cols()) +
-        " coordinates but the control points have " + std::to_string(dim));
-  for (Index p = 0; p < np; ++p)
-    if (!Xin.row(p).allFinite())
-      throw Error(ErrorCode::NonFinite,
-        "point " + std::to_string(p) + " has a non-finite coordinate " + fmt_point(Xin, p));
-  if (edges.size() != 0)
-  {
-    if (edges.cols() != 2)
-      throw Error(ErrorCode::SizeMismatch,
-        "edges must be #E by 2 (vertex pairs), got " + std::to_string(edges.cols()) + " columns");
-    for (Index e = 0; e < edges.rows(); ++e)
-      for (int k = 0; k < 2; ++k)
-        if (edges(e, k) < 0 || edges(e, k) >= np)
-          throw Error(ErrorCode::InvalidArgument,
-            "edge " + std::to_string(e) + " refers to point " + std::to_string(edges(e, k)) +
-              " but there are " + std::to_string(np) + " points");
-  }
+  check_query(Xin, edges, dim);
 
   CelestialResult result;
   result.W.resize(np, nc); // every row is written below (a zero fill is a pass over #P x #C)
@@ -1164,11 +1212,7 @@ CelestialResult CelestialCoordinates::compute(
   }
   const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> X = Xin;
 
-#ifdef _OPENMP
-  const int threads = opt.threads > 0 ? opt.threads : omp_get_max_threads();
-#else
-  const int threads = 1;
-#endif
+  const int threads = detail::thread_count(opt.threads);
 
   // 1. Where each point lies (cheap; before any solve so that an outside point fails fast).
 #pragma omp parallel for schedule(static) num_threads(threads) if (np >= 4096)
@@ -1191,7 +1235,7 @@ CelestialResult CelestialCoordinates::compute(
       std::to_string(result.outside.size()) + " of " + std::to_string(np) +
         " points lie outside the convex hull of the " + std::to_string(nc) +
         " control points (points " + ids + "; point " + std::to_string(result.outside.front()) +
-        " is at least " + fmt(dist) +
+        " is at least " + detail::format_number(dist, 3) +
         " from the hull): celestial coordinates are defined only inside the "
         "hull. Add control points around the model (the paper adds the corners of a box), or "
         "set outside = CelestialOutsidePolicy::Flag to get NaN rows for them");
@@ -1211,54 +1255,8 @@ CelestialResult CelestialCoordinates::compute(
   }
   if (use_edges)
   {
-    adj_start.assign(static_cast<std::size_t>(np + 1), 0);
-    for (Index e = 0; e < edges.rows(); ++e)
-      if (edges(e, 0) != edges(e, 1))
-      {
-        ++adj_start[static_cast<std::size_t>(edges(e, 0)) + 1];
-        ++adj_start[static_cast<std::size_t>(edges(e, 1)) + 1];
-      }
-    std::partial_sum(adj_start.begin(), adj_start.end(), adj_start.begin());
-    adj.resize(static_cast<std::size_t>(adj_start.back()));
-    std::vector<Index> fill(adj_start.begin(), adj_start.end() - 1);
-    for (Index e = 0; e < edges.rows(); ++e)
-      if (edges(e, 0) != edges(e, 1))
-      {
-        adj[static_cast<std::size_t>(fill[static_cast<std::size_t>(edges(e, 0))]++)] = edges(e, 1);
-        adj[static_cast<std::size_t>(fill[static_cast<std::size_t>(edges(e, 1))]++)] = edges(e, 0);
-      }
-    // breadth first, neighbours nearest first (Sect. 4.2); seeds in Hilbert order
-    std::vector<char> seen(static_cast<std::size_t>(np), 0);
-    std::vector<Index> bfs;
-    bfs.reserve(static_cast<std::size_t>(np));
-    std::vector<std::pair<double, Index>> next;
-    for (Index seed : order)
-    {
-      if (seen[static_cast<std::size_t>(seed)])
-        continue;
-      seen[static_cast<std::size_t>(seed)] = 1;
-      std::size_t head = bfs.size();
-      bfs.push_back(seed);
-      while (head < bfs.size())
-      {
-        const Index u = bfs[head++];
-        next.clear();
-        for (Index a = adj_start[static_cast<std::size_t>(u)];
-             a < adj_start[static_cast<std::size_t>(u) + 1]; ++a)
-        {
-          const Index v = adj[static_cast<std::size_t>(a)];
-          if (!seen[static_cast<std::size_t>(v)])
-          {
-            seen[static_cast<std::size_t>(v)] = 1;
-            next.emplace_back((X.row(v) - X.row(u)).squaredNorm(), v);
-          }
-        }
-        std::sort(next.begin(), next.end());
-        for (const auto& [dist, v] : next)
-          bfs.push_back(v);
-      }
-    }
-    order = std::move(bfs);
+    point_graph(edges, np, adj_start, adj);
+    order = breadth_first_order(order, adj_start, adj, X);
     position.resize(static_cast<std::size_t>(np));
     for (Index k = 0; k < np; ++k)
       position[static_cast<std::size_t>(order[static_cast<std::size_t>(k)])] = k;
@@ -1269,8 +1267,6 @@ CelestialResult CelestialCoordinates::compute(
   // of the same chunk; chunks are independent, so nothing depends on the threads.
   const Index chunks = (np + kChunk - 1) / kChunk;
   ProgressReporter reporter(progress, np);
-  std::atomic<bool> stop{ false };
-  std::atomic<Index> done{ 0 };
   long long total_iterations = 0;
   Index warm_starts = 0, cold_restarts = 0;
   const double* s = im.s.empty() ? nullptr : im.s.data();
@@ -1278,26 +1274,25 @@ CelestialResult CelestialCoordinates::compute(
   auto run = [&](auto tag) {
     constexpr int D = decltype(tag)::value;
     using Vec = typename Newton<D>::Vec;
-#pragma omp parallel num_threads(static_cast <int>(std::min <Index>(threads, chunks)))
+    // Per thread: its solver, the chunk's solutions (warm starts) and its counts.
+    struct ThreadState
     {
-      long long my_iterations = 0;
-      Index my_warm = 0, my_restarts = 0;
-#ifdef _OPENMP
-      const bool reporting_thread = omp_get_thread_num() == 0;
-#else
-      const bool reporting_thread = true;
-#endif
-      Index reported = 0;
-      ChunkSolver<D> solver(im.V, opt, s, X);
-      std::vector<Vec> ys(static_cast<std::size_t>(kChunk));
-      std::vector<char> solved(static_cast<std::size_t>(kChunk));
-#pragma omp for schedule(dynamic, 1)
-      for (Index c = 0; c < chunks; ++c)
-      {
-        if (stop.load(std::memory_order_relaxed))
-          continue;
-        const Index begin = c * kChunk, end = std::min(np, begin + kChunk);
-        std::fill(solved.begin(), solved.end(), 0);
+      ChunkSolver<D> solver;
+      std::vector<Vec> ys;
+      std::vector<char> solved;
+      long long iterations = 0;
+      Index warm = 0, restarts = 0;
+    };
+    detail::parallel_for(
+      np, kChunk, static_cast<int>(std::min<Index>(threads, chunks)), reporter,
+      "celestial coordinates",
+      [&] {
+        return ThreadState{ ChunkSolver<D>(im.V, opt, s, X),
+          std::vector<Vec>(static_cast<std::size_t>(kChunk)),
+          std::vector<char>(static_cast<std::size_t>(kChunk)) };
+      },
+      [&](ThreadState& t, Index begin, Index end) {
+        std::fill(t.solved.begin(), t.solved.end(), 0);
         Index last = -1; // last solved position in this chunk
         for (Index k = begin; k < end; ++k)
         {
@@ -1313,7 +1308,7 @@ CelestialResult CelestialCoordinates::compute(
           {
             std::fill(w, w + nc, 0.0);
             const SolveStats st = im.solve_on_face(0, X.row(p).data(), w);
-            my_iterations += st.iterations;
+            t.iterations += st.iterations;
             result.iterations[p] = st.iterations;
             result.residual[p] = st.residual;
             if (!st.converged)
@@ -1332,7 +1327,7 @@ CelestialResult CelestialCoordinates::compute(
               {
                 const Index v = adj[static_cast<std::size_t>(a)];
                 const Index pos = position[static_cast<std::size_t>(v)];
-                if (pos < begin || pos >= k || !solved[static_cast<std::size_t>(pos - begin)])
+                if (pos < begin || pos >= k || !t.solved[static_cast<std::size_t>(pos - begin)])
                   continue;
                 const double d2 = (X.row(v) - X.row(p)).squaredNorm();
                 if (d2 < best || (d2 == best && pos < from))
@@ -1344,14 +1339,14 @@ CelestialResult CelestialCoordinates::compute(
             }
             if (from >= 0)
             {
-              warm = &ys[static_cast<std::size_t>(from - begin)];
-              ++my_warm;
+              warm = &t.ys[static_cast<std::size_t>(from - begin)];
+              ++t.warm;
             }
           }
-          Vec& y = ys[static_cast<std::size_t>(k - begin)];
+          Vec& y = t.ys[static_cast<std::size_t>(k - begin)];
           bool restarted = false;
-          const SolveStats st = solver.solve(p, warm, y, w, my_iterations, restarted);
-          my_restarts += restarted ? 1 : 0;
+          const SolveStats st = t.solver.solve(p, warm, y, w, t.iterations, restarted);
+          t.restarts += restarted ? 1 : 0;
           result.iterations[p] = st.iterations;
           result.residual[p] = st.residual;
           if (!st.converged)
@@ -1359,7 +1354,7 @@ CelestialResult CelestialCoordinates::compute(
             std::fill(w, w + nc, kNaN);
             continue;
           }
-          solved[static_cast<std::size_t>(k - begin)] = 1;
+          t.solved[static_cast<std::size_t>(k - begin)] = 1;
           last = k;
           if (opt.scheme == CelestialScheme::T)
             for (int d = 0; d < D; ++d)
@@ -1373,30 +1368,17 @@ CelestialResult CelestialCoordinates::compute(
               result.solution(p, d) = f * y[d];
           }
         }
-        const Index now = done.fetch_add(end - begin, std::memory_order_relaxed) + end - begin;
-        if (reporting_thread)
-        {
-          if (!reporter.step(now - reported))
-            stop = true;
-          reported = now;
-        }
-      }
-#pragma omp critical(celestial_counts)
-      {
-        total_iterations += my_iterations;
-        warm_starts += my_warm;
-        cold_restarts += my_restarts;
-      }
-    }
+      },
+      [&](ThreadState& t) {
+        total_iterations += t.iterations;
+        warm_starts += t.warm;
+        cold_restarts += t.restarts;
+      });
   };
   if (dim == 2)
     run(std::integral_constant<int, 2>{});
   else
     run(std::integral_constant<int, 3>{});
-  if (stop)
-    reporter.throw_if_cancelled("celestial coordinates");
-  reporter.finish();
-  reporter.throw_if_cancelled("celestial coordinates");
 
   for (Index p = 0; p < np; ++p)
   {
@@ -1424,14 +1406,14 @@ CelestialResult CelestialCoordinates::compute(
     for (std::size_t k = 0; k < std::min<std::size_t>(10, result.not_converged.size()); ++k)
     {
       const Index p = result.not_converged[k];
-      list += (k ? ", " : "") + std::to_string(p) + " (residual " + fmt(result.residual[p]) + ")";
+      list += (k ? ", " : "") + std::to_string(p) + " (residual " + detail::format_number(result.residual[p], 3) + ")";
     }
     if (result.not_converged.size() > 10)
       list += " and " + std::to_string(result.not_converged.size() - 10) + " more";
     throw Error(ErrorCode::NotConverged,
       std::to_string(result.not_converged.size()) + " of " + std::to_string(np) +
         " points did not converge in " + std::to_string(opt.max_iterations) +
-        " Newton iterations to the tolerance " + fmt(opt.tolerance) + ": points " + list +
+        " Newton iterations to the tolerance " + detail::format_number(opt.tolerance, 3) + ": points " + list +
         ". Raise max_iterations or tolerance, or set require_convergence = false to get NaN "
         "rows and the list in CelestialResult::not_converged");
   }

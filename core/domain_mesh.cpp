@@ -1,6 +1,7 @@
 #include "domain_mesh.h"
 
 #include "detail/closest_point.h"
+#include "detail/format.h"
 #include "detail/polygon_mesher_cgal.h"
 #include "detail/tetgen_mesher.h"
 #include "error.h"
@@ -14,11 +15,9 @@
 #include <chrono>
 #include <cmath>
 #include <cstdint>
-#include <cstdio>
 #include <cstring>
 #include <limits>
 #include <numeric>
-#include <sstream>
 #include <string>
 #include <unordered_map>
 #include <utility>
@@ -31,28 +30,9 @@ namespace
 
 constexpr double kPi = 3.14159265358979323846;
 
-std::string fmt_point(const Eigen::MatrixXd& V, Index i)
-{
-  std::ostringstream s;
-  s.precision(17);
-  s << "(";
-  for (Index k = 0; k < V.cols(); ++k)
-    s << (k ? ", " : "") << V(i, k);
-  s << ")";
-  return s.str();
-}
-
 [[noreturn]] void throw_invalid(const std::string& message)
 {
   throw Error(ErrorCode::InvalidArgument, message);
-}
-
-std::string fmt_double(double x)
-{
-  std::ostringstream s;
-  s.precision(6);
-  s << x;
-  return s.str();
 }
 
 /// Reports @p fraction; throws Error(Cancelled) if the callback asks to stop.
@@ -365,7 +345,7 @@ double face_pair_distance(const Cage& cage, Index f, Index g, std::string& what)
       if (d < best)
       {
         best = d;
-        what = "vertex " + std::to_string(s[k]) + " is " + fmt_double(d) + " from face " +
+        what = "vertex " + std::to_string(s[k]) + " is " + detail::format_number(d) + " from face " +
           std::to_string(tf);
       }
     }
@@ -384,7 +364,7 @@ double face_pair_distance(const Cage& cage, Index f, Index g, std::string& what)
       {
         best = dist;
         what = "edge (" + std::to_string(a) + ", " + std::to_string(b) + ") is " +
-          fmt_double(dist) + " from edge (" + std::to_string(c) + ", " + std::to_string(d) + ")";
+          detail::format_number(dist) + " from edge (" + std::to_string(c) + ", " + std::to_string(d) + ")";
       }
     }
   return best;
@@ -403,8 +383,8 @@ void check_feature_size(const Cage& cage, double min_distance)
       if (len < min_distance)
         throw Error(ErrorCode::InvalidCage,
           "invalid cage: edge (" + std::to_string(std::min(a, b)) + ", " +
-            std::to_string(std::max(a, b)) + ") is only " + fmt_double(len) +
-            " long, below the smallest feature TetGen resolves (" + fmt_double(min_distance) +
+            std::to_string(std::max(a, b)) + ") is only " + detail::format_number(len) +
+            " long, below the smallest feature TetGen resolves (" + detail::format_number(min_distance) +
             " for this cage); merge its vertices");
     }
   const std::vector<FaceBox> boxes = face_boxes(cage, 0.5 * min_distance);
@@ -442,7 +422,7 @@ void check_feature_size(const Cage& cage, double min_distance)
     throw Error(ErrorCode::InvalidCage,
       "invalid cage: faces " + std::to_string(best_f) + " and " + std::to_string(best_g) +
         " nearly touch (" + best_what + "), closer than the smallest feature TetGen resolves (" +
-        fmt_double(min_distance) + " for this cage); separate them");
+        detail::format_number(min_distance) + " for this cage); separate them");
 }
 
 /// Distance from p to the cage surface, or a value > limit when it is farther than limit.
@@ -461,13 +441,6 @@ double surface_distance_within(const Cage& cage, const std::vector<FaceBox>& box
         p, row3(cage.V, cage.F(f, 0)), row3(cage.V, cage.F(f, 1)), row3(cage.V, cage.F(f, 2))));
   }
   return std::isfinite(d) ? d : 2.0 * limit + 1.0;
-}
-
-std::string format_number(double x)
-{
-  char buffer[64];
-  std::snprintf(buffer, sizeof buffer, "%.17g", x);
-  return buffer;
 }
 
 } // namespace
@@ -490,16 +463,16 @@ DomainMesh mesh_polygon(
   if (!(options.min_angle_degrees >= 0.0 && options.min_angle_degrees <= 30.0))
     throw Error(ErrorCode::InvalidArgument,
       "min_angle_degrees must be in [0, 30] (CGAL's refinement terminates up to 20.7 degrees "
-      "for sure), got " + fmt_double(options.min_angle_degrees));
+      "for sure), got " + detail::format_number(options.min_angle_degrees));
   if (!std::isfinite(options.max_area))
     throw Error(ErrorCode::InvalidArgument, "max_area must be finite");
   if (options.max_area <= 0.0 && options.target_cells <= 0)
     throw Error(ErrorCode::InvalidArgument,
       "give a size: max_area > 0 or target_cells > 0 (got max_area " +
-        fmt_double(options.max_area) + ", target_cells " + std::to_string(options.target_cells) + ")");
+        detail::format_number(options.max_area) + ", target_cells " + std::to_string(options.target_cells) + ")");
   if (!(options.steiner_tolerance >= 0.0 && options.steiner_tolerance <= 0.1))
     throw Error(ErrorCode::InvalidArgument,
-      "steiner_tolerance must be in [0, 0.1], got " + fmt_double(options.steiner_tolerance));
+      "steiner_tolerance must be in [0, 0.1], got " + detail::format_number(options.steiner_tolerance));
   check_points(options.steiner_points, 2, "the Steiner points");
 
   std::vector<Eigen::MatrixXd> rings{ cage2d.V };
@@ -531,9 +504,9 @@ DomainMesh mesh_polygon(
     options.max_area > 0.0 ? options.max_area : area / static_cast<double>(options.target_cells);
   if (area / max_area > kMaxRequestedCells)
     throw Error(ErrorCode::InvalidArgument,
-      "max_area " + fmt_double(max_area) + " asks for more than " +
-        fmt_double(area / max_area) + " triangles (area " + fmt_double(area) +
-        "); the limit is " + fmt_double(kMaxRequestedCells));
+      "max_area " + detail::format_number(max_area) + " asks for more than " +
+        detail::format_number(area / max_area) + " triangles (area " + detail::format_number(area) +
+        "); the limit is " + detail::format_number(kMaxRequestedCells));
 
   // Steiner points: inside the domain and away from its boundary, merged when close.
   const double diameter = cage2d.diameter();
@@ -646,11 +619,11 @@ DomainMesh mesh_closed_surface(
         (options.radius_edge_ratio >= 1.0 && options.radius_edge_ratio <= 10.0)))
     throw Error(ErrorCode::InvalidArgument,
       "radius_edge_ratio must be <= 0 (no quality refinement) or in [1, 10] (TetGen's refinement "
-      "may not terminate below 1), got " + fmt_double(options.radius_edge_ratio));
+      "may not terminate below 1), got " + detail::format_number(options.radius_edge_ratio));
   if (!(options.steiner_tolerance >= 1e-7 && options.steiner_tolerance <= 0.1))
     throw Error(ErrorCode::InvalidArgument,
       "steiner_tolerance must be in [1e-7, 0.1] in 3D (TetGen merges closer points itself), got " +
-        fmt_double(options.steiner_tolerance));
+        detail::format_number(options.steiner_tolerance));
   check_points(options.steiner_points, 3, "the Steiner points");
 
   const double diameter = cage3d.diameter();
@@ -664,9 +637,9 @@ DomainMesh mesh_closed_surface(
     max_volume = volume / static_cast<double>(options.target_cells);
   if (max_volume > 0.0 && volume / max_volume > kMaxRequestedCells)
     throw Error(ErrorCode::InvalidArgument,
-      "max_volume " + fmt_double(max_volume) + " asks for more than " +
-        fmt_double(volume / max_volume) + " tetrahedra (volume " + fmt_double(volume) +
-        "); the limit is " + fmt_double(kMaxRequestedCells));
+      "max_volume " + detail::format_number(max_volume) + " asks for more than " +
+        detail::format_number(volume / max_volume) + " tetrahedra (volume " + detail::format_number(volume) +
+        "); the limit is " + detail::format_number(kMaxRequestedCells));
 
   // Steiner points: inside and away from the surface, merged when close.
   const double tol = options.steiner_tolerance * diameter;
@@ -695,9 +668,9 @@ DomainMesh mesh_closed_surface(
   if (options.preserve_boundary)
     switches += "Y";
   if (options.radius_edge_ratio > 0.0)
-    switches += "q" + format_number(options.radius_edge_ratio); // digits and '.' only
+    switches += "q" + detail::format_number(options.radius_edge_ratio, 17); // digits and '.' only
   if (max_volume > 0.0)
-    switches += "a" + format_number(max_volume);
+    switches += "a" + detail::format_number(max_volume, 17);
   detail::TetgenOutput out = detail::tetgen_tetrahedralize(cage3d.V, cage3d.F, accepted, switches);
   checkpoint(progress, 0.9, what);
 
@@ -710,7 +683,7 @@ DomainMesh mesh_closed_surface(
   for (Index i = 0; i < nc; ++i)
     if (out.V.row(i) != cage3d.V.row(i))
       throw Error(ErrorCode::Internal,
-        "TetGen moved or dropped cage vertex " + std::to_string(i) + " " + fmt_point(cage3d.V, i));
+        "TetGen moved or dropped cage vertex " + std::to_string(i) + " " + detail::format_row(cage3d.V, i, 17));
 
   // New numbering: cage vertices, Steiner points, then TetGen's other used vertices.
   std::vector<int> new_id(static_cast<std::size_t>(ntg), -1);
@@ -925,20 +898,13 @@ DomainMesh domain_mesh_for_cage(const Cage& cage, const Eigen::MatrixXd& V,
     }
     if (!(best <= tolerance))
     {
-      std::ostringstream where;
-      where.precision(7);
-      where << "(" << cage.V(i, 0);
-      for (int k = 1; k < dim; ++k)
-        where << ", " << cage.V(i, k);
-      where << ")";
-      std::ostringstream gap;
-      gap.precision(3);
-      gap << best / diameter;
       throw Error(ErrorCode::InvalidArgument,
         "the domain mesh does not fit the cage: cage vertex " + std::to_string(i) + " at " +
-          where.str() + " is not a boundary vertex of the mesh (the nearest one is " +
-          gap.str() + " x the cage diameter away, allowed 1e-6): give a mesh of this cage's "
-          "interior that has the cage vertices as vertices");
+          detail::format_row(cage.V, i, 7) +
+          " is not a boundary vertex of the mesh (the nearest one is " +
+          detail::format_number(best / diameter, 3) +
+          " x the cage diameter away, allowed 1e-6): give a mesh of this cage's interior that "
+          "has the cage vertices as vertices");
     }
     control(i) = at;
     checkpoint(progress, 0.5 * static_cast<double>(i + 1) / static_cast<double>(nc), what);

@@ -1,5 +1,6 @@
 #include "fem_operators.h"
 
+#include "detail/format.h"
 #include "error.h"
 
 #include <Eigen/Dense>
@@ -29,12 +30,7 @@ struct ElementGeometry
 
 std::string describe_element(const Eigen::MatrixXi& T, Index t)
 {
-  std::ostringstream s;
-  s << "element " << t << " (vertices ";
-  for (Index k = 0; k < T.cols(); ++k)
-    s << (k ? ", " : "") << T(t, k);
-  s << ")";
-  return s.str();
+  return "element " + std::to_string(t) + " (vertices " + detail::format_index_row(T, t) + ")";
 }
 
 const char* element_noun(const Eigen::MatrixXi& T)

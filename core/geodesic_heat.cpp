@@ -1,9 +1,8 @@
 #include "geodesic_heat.h"
 
+#include "detail/parallel_for.h"
 #include "error.h"
 #include "fem_operators.h"
-
-#include <omp.h>
 
 #include <algorithm>
 #include <chrono>
@@ -183,7 +182,7 @@ Eigen::MatrixXd GeodesicHeat::potential(
   // integrated divergence (weak form).
   Eigen::MatrixXd X = G_ * U;
   Index zero = 0;
-  const int threads = options_.threads > 0 ? options_.threads : omp_get_max_threads();
+  const int threads = detail::thread_count(options_.threads);
 #pragma omp parallel for num_threads(threads) schedule(static) reduction(+ : zero)
   for (Index t = 0; t < cells; ++t)
     for (Index j = 0; j < k; ++j)

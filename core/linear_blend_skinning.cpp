@@ -1,12 +1,9 @@
 #include "linear_blend_skinning.h"
 
+#include "detail/parallel_for.h"
 #include "error.h"
 
 #include <Eigen/Geometry>
-
-#ifdef _OPENMP
-#include <omp.h>
-#endif
 
 #include <cmath>
 #include <string>
@@ -49,15 +46,7 @@ Index validate(const Points& X, Index weight_rows, Index weight_cols, const Affi
   return dim;
 }
 
-int thread_count(int threads)
-{
-#ifdef _OPENMP
-  return threads > 0 ? threads : omp_get_max_threads();
-#else
-  (void)threads;
-  return 1;
-#endif
-}
+using detail::thread_count;
 
 } // namespace
 

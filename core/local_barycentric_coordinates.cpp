@@ -1,5 +1,9 @@
 #include "local_barycentric_coordinates.h"
 
+#include "detail/anderson.h"
+#include "detail/parallel_for.h"
+#include "detail/row_cholesky.h"
+#include "detail/format.h"
 #include "error.h"
 #include "fem_operators.h"
 #include "harmonic_coordinates.h"
@@ -8,14 +12,11 @@
 #include <Eigen/OrderingMethods>
 #include <Eigen/SparseCholesky>
 
-#include <omp.h>
-
 #include <algorithm>
 #include <array>
 #include <chrono>
 #include <cmath>
 #include <limits>
-#include <sstream>
 #include <type_traits>
 #include <string>
 #include <utility>
@@ -35,10 +36,9 @@ double seconds_since(Clock::time_point t0)
   return std::chrono::duration<double>(Clock::now() - t0).count();
 }
 
-int thread_count(int requested)
-{
-  return requested > 0 ? requested : std::max(1, omp_get_max_threads());
-}
+using detail::Anderson;
+using detail::RowCholesky;
+using detail::thread_count;
 
 /// LBCResult::statistics (see its comment) from its fields; @p threads, the threads used.
 void fill_statistics(LBCResult& result, int threads)
@@ -66,175 +66,6 @@ void fill_statistics(LBCResult& result, int threads)
 {
   throw Error(ErrorCode::InvalidArgument, message);
 }
-
-std::string str(double x)
-{
-  std::ostringstream s;
-  s << x;
-  return s.str();
-}
-
-// --- deterministic reductions ------------------------------------------------------------------
-// Sums are taken over fixed chunks (independent of the thread count) and the chunk sums are
-// added in order, so every reduction gives the same bits whatever the number of threads.
-constexpr Index kChunk = 4096;
-
-double chunked_dot(const double* a, const double* b, Index n, int threads)
-{
-  const Index chunks = (n + kChunk - 1) / kChunk;
-  std::vector<double> partial(static_cast<std::size_t>(chunks), 0.0);
-#pragma omp parallel for num_threads(threads) schedule(static)
-  for (Index c = 0; c < chunks; ++c)
-  {
-    const Index begin = c * kChunk, end = std::min(n, begin + kChunk);
-    double sum = 0.0;
-    for (Index k = begin; k < end; ++k)
-      sum += a[k] * b[k];
-    partial[static_cast<std::size_t>(c)] = sum;
-  }
-  double sum = 0.0;
-  for (double p : partial)
-    sum += p;
-  return sum;
-}
-
-// --- row-major sparse Cholesky -----------------------------------------------------------------
-/// A = L L^T of a symmetric positive definite matrix (Eigen's simplicial factor of the AMD-
-/// permuted matrix), solved for a row-major block of right-hand sides: each factor entry
-/// updates a whole row of the block (a contiguous axpy over the columns), the BLAS-3-like
-/// access pattern that suits the ADMM's #free by #C blocks. Columns are split between threads;
-/// every column's arithmetic is the same whatever the split, so results do not depend on the
-/// thread count.
-class RowCholesky
-{
-public:
-  void factor(const Eigen::SparseMatrix<double>& A)
-  {
-    const Index n = A.rows();
-    Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> pinv;
-    Eigen::AMDOrdering<int> amd;
-    amd(A, pinv);
-    perm_.assign(pinv.indices().data(), pinv.indices().data() + n);
-    std::vector<int> inverse(static_cast<std::size_t>(n));
-    for (Index i = 0; i < n; ++i)
-      inverse[static_cast<std::size_t>(perm_[static_cast<std::size_t>(i)])] = static_cast<int>(i);
-    // Ap(i, j) = A(perm[i], perm[j]), lower triangle.
-    std::vector<Eigen::Triplet<double>> triplets;
-    triplets.reserve(static_cast<std::size_t>(A.nonZeros()));
-    for (Index j = 0; j < A.outerSize(); ++j)
-      for (Eigen::SparseMatrix<double>::InnerIterator it(A, j); it; ++it)
-      {
-        const int r = inverse[static_cast<std::size_t>(it.row())];
-        const int c = inverse[static_cast<std::size_t>(it.col())];
-        if (r >= c)
-          triplets.emplace_back(r, c, it.value());
-      }
-    Eigen::SparseMatrix<double> Ap(n, n);
-    Ap.setFromTriplets(triplets.begin(), triplets.end());
-    Eigen::SimplicialLLT<Eigen::SparseMatrix<double>, Eigen::Lower, Eigen::NaturalOrdering<int>> llt;
-    llt.compute(Ap);
-    if (llt.info() != Eigen::Success)
-      throw Error(ErrorCode::InvalidArgument,
-        "the ADMM's linear system is not positive definite (every vertex must belong to an "
-        "element)");
-    const Eigen::SparseMatrix<double> L = llt.matrixL();
-    diag_.assign(static_cast<std::size_t>(n), 0.0);
-    colptr_.assign(static_cast<std::size_t>(n) + 1, 0);
-    rows_.clear();
-    values_.clear();
-    rows_.reserve(static_cast<std::size_t>(L.nonZeros()));
-    values_.reserve(static_cast<std::size_t>(L.nonZeros()));
-    for (Index j = 0; j < n; ++j)
-    {
-      for (Eigen::SparseMatrix<double>::InnerIterator it(L, j); it; ++it)
-        if (it.row() == j)
-          diag_[static_cast<std::size_t>(j)] = it.value();
-        else if (it.row() > j)
-        {
-          rows_.push_back(static_cast<int>(it.row()));
-          values_.push_back(it.value());
-        }
-      colptr_[static_cast<std::size_t>(j) + 1] = static_cast<int>(rows_.size());
-    }
-    inv_diag_.resize(static_cast<std::size_t>(n));
-    for (Index j = 0; j < n; ++j)
-    {
-      if (!(diag_[static_cast<std::size_t>(j)] > 0.0))
-        throw Error(ErrorCode::InvalidArgument,
-          "the ADMM's linear system is not positive definite");
-      inv_diag_[static_cast<std::size_t>(j)] = 1.0 / diag_[static_cast<std::size_t>(j)];
-    }
-    n_ = n;
-  }
-
-  Index rows() const noexcept { return n_; }
-  Index nonzeros() const noexcept { return static_cast<Index>(values_.size()) + n_; }
-
-  /// B <- A^-1 B for the n by k row-major block B.
-  void solve(RowMatrix& B, int threads) const
-  {
-    const Index k = B.cols();
-    if (k == 0 || n_ == 0)
-      return;
-    const int parts = static_cast<int>(std::min<Index>(threads, k));
-#pragma omp parallel num_threads(parts)
-    {
-      const int part = omp_get_thread_num(), count = omp_get_num_threads();
-      const Index c0 = k * part / count, c1 = k * (part + 1) / count;
-      switch (c1 - c0)
-      {
-        case 3: solve_columns<3>(B, c0, c1); break;
-        case 4: solve_columns<4>(B, c0, c1); break;
-        case 6: solve_columns<6>(B, c0, c1); break;
-        case 8: solve_columns<8>(B, c0, c1); break;
-        default: solve_columns<0>(B, c0, c1); break;
-      }
-    }
-  }
-
-private:
-  /// Columns [c0, c1) of B (W = c1 - c0 when W > 0: fixed-size, unrolled Eigen packets).
-  template <int W>
-  void solve_columns(RowMatrix& B, Index c0, Index c1) const
-  {
-    using Vec = Eigen::Matrix<double, W == 0 ? Eigen::Dynamic : W, 1>;
-    using Map = Eigen::Map<Vec>;
-    const Index n = n_, k = B.cols();
-    const Index w = W > 0 ? W : c1 - c0;
-    std::vector<double> y(static_cast<std::size_t>(n * w));
-    double* Y = y.data();
-    for (Index i = 0; i < n; ++i)
-      Map(Y + i * w, w) =
-        Map(B.data() + static_cast<Index>(perm_[static_cast<std::size_t>(i)]) * k + c0, w);
-    const int* colptr = colptr_.data();
-    const int* rows = rows_.data();
-    const double* values = values_.data();
-    const double* inv_diag = inv_diag_.data();
-    // L y = b (column-oriented: scatter; rows never overlap, so Eigen's packets apply as is)
-    for (Index j = 0; j < n; ++j)
-    {
-      Map mj(Y + j * w, w);
-      mj *= inv_diag[j];
-      for (int p = colptr[j]; p < colptr[j + 1]; ++p)
-        Map(Y + static_cast<Index>(rows[p]) * w, w) -= values[p] * mj;
-    }
-    // L^T x = y (row-oriented: gather)
-    for (Index j = n - 1; j >= 0; --j)
-    {
-      Map mj(Y + j * w, w);
-      for (int p = colptr[j]; p < colptr[j + 1]; ++p)
-        mj -= values[p] * Map(Y + static_cast<Index>(rows[p]) * w, w);
-      mj *= inv_diag[j];
-    }
-    for (Index i = 0; i < n; ++i)
-      Map(B.data() + static_cast<Index>(perm_[static_cast<std::size_t>(i)]) * k + c0, w) =
-        Map(Y + i * w, w);
-  }
-
-  Index n_ = 0;
-  std::vector<int> perm_, colptr_, rows_;
-  std::vector<double> values_, diag_, inv_diag_;
-};
 
 /// out = A X (+ add) for a row-major sparse A and row-major dense X, rows in parallel.
 void csr_times(const Csr& A, const RowMatrix& X, RowMatrix& out, int threads)
@@ -279,113 +110,6 @@ inline double relaxed_norm(double r, double eps)
     return r;
   return -r * r * r / (3.0 * eps * eps) + r * r / eps + eps / 3.0;
 }
-
-// --- Anderson acceleration ---------------------------------------------------------------------
-/// Type-II Anderson acceleration (Walker & Ni 2011) of a fixed-point map s -> s + g(s) over the
-/// last `m` secant pairs, with Tikhonov-regularised normal equations.
-class Anderson
-{
-public:
-  Anderson(Index size, int history, int threads)
-    : n_(size)
-    , m_(history)
-    , threads_(threads)
-    , dS_(static_cast<std::size_t>(size * history))
-    , dG_(static_cast<std::size_t>(size * history))
-    , prev_s_(static_cast<std::size_t>(size))
-    , prev_g_(static_cast<std::size_t>(size))
-    , gram_(Eigen::MatrixXd::Zero(history, history))
-  {
-  }
-
-  void reset()
-  {
-    count_ = 0;
-    head_ = 0;
-    has_prev_ = false;
-  }
-
-  /// Records the accepted pair (s, g) and writes the extrapolated point to @p out.
-  /// Returns false (and leaves out untouched) when there is no history yet or the least-squares
-  /// problem is degenerate.
-  bool extrapolate(const double* s, const double* g, double* out)
-  {
-    const Index n = n_;
-    if (has_prev_)
-    {
-      double* ds = dS_.data() + static_cast<Index>(head_) * n;
-      double* dg = dG_.data() + static_cast<Index>(head_) * n;
-      const double* ps = prev_s_.data();
-      const double* pg = prev_g_.data();
-#pragma omp parallel for num_threads(threads_) schedule(static)
-      for (Index k = 0; k < n; ++k)
-      {
-        ds[k] = s[k] - ps[k];
-        dg[k] = g[k] - pg[k];
-      }
-      const int written = head_;
-      head_ = (head_ + 1) % m_;
-      count_ = std::min(count_ + 1, m_);
-      for (int j = 0; j < count_; ++j)
-      {
-        const int slot = slot_of(j);
-        const double v = chunked_dot(dg, dG_.data() + static_cast<Index>(slot) * n, n, threads_);
-        gram_(written, slot) = v;
-        gram_(slot, written) = v;
-      }
-    }
-    std::copy(s, s + n, prev_s_.data());
-    std::copy(g, g + n, prev_g_.data());
-    has_prev_ = true;
-    if (count_ == 0)
-      return false;
-
-    // theta = argmin |g - dG theta|
-    const int c = count_;
-    Eigen::MatrixXd A(c, c);
-    Eigen::VectorXd rhs(c);
-    std::vector<int> slots(static_cast<std::size_t>(c));
-    for (int j = 0; j < c; ++j)
-      slots[static_cast<std::size_t>(j)] = slot_of(j);
-    for (int a = 0; a < c; ++a)
-    {
-      for (int b = 0; b < c; ++b)
-        A(a, b) = gram_(slots[static_cast<std::size_t>(a)], slots[static_cast<std::size_t>(b)]);
-      rhs(a) = chunked_dot(
-        dG_.data() + static_cast<Index>(slots[static_cast<std::size_t>(a)]) * n, g, n, threads_);
-    }
-    const double scale = A.diagonal().maxCoeff();
-    if (!(scale > 0.0) || !std::isfinite(scale))
-      return false;
-    A.diagonal().array() += 1e-10 * scale;
-    const Eigen::VectorXd theta = A.ldlt().solve(rhs);
-    if (!theta.allFinite())
-      return false;
-#pragma omp parallel for num_threads(threads_) schedule(static)
-    for (Index k = 0; k < n; ++k)
-    {
-      double v = s[k] + g[k];
-      for (int j = 0; j < c; ++j)
-      {
-        const Index off = static_cast<Index>(slots[static_cast<std::size_t>(j)]) * n + k;
-        v -= theta(j) * (dS_[static_cast<std::size_t>(off)] + dG_[static_cast<std::size_t>(off)]);
-      }
-      out[k] = v;
-    }
-    return true;
-  }
-
-private:
-  /// Slot of the j-th most recent difference (j = 0: newest).
-  int slot_of(int j) const { return ((head_ - 1 - j) % m_ + 2 * m_) % m_; }
-
-  Index n_;
-  int m_, threads_;
-  std::vector<double> dS_, dG_, prev_s_, prev_g_;
-  Eigen::MatrixXd gram_;
-  int count_ = 0, head_ = 0;
-  bool has_prev_ = false;
-};
 
 // --- polishing: projection onto {w >= 0, w K = b} ------------------------------------------------
 /// Euclidean projection of @p z (n) onto {w >= 0, K^T w = b} by a semismooth Newton method on
@@ -1019,15 +743,15 @@ LocalBarycentricCoordinates::LocalBarycentricCoordinates(
   const LBCOptions& o = s.o;
   // --- options
   if (!(o.penalty > 0.0) || !std::isfinite(o.penalty))
-    invalid("LBCOptions::penalty must be > 0, got " + str(o.penalty));
+    invalid("LBCOptions::penalty must be > 0, got " + detail::format_number(o.penalty));
   if (!(o.scaled_penalty > 0.0) || !std::isfinite(o.scaled_penalty))
-    invalid("LBCOptions::scaled_penalty must be > 0, got " + str(o.scaled_penalty));
+    invalid("LBCOptions::scaled_penalty must be > 0, got " + detail::format_number(o.scaled_penalty));
   if (!(o.relaxation > 0.0 && o.relaxation < 2.0))
-    invalid("LBCOptions::relaxation must be in (0, 2), got " + str(o.relaxation));
+    invalid("LBCOptions::relaxation must be in (0, 2), got " + detail::format_number(o.relaxation));
   if (!(o.primal_tolerance > 0.0 && o.primal_tolerance < 1.0))
-    invalid("LBCOptions::primal_tolerance must be in (0, 1), got " + str(o.primal_tolerance));
+    invalid("LBCOptions::primal_tolerance must be in (0, 1), got " + detail::format_number(o.primal_tolerance));
   if (!(o.dual_tolerance > 0.0 && o.dual_tolerance < 1.0))
-    invalid("LBCOptions::dual_tolerance must be in (0, 1), got " + str(o.dual_tolerance));
+    invalid("LBCOptions::dual_tolerance must be in (0, 1), got " + detail::format_number(o.dual_tolerance));
   if (o.max_iterations < 1)
     invalid("LBCOptions::max_iterations must be >= 1, got " + std::to_string(o.max_iterations));
   if (o.check_interval < 1)
@@ -1035,12 +759,12 @@ LocalBarycentricCoordinates::LocalBarycentricCoordinates(
   if (o.locality == LocalityFunction::Custom && !o.custom_locality)
     invalid("LBCOptions::locality is Custom but custom_locality is empty");
   if (!(o.relaxed_tv_epsilon >= 0.0) || !std::isfinite(o.relaxed_tv_epsilon))
-    invalid("LBCOptions::relaxed_tv_epsilon must be >= 0, got " + str(o.relaxed_tv_epsilon));
+    invalid("LBCOptions::relaxed_tv_epsilon must be >= 0, got " + detail::format_number(o.relaxed_tv_epsilon));
   if (o.threads < 0)
     invalid("LBCOptions::threads must be >= 0 (0 = OpenMP's default), got " +
       std::to_string(o.threads));
   if (!(o.constraint_balance > 0.0) || !std::isfinite(o.constraint_balance))
-    invalid("LBCOptions::constraint_balance must be > 0, got " + str(o.constraint_balance));
+    invalid("LBCOptions::constraint_balance must be > 0, got " + detail::format_number(o.constraint_balance));
   if (o.anderson_history < 1 || o.anderson_history > 50)
     invalid("LBCOptions::anderson_history must be in [1, 50], got " +
       std::to_string(o.anderson_history));
@@ -1184,8 +908,8 @@ LocalBarycentricCoordinates::LocalBarycentricCoordinates(
           d += s.distances(s.T(t, k), j);
         const double value = s.tau(d / (D + 1));
         if (!std::isfinite(value) || value < 0.0)
-          invalid("the locality function returned " + str(value) + " for D = " +
-            str(d / (D + 1)) + "; it must be finite and >= 0");
+          invalid("the locality function returned " + detail::format_number(value) + " for D = " +
+            detail::format_number(d / (D + 1)) + "; it must be finite and >= 0");
         s.phi(t, j) = value;
       }
   }
@@ -1507,9 +1231,9 @@ LBCResult LocalBarycentricCoordinates::compute(const ProgressCallback& progress)
   if (!result.converged && o.require_convergence)
     throw Error(ErrorCode::NotConverged,
       "local barycentric coordinates did not converge in " + std::to_string(o.max_iterations) +
-        " iterations (primal residual " + str(result.primal_residual) + " > " +
-        str(result.primal_threshold) + " or dual residual " + str(result.dual_residual) + " > " +
-        str(result.dual_threshold) + ")",
+        " iterations (primal residual " + detail::format_number(result.primal_residual) + " > " +
+        detail::format_number(result.primal_threshold) + " or dual residual " + detail::format_number(result.dual_residual) + " > " +
+        detail::format_number(result.dual_threshold) + ")",
       "raise max_iterations, loosen the tolerances or set require_convergence = false");
   report(0.98);
 

@@ -1,20 +1,16 @@
 #include "mean_value_coordinates.h"
 
+#include "detail/parallel_for.h"
 #include "error.h"
 
 #include <Eigen/Geometry>
 
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 #include <limits>
 #include <map>
 #include <string>
 #include <vector>
-
-#ifdef _OPENMP
-#include <omp.h>
-#endif
 
 namespace bary
 {
@@ -358,47 +354,18 @@ MeanValueResult MeanValueCoordinates::evaluate(const Points& P, const ProgressCa
   result.W.resize(np, nc);
   result.location.assign(static_cast<std::size_t>(np), PointLocation::Inside);
 
-  // One parallel region; points are handed out in small chunks (load balance: a per-block
-  // region with coarse chunks left one of two threads idle a third of the time). The calling
-  // thread (OpenMP's thread 0) reports progress and asks for cancellation; every point is
-  // computed independently into its own row, so the result does not depend on the threads.
+  // Points are handed out in small chunks (load balance: a per-block region with coarse chunks
+  // left one of two threads idle a third of the time); every point is computed independently
+  // into its own row, so the result does not depend on the threads.
   ProgressReporter reporter(progress, np);
   const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> X = P;
   constexpr Index chunk = 8;
-  const Index chunks = (np + chunk - 1) / chunk;
-  std::atomic<Index> done{ 0 };
-  std::atomic<bool> stop{ false };
-#ifdef _OPENMP
-  const int threads = options_.threads > 0 ? options_.threads : omp_get_max_threads();
-#endif
-#pragma omp parallel num_threads(threads)
-  {
-#ifdef _OPENMP
-    const bool reporting_thread = omp_get_thread_num() == 0;
-#else
-    const bool reporting_thread = true;
-#endif
-    Index reported = 0;
-#pragma omp for schedule(dynamic, 1)
-    for (Index c = 0; c < chunks; ++c)
-    {
-      if (stop.load(std::memory_order_relaxed))
-        continue;
-      const Index end = std::min(np, (c + 1) * chunk);
-      for (Index p = c * chunk; p < end; ++p)
+  detail::parallel_for(np, chunk, options_.threads, reporter, "mean value coordinates",
+    [&](Index begin, Index end) {
+      for (Index p = begin; p < end; ++p)
         result.location[static_cast<std::size_t>(p)] =
           evaluate(X.row(p).data(), result.W.row(p).data());
-      const Index now = done.fetch_add(end - c * chunk, std::memory_order_relaxed) + end - c * chunk;
-      if (reporting_thread && !reporter.step(now - reported))
-        stop = true;
-      if (reporting_thread)
-        reported = now;
-    }
-  }
-  if (stop)
-    reporter.throw_if_cancelled("mean value coordinates");
-  reporter.finish();
-  reporter.throw_if_cancelled("mean value coordinates");
+    });
 
   for (Index p = 0; p < np; ++p)
   {

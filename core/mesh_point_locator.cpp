@@ -1,22 +1,19 @@
 #include "mesh_point_locator.h"
 
 #include "detail/closest_point.h"
+#include "detail/format.h"
+#include "detail/parallel_for.h"
 #include "error.h"
 
 #include <Eigen/Geometry>
 
 #include <algorithm>
 #include <array>
-#include <atomic>
 #include <cmath>
 #include <limits>
 #include <numeric>
 #include <sstream>
 #include <string>
-
-#ifdef _OPENMP
-#include <omp.h>
-#endif
 
 namespace bary
 {
@@ -26,17 +23,6 @@ namespace
 constexpr int kLeafSize = 4;
 // Median splits keep the depth below log2(#T) + 1 (< 32); the stack holds at most depth + 1.
 constexpr int kMaxStack = 128;
-
-std::string fmt_point(const double* x, int dim)
-{
-  std::ostringstream s;
-  s.precision(17);
-  s << "(";
-  for (int k = 0; k < dim; ++k)
-    s << (k ? ", " : "") << x[k];
-  s << ")";
-  return s.str();
-}
 
 double cross2(const Eigen::Vector2d& a, const Eigen::Vector2d& b)
 {
@@ -367,55 +353,28 @@ MeshPointLocator::Result MeshPointLocator::interpolate(const DenseWeights& mesh_
   std::vector<char> outside(static_cast<std::size_t>(np), 0);
   const RowMatrixXd X = P;
 
-  // Same scheme as mean value coordinates: one parallel region, small chunks, the calling
-  // thread reports progress; each point's row is written by one thread only.
+  // Small chunks in parallel (detail/parallel_for.h); each point's row is written by one thread.
   ProgressReporter reporter(progress, np);
   constexpr Index chunk = 64;
-  const Index chunks = (np + chunk - 1) / chunk;
-  std::atomic<Index> done{ 0 };
-  std::atomic<bool> stop{ false };
   const double nan = std::numeric_limits<double>::quiet_NaN();
-#pragma omp parallel
-  {
-#ifdef _OPENMP
-    const bool reporting_thread = omp_get_thread_num() == 0;
-#else
-    const bool reporting_thread = true;
-#endif
-    Index reported = 0;
-#pragma omp for schedule(dynamic, 1)
-    for (Index c = 0; c < chunks; ++c)
+  detail::parallel_for(np, chunk, 0, reporter, "interpolation on the mesh", [&](Index begin, Index end) {
+    for (Index p = begin; p < end; ++p)
     {
-      if (stop.load(std::memory_order_relaxed))
-        continue;
-      const Index end = std::min(np, (c + 1) * chunk);
-      for (Index p = c * chunk; p < end; ++p)
+      const Location loc = locate(X.row(p).data());
+      const auto sp = static_cast<std::size_t>(p);
+      distance[sp] = loc.distance;
+      outside[sp] = loc.inside ? 0 : 1;
+      if (!loc.inside && policy != OutsidePolicy::Nearest)
       {
-        const Location loc = locate(X.row(p).data());
-        const auto sp = static_cast<std::size_t>(p);
-        distance[sp] = loc.distance;
-        outside[sp] = loc.inside ? 0 : 1;
-        if (!loc.inside && policy != OutsidePolicy::Nearest)
-        {
-          result.W.row(p).setConstant(nan);
-          continue;
-        }
-        result.W.row(p).setZero();
-        for (int k = 0; k <= dim_; ++k)
-          if (loc.barycentric(k) != 0.0)
-            result.W.row(p) += loc.barycentric(k) * mesh_weights.row(T_(loc.element, k));
+        result.W.row(p).setConstant(nan);
+        continue;
       }
-      const Index now = done.fetch_add(end - c * chunk, std::memory_order_relaxed) + end - c * chunk;
-      if (reporting_thread && !reporter.step(now - reported))
-        stop = true;
-      if (reporting_thread)
-        reported = now;
+      result.W.row(p).setZero();
+      for (int k = 0; k <= dim_; ++k)
+        if (loc.barycentric(k) != 0.0)
+          result.W.row(p) += loc.barycentric(k) * mesh_weights.row(T_(loc.element, k));
     }
-  }
-  if (stop)
-    reporter.throw_if_cancelled("interpolation on the mesh");
-  reporter.finish();
-  reporter.throw_if_cancelled("interpolation on the mesh");
+  });
 
   for (Index p = 0; p < np; ++p)
     if (outside[static_cast<std::size_t>(p)])
@@ -430,7 +389,7 @@ MeshPointLocator::Result MeshPointLocator::interpolate(const DenseWeights& mesh_
     s.precision(6);
     s << result.outside.size() << " of " << np << " points lie outside the mesh (farther than "
       << tol_ << " from it); the first is point " << first << " at "
-      << fmt_point(X.row(first).data(), dim_) << ", at distance "
+      << detail::format_point(X.row(first).data(), dim_, 17) << ", at distance "
       << result.outside_distance.front()
       << ". Choose the outside policy 'nearest' to clamp them to the mesh or 'nan' to mark "
          "them (OutsidePolicy::Nearest / NaN; on the command line --outside nearest|nan)";

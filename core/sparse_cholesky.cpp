@@ -1,5 +1,6 @@
 #include "sparse_cholesky.h"
 
+#include "detail/format.h"
 #include "error.h"
 
 #include <Eigen/Dense>
@@ -17,7 +18,6 @@
 #include <cstddef>
 #include <limits>
 #include <mutex>
-#include <sstream>
 #include <string>
 #include <vector>
 
@@ -40,13 +40,6 @@ public:
   const cholmod_factor* factor() const { return m_cholmodFactor; }
 };
 #endif
-
-std::string fmt(double x)
-{
-  std::ostringstream s;
-  s << x;
-  return s.str();
-}
 
 [[noreturn]] void throw_not_positive_definite(const std::string& detail)
 {
@@ -608,7 +601,6 @@ void supernodal_solve(const SupernodalFactor& f, Eigen::MatrixXd& X)
   }
 }
 
-
 /// A given fill-reducing ordering must be a permutation of 0 .. n-1.
 void check_ordering(const Eigen::VectorXi& ordering, Index n)
 {
@@ -903,7 +895,7 @@ void SparseCholesky::compute(
   for (Index i = 0; i < n; ++i)
     if (!(diagonal(i) > 0.0))
       throw_not_positive_definite(
-        "its diagonal entry (" + id(i) + ", " + id(i) + ") is " + fmt(diagonal(i)) + ", not > 0");
+        "its diagonal entry (" + id(i) + ", " + id(i) + ") is " + detail::format_number(diagonal(i)) + ", not > 0");
 
   // Symmetry, relative to sqrt(A_ii A_jj) (which bounds |A_ij| for an SPD matrix). The
   // supernodal backend reads both triangles and needs a symmetric pattern: it factors
@@ -918,7 +910,7 @@ void SparseCholesky::compute(
         if (std::abs(it.value()) > 1e-10 * std::sqrt(diagonal(it.row()) * diagonal(it.col())))
           throw Error(ErrorCode::InvalidArgument,
             "the matrix is not symmetric: entries (" + id(it.row()) + ", " + id(it.col()) +
-              ") and (" + id(it.col()) + ", " + id(it.row()) + ") differ by " + fmt(it.value()) +
+              ") and (" + id(it.col()) + ", " + id(it.row()) + ") differ by " + detail::format_number(it.value()) +
               "; a Cholesky factorization needs a symmetric matrix");
     if (backend_ == Backend::Supernodal)
       symmetrized = 0.5 * (A + transposed);
@@ -1052,8 +1044,8 @@ void SparseCholesky::compute(
   const double tolerance = 16.0 * static_cast<double>(n) * std::numeric_limits<double>::epsilon();
   if (!(min_pivot > tolerance))
     throw_not_positive_definite("its smallest pivot (after scaling to unit diagonal) is " +
-      fmt(min_pivot) + " at row " + id(min_row) + ", not above 16 n eps = " +
-      fmt(tolerance) + " (singular or numerically singular)");
+      detail::format_number(min_pivot) + " at row " + id(min_row) + ", not above 16 n eps = " +
+      detail::format_number(tolerance) + " (singular or numerically singular)");
   impl->min_pivot = min_pivot;
   impl_ = std::move(impl);
 }
@@ -1119,7 +1111,7 @@ void SparseCholesky::compute_principal(
         d += it.value();
     if (!(d > 0.0))
       throw_not_positive_definite(
-        "its diagonal entry (" + id(i) + ", " + id(i) + ") is " + fmt(d) + ", not > 0");
+        "its diagonal entry (" + id(i) + ", " + id(i) + ") is " + detail::format_number(d) + ", not > 0");
     impl->scale(i) = 1.0 / std::sqrt(d);
   }
   const Eigen::VectorXi own =
@@ -1134,8 +1126,8 @@ void SparseCholesky::compute_principal(
   const double tolerance = 16.0 * static_cast<double>(m) * std::numeric_limits<double>::epsilon();
   if (!(min_pivot > tolerance))
     throw_not_positive_definite("its smallest pivot (after scaling to unit diagonal) is " +
-      fmt(min_pivot) + " at row " + id(min_row) + ", not above 16 n eps = " +
-      fmt(tolerance) + " (singular or numerically singular)");
+      detail::format_number(min_pivot) + " at row " + id(min_row) + ", not above 16 n eps = " +
+      detail::format_number(tolerance) + " (singular or numerically singular)");
   impl->min_pivot = min_pivot;
   impl_ = std::move(impl);
 }
@@ -1223,7 +1215,7 @@ void SparseCholesky::modify_principal(
         d += it.value();
     if (!(d > 0.0))
       throw_not_positive_definite(
-        "its diagonal entry (" + std::to_string(a) + ", " + std::to_string(a) + ") is " + fmt(d) + ", not > 0");
+        "its diagonal entry (" + std::to_string(a) + ", " + std::to_string(a) + ") is " + detail::format_number(d) + ", not > 0");
     return 1.0 / std::sqrt(d);
   };
   auto fail = [&](const std::string& what, int a) {
@@ -1306,8 +1298,8 @@ void SparseCholesky::modify_principal(
     const double tolerance = 16.0 * static_cast<double>(m) * std::numeric_limits<double>::epsilon();
     if (m > 0 && !(min_pivot > tolerance))
       throw_not_positive_definite("after the row changes its smallest pivot (after scaling to unit "
-        "diagonal) is " + fmt(min_pivot) + " at row " + std::to_string(min_row) +
-        ", not above 16 n eps = " + fmt(tolerance) + " (singular or numerically singular)");
+        "diagonal) is " + detail::format_number(min_pivot) + " at row " + std::to_string(min_row) +
+        ", not above 16 n eps = " + detail::format_number(tolerance) + " (singular or numerically singular)");
     impl->min_pivot = min_pivot;
   }
   // The rows of M: the remaining ones in their previous order, then the added ones.
