@@ -179,4 +179,19 @@ AffineTransforms transforms_from_pseudo_edges(
   return transforms;
 }
 
+Eigen::MatrixXd lift_transform(const Eigen::MatrixXd& T)
+{
+  if (T.rows() == 3 && T.cols() == 4)
+    return T;
+  if (T.rows() != 2 || T.cols() != 3)
+    throw Error(ErrorCode::SizeMismatch,
+      "a transform is 2 by 3 (2D) or 3 by 4 (3D), not " + std::to_string(T.rows()) + " by " +
+        std::to_string(T.cols()));
+  Eigen::MatrixXd L = Eigen::MatrixXd::Zero(3, 4);
+  L.topLeftCorner(2, 2) = T.leftCols(2);
+  L.block(0, 3, 2, 1) = T.col(2);
+  L(2, 2) = 1.0;
+  return L;
+}
+
 } // namespace bary

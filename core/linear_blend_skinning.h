@@ -31,6 +31,11 @@ Points linear_blend_skinning(const Points& X, const DenseWeights& W,
 Points linear_blend_skinning(const Points& X, const SparseWeights& W,
   const AffineTransforms& transforms, int threads = 0);
 
+/// A 2D affine transform [A | t] (2 by 3) lifted to 3 by 4 (z kept: A_zz = 1, t_z = 0), the
+/// form the VTK filters and pose files use; a 3 by 4 transform is returned as is.
+/// @throws Error(SizeMismatch) for any other shape.
+Eigen::MatrixXd lift_transform(const Eigen::MatrixXd& T);
+
 /// §3.4, "Specifying handle transforms": the rotation of each point handle is the average of
 /// the smallest rotations that take each incident pseudo-edge from its rest direction to its
 /// posed direction (2D: the mean of the signed angles; 3D: the normalized sum of the unit

@@ -45,6 +45,16 @@ DomainMesh mesh_cage_interior(const Cage& cage, const WeightsSettings& settings,
     : mesh_closed_surface(cage, surface_mesh_options(settings, points), progress);
 }
 
+DomainMesh cage_domain_mesh(const WeightsInput& input, const WeightsSettings& settings,
+  const ProgressCallback& progress)
+{
+  if (!(input.domain_V && input.domain_T))
+    return mesh_cage_interior(*input.cage, settings, *input.points, progress);
+  if (settings.validate_cage)
+    validate_cage(*input.cage);
+  return domain_mesh_for_cage(*input.cage, *input.domain_V, *input.domain_T, progress);
+}
+
 std::string settings_advice(
   const std::vector<std::pair<std::string, std::vector<std::string>>>& verb_keys)
 {

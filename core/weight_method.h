@@ -61,6 +61,12 @@ SurfaceMeshOptions surface_mesh_options(const WeightsSettings& settings, const E
 DomainMesh mesh_cage_interior(const Cage& cage, const WeightsSettings& settings,
   const Eigen::MatrixXd& points, const ProgressCallback& progress);
 
+/// The domain mesh of a mesh-based cage method: the given one (input.domain_V / domain_T, each
+/// cage vertex matched to its boundary vertex: domain_mesh_for_cage; the cage validated first
+/// unless settings.validate_cage is off), else the cage's interior meshed (mesh_cage_interior).
+DomainMesh cage_domain_mesh(const WeightsInput& input, const WeightsSettings& settings,
+  const ProgressCallback& progress);
+
 /// The "advice" of an error, naming settings by their command-line flag and filter property:
 /// "raise LBCMaximumIterations (--max-iterations)". @p verb_keys: pairs of a verb and keys.
 std::string settings_advice(const std::vector<std::pair<std::string, std::vector<std::string>>>& verb_keys);

@@ -286,7 +286,7 @@ const std::vector<MethodInfo>& method_table()
       "Hormann & Floater 2006 (2D); Ju, Schaefer & Warren 2005 (3D)", ControlKind::Cage, false,
       false, true, false, true, true, &mean_value_method },
     { MethodId::Harmonic, "harmonic", "harmonic coordinates", "Joshi et al. 2007",
-      ControlKind::Cage, true, false, true, true, true, true, &harmonic_method },
+      ControlKind::Cage, true, true, true, true, true, true, &harmonic_method },
     { MethodId::BBW, "bbw", "bounded biharmonic weights", "Jacobson et al. 2011",
       ControlKind::CageOrSkeleton, true, true, false, true, true, true, &bbw_method },
     { MethodId::TCelestial, "tcc", "T-celestial coordinates", "Cerveró et al.",

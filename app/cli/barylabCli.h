@@ -109,7 +109,7 @@ void add_method_options(CLI::App* cmd, WeightsParameters& p);
 
 /// UsageError unless the inputs fit --method @p method: a cage, a skeleton in a domain (bbw) or
 /// free control points (tcc, scc; @p controls) (barylabMethodOptions.cxx).
-void check_bbw_inputs(const std::string& method, const std::string& cage,
+void check_bbw_inputs(bary::MethodId method, const std::string& cage,
   const std::string& handles, const std::string& mesh, bool controls = false);
 
 enum class OutputKind

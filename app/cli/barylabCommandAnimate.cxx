@@ -34,8 +34,7 @@ struct AnimateArgs
 
 int run_animate(AnimateArgs a)
 {
-  barylab::MethodFromName(a.parameters.method);
-  if (a.parameters.method == "bbw")
+  if (a.parameters.method == bary::MethodId::BBW)
     throw UsageError("animate moves cages or control points; for skeletons use 'deform --method bbw' per pose");
   if (!a.controls.empty() && !a.cage.empty())
     throw UsageError("give --cage or --control-points, not both");
@@ -43,7 +42,7 @@ int run_animate(AnimateArgs a)
     !a.controls.empty());
   if (!a.controls.empty())
     a.cage = a.controls;
-  if (!a.user_weights.empty() && a.parameters.method != "tcc")
+  if (!a.user_weights.empty() && a.parameters.method != bary::MethodId::TCelestial)
     throw UsageError("--user-weights is for --method tcc (Eq. 8's s_i)");
   a.parameters.user_weights = read_user_weights(a.user_weights);
   if (!a.json_path.empty())

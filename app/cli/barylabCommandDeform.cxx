@@ -3,10 +3,10 @@
 #include "barylabCli.h"
 
 #include "vtkBaryConversion.h"
+#include "vtkBaryLinearBlendSkinning.h"
 #include "vtkBaryDataIO.h"
 
 #include "core/error.h"
-#include "core/skeleton.h"
 
 #include "vtkDataArray.h"
 #include "vtkDataSet.h"
@@ -168,20 +168,8 @@ int run_deform_bbw(const DeformArgs& a)
       throw bary::Error(bary::ErrorCode::SizeMismatch,
         "'" + a.posed_handles + "' must hold the " + std::to_string(handles->GetNumberOfPoints()) +
           " joints of '" + a.handles + "' moved (same points, same order)");
-    const Eigen::MatrixXd posedC = vtkBaryConversion::PointsToMatrix(posedSet, dim);
-    for (Eigen::MatrixXd T :
-      bary::transforms_from_joints(skeleton, posedC, read_pseudo_edges(a.pseudo_edges)))
-    {
-      if (dim == 2)
-      {
-        Eigen::MatrixXd L = Eigen::MatrixXd::Zero(3, 4);
-        L.topLeftCorner(2, 2) = T.leftCols(2);
-        L.block(0, 3, 2, 1) = T.col(2);
-        L(2, 2) = 1.0;
-        T = L;
-      }
-      pose.push_back(T);
-    }
+    pose = vtkBaryLinearBlendSkinning::PoseFromJoints(
+      handles, posedSet, dim, read_pseudo_edges(a.pseudo_edges));
   }
   vtkSmartPointer<vtkDataSet> model = a.points.empty() ? nullptr : vtkBaryDataIO::Read(a.points);
   model = attach_weights(model, a.points, a.weights, a.parameters.weights_name,
@@ -217,20 +205,19 @@ int run_deform_bbw(const DeformArgs& a)
 
 int run_deform(DeformArgs a)
 {
-  barylab::MethodFromName(a.parameters.method);
-  if (a.parameters.method == "bbw" && !a.handles.empty())
+  if (a.parameters.method == bary::MethodId::BBW && !a.handles.empty())
     return run_deform_bbw(a);
   if (!a.controls.empty() && !a.cage.empty())
     throw UsageError("give --cage or --control-points, not both");
   if (!a.posed_controls.empty() && !a.posed.empty())
     throw UsageError("give --deformed-cage or --deformed-control-points, not both");
-  if (a.parameters.method == "lbc" && !a.mesh.empty())
+  if (a.parameters.method == bary::MethodId::LBC && !a.mesh.empty())
     throw UsageError("deform --method lbc meshes the cage; for weights on a given mesh run "
                      "'barylab weights --method lbc --mesh DOMAIN --points MODEL' and pass them "
                      "with --weights");
   check_bbw_inputs(a.parameters.method, a.controls.empty() ? a.cage : a.controls, a.handles,
     a.mesh, !a.controls.empty());
-  if (!a.user_weights.empty() && a.parameters.method != "tcc")
+  if (!a.user_weights.empty() && a.parameters.method != bary::MethodId::TCelestial)
     throw UsageError("--user-weights is for --method tcc (Eq. 8's s_i)");
   if (!a.controls.empty())
   {

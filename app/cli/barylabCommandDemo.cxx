@@ -9,7 +9,6 @@
 #include "vtkBaryDataIO.h"
 
 #include "core/error.h"
-#include "core/skeleton.h"
 
 #include "vtkDataArray.h"
 #include "vtkDataSet.h"
@@ -127,7 +126,7 @@ json demo_bbw(const DemoArgs& a)
   auto handles = vtkBaryDataIO::ReadPolyData((data / "skeleton2d.tgf").string());
   auto model = vtkBaryDataIO::Read((data / "model2d.obj").string());
   WeightsParameters parameters;
-  parameters.method = "bbw";
+  parameters.method = bary::MethodId::BBW;
   parameters.threads = a.threads;
   ProgressBar bar(true, "bbw 2d");
   json summary;
@@ -206,7 +205,7 @@ json demo_lbc(const DemoArgs& a, vtkDataSet* mvc_weighted)
   auto model = vtkBaryDataIO::Read((data / "model2d.obj").string());
   vtkPointSet* posed = vtkPointSet::SafeDownCast(posedData);
   WeightsParameters parameters;
-  parameters.method = "lbc";
+  parameters.method = bary::MethodId::LBC;
   parameters.threads = a.threads;
   ProgressBar bar(true, "lbc 2d");
   json summary;
@@ -351,7 +350,7 @@ json demo_heart(const DemoArgs& a)
   for (const auto& f : frame_files)
     frames.push_back(vtkPointSet::SafeDownCast(vtkBaryDataIO::Read(f)));
   WeightsParameters parameters;
-  parameters.method = "scc";
+  parameters.method = bary::MethodId::SCelestial;
   parameters.threads = a.threads;
   ProgressBar bar(true, "heart scc");
   json summary;

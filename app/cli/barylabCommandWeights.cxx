@@ -32,20 +32,19 @@ struct WeightsArgs
 
 int run_weights(WeightsArgs a)
 {
-  barylab::MethodFromName(a.parameters.method);
   if (!a.controls.empty() && !a.cage.empty())
     throw UsageError("give --cage or --control-points, not both");
   check_bbw_inputs(a.parameters.method, a.controls.empty() ? a.cage : a.controls, a.handles,
     a.mesh, !a.controls.empty());
-  if (!a.user_weights.empty() && a.parameters.method != "tcc")
+  if (!a.user_weights.empty() && a.parameters.method != bary::MethodId::TCelestial)
     throw UsageError("--user-weights is for --method tcc (Eq. 8's s_i)");
   if (!a.controls.empty())
     a.cage = a.controls;
   a.parameters.user_weights = read_user_weights(a.user_weights);
   // Mesh-based methods with a cage and no points: the weights at the vertices of the domain
   // mesh (made here as the method makes it, or --mesh for lbc), written as that mesh.
-  const bool mesh_based = a.parameters.method == "harmonic" || a.parameters.method == "lbc" ||
-    (a.parameters.method == "bbw" && a.handles.empty());
+  const bary::MethodInfo& method = bary::method_info(a.parameters.method);
+  const bool mesh_based = method.domain_mesh && a.handles.empty();
   if (a.points.empty() && a.mesh.empty() && !mesh_based)
     throw UsageError("--points is required (the points to compute weights at)");
   check_output(a.output, OutputKind::Data);
@@ -66,11 +65,10 @@ int run_weights(WeightsArgs a)
     mp.cage_dimension = a.parameters.cage_dimension;
     const int dim = barylab::CageDimension(cage, a.parameters.cage_dimension);
     mp.target_cells = a.parameters.target_cells > 0 ? a.parameters.target_cells
-                                                    : (dim == 2 ? 3000 : 20000);
+                                                    : bary::default_target_cells(dim);
     mp.max_cell_size = a.parameters.max_cell_size;
     points = barylab::MeshCage(cage, nullptr, mp);
-    if (a.parameters.method == "lbc")
-      domain = points; // used as is: no second meshing
+    domain = points; // used as is by the method: no second meshing
   }
   ProgressBar bar(!a.quiet, "weights");
   json summary;
@@ -93,7 +91,7 @@ int run_weights(WeightsArgs a)
   if (!a.quiet)
   {
     print_summary(summary);
-    if (summary["points"]["outside"].get<long long>() > 0 && a.parameters.method == "mvc")
+    if (summary["points"]["outside"].get<long long>() > 0 && a.parameters.method == bary::MethodId::MeanValue)
       std::cerr << "barylab: note: " << summary["points"]["outside"]
                 << " point(s) lie outside the cage; mean value coordinates are defined there "
                    "but may be negative\n";

@@ -3,104 +3,118 @@
 
 #include "barylabCli.h"
 
-#include "vtkBaryCoordinates.h"
+#include "core/weight_methods.h"
 
 #include <CLI/CLI.hpp>
+
+#include <cstdint>
+#include <map>
+#include <sstream>
 
 namespace barylab
 {
 namespace cli
 {
 
+namespace
+{
+/// A CLI11 validator from a setting's own range (shown in --help as the row's range text).
+CLI::Validator range_of(const bary::SettingField& field)
+{
+  return CLI::Validator(
+    [field](std::string& text) -> std::string {
+      double value = 0.0;
+      if (!CLI::detail::lexical_cast(text, value) || !field.accepts(value))
+        return "'" + text + "' is out of range (" + field.range_text() + ")";
+      return {};
+    },
+    field.range_text(), "");
+}
+
+std::string default_text(const bary::SettingField& field)
+{
+  std::ostringstream out;
+  out << field.default_value();
+  return out.str();
+}
+} // namespace
+
 void add_method_options(CLI::App* cmd, WeightsParameters& p)
 {
-  std::string names;
-  for (int i = 0; i < vtkBaryCoordinates::NUMBER_OF_METHODS; ++i)
-    names += (i ? "|" : "") + std::string(vtkBaryCoordinates::GetMethodName(i));
-  cmd->add_option("--method,-m", p.method, "coordinate method: " + names)
-    ->default_val(p.method);
-  cmd->add_option("--boundary-tolerance", p.boundary_tolerance,
-       "points closer to the cage than this fraction of its diagonal count as on the cage")
-    ->default_val(p.boundary_tolerance)
-    ->check(CLI::Range(0.0, 1e-3));
-  cmd->add_option("--threads", p.threads, "threads (0 = all cores); results do not depend on it")
-    ->default_val(0)
-    ->check(CLI::Range(0, 1024));
-  cmd->add_option("--cage-dimension", p.cage_dimension,
-       "how to read the cage: 0 automatic (triangles: 3D; one polygon/polyline/bare points: 2D), 2, 3")
-    ->default_val(0)
-    ->check(CLI::IsMember({ 0, 2, 3 }));
-  cmd->add_option("--weights-name", p.weights_name, "name of the weights point-data array")
-    ->default_val(p.weights_name);
-  auto* mesh = cmd->add_option_group("domain mesh", "mesh-based methods (harmonic, bbw, lbc)");
-  mesh->add_option("--cells", p.target_cells,
-       "approximate number of cells of the domain mesh (0: 3000 in 2D, 20000 in 3D)")
-    ->default_val(0)
-    ->check(CLI::Range(0, 50000000));
-  mesh->add_option("--max-volume,--max-area", p.max_cell_size,
-       "maximum tetrahedron volume / triangle area (overrides --cells)")
-    ->default_val(0.0)
-    ->check(CLI::NonNegativeNumber);
-  mesh->add_flag("--insert-points", p.insert_points,
-    "make the points mesh vertices (exact finite-element values there)");
-  mesh->add_option("--outside", p.outside, "points outside the cage/domain: error|nearest|nan")
-    ->default_val(p.outside)
-    ->check(CLI::IsMember({ "error", "nearest", "nan" }));
-  auto* celestial = cmd->add_option_group("celestial coordinates", "--method tcc|scc");
-  celestial->add_option("--lambda", p.lambda,
-       "scc: wrapping-sphere parameter (> 1; the coordinates do not depend on it)")
-    ->default_val(p.lambda)
-    ->check(CLI::Range(1.000001, 1e6));
-  auto* bbw = cmd->add_option_group("bounded biharmonic weights", "--method bbw");
-  bbw->add_flag("--fast", p.bbw_fast,
-    "solve each handle alone, then normalize (the paper's fast mode); default: the coupled "
-    "problem with partition of unity enforced");
-  auto* lbc = cmd->add_option_group("local barycentric coordinates",
-    "--method lbc (Zhang et al. 2014; defaults: the paper's)");
-  lbc->add_option("--locality", p.lbc_locality,
-       "locality function tau of the geodesic distance: squared (the paper's) | constant (plain "
-       "total variation) | linear")
-    ->default_val(p.lbc_locality)
-    ->check(CLI::IsMember({ "squared", "constant", "linear" }));
-  lbc->add_option("--relaxed-epsilon", p.lbc_relaxed_epsilon,
-       "relaxed total variation epsilon (Eq. 7-8, relative to the diameter; 0: plain TV, > 0: "
-       "C1 weights, less local)")
-    ->default_val(p.lbc_relaxed_epsilon)
-    ->check(CLI::NonNegativeNumber);
-  lbc->add_option("--primal-tolerance", p.lbc_primal_tolerance,
-       "ADMM primal stopping threshold per residual entry (Eq. 26)")
-    ->default_val(p.lbc_primal_tolerance)
-    ->check(CLI::Range(1e-15, 0.5));
-  lbc->add_option("--dual-tolerance", p.lbc_dual_tolerance,
-       "ADMM dual stopping threshold per residual entry (Eq. 27)")
-    ->default_val(p.lbc_dual_tolerance)
-    ->check(CLI::Range(1e-15, 0.5));
-  lbc->add_option("--max-iterations", p.lbc_max_iterations,
-       "ADMM iteration cap; reaching it is an error")
-    ->default_val(p.lbc_max_iterations)
-    ->check(CLI::Range(1, 1000000000));
-  lbc->add_option("--distance-normalization", p.lbc_distance_normalization,
-       "geodesic distances normalised by each control point's maximum (Eq. 12) or by one global "
-       "maximum (the authors' code): per-control-point | global")
-    ->default_val(p.lbc_distance_normalization)
-    ->check(CLI::IsMember({ "per-control-point", "global" }));
-  lbc->add_flag("--unconstrained-tv", p.lbc_unconstrained,
-    "drop partition of unity and reproduction (the paper's unconstrained TV, §3.2): not "
-    "barycentric coordinates");
+  // --method: an unknown name is a bad input (exit 1, listing the methods), as it always was
+  cmd->add_option_function<std::string>(
+       "--method,-m",
+       [&p](const std::string& name) { p.method = bary::method_from_name(name); },
+       "coordinate method: " + bary::method_names())
+    ->default_str(MethodName(p));
+  // Every other setting with a flag, from the one settings table (core/weight_methods.h): its
+  // help, range and default are the table's.
+  std::map<std::string, CLI::Option_group*> groups;
+  for (const bary::SettingField& field : bary::weights_setting_fields())
+  {
+    if (field.flag.empty())
+      continue;
+    CLI::App* group = cmd;
+    if (!field.group.empty())
+    {
+      CLI::Option_group*& g = groups[field.group];
+      if (!g)
+      {
+        std::vector<std::string> names;
+        for (bary::MethodId m : field.methods)
+          names.push_back(bary::method_info(m).name);
+        std::string methods;
+        for (const std::string& n : names)
+          methods += (methods.empty() ? "" : "|") + n;
+        g = cmd->add_option_group(field.group, "--method " + methods);
+      }
+      group = g;
+    }
+    const std::string key = field.key;
+    switch (field.kind)
+    {
+      case bary::SettingField::Kind::Bool:
+        group->add_flag_function(
+          field.flag, [&p, key](std::int64_t count) { bary::set_setting(p, key, count > 0 ? 1.0 : 0.0); },
+          field.help);
+        break;
+      case bary::SettingField::Kind::Choice:
+        group
+          ->add_option_function<std::string>(
+            field.flag, [&p, key](const std::string& choice) { bary::set_setting(p, key, choice); },
+            field.help)
+          ->default_str(bary::choice_name(p, key))
+          ->check(CLI::IsMember(field.choices));
+        break;
+      case bary::SettingField::Kind::Int:
+      case bary::SettingField::Kind::Double:
+        group
+          ->add_option_function<double>(
+            field.flag, [&p, key](const double& value) { bary::set_setting(p, key, value); },
+            field.help)
+          ->type_name(field.kind == bary::SettingField::Kind::Int ? "INT" : "FLOAT")
+          ->default_str(default_text(field))
+          ->check(range_of(field));
+        break;
+      case bary::SettingField::Kind::Numbers:
+        break; // the command lines read them from a file (--user-weights)
+    }
+  }
 }
 
 /// BBW inputs: --cage (cage handles) or --handles with --mesh (a skeleton in a domain).
 /// Celestial coordinates: --control-points (passed here as @p cage with @p controls set).
-void check_bbw_inputs(const std::string& method, const std::string& cage,
+void check_bbw_inputs(bary::MethodId id, const std::string& cage,
   const std::string& handles, const std::string& mesh, bool controls)
 {
-  if (method != "bbw")
+  const std::string method = bary::method_info(id).name;
+  if (id != bary::MethodId::BBW)
   {
     if (!handles.empty() || (!mesh.empty() && method != "lbc"))
       throw UsageError(method == "lbc" ? "--handles is for --method bbw"
                                        : "--handles and --mesh are for --method bbw (--mesh also "
                                          "for lbc)");
-    const bool point_based = barylab::IsPointBasedMethod(method);
+    const bool point_based = barylab::IsPointBasedMethod(id);
     if (point_based && !controls)
       throw UsageError("--method " + method + " takes free control points: --control-points "
                        "FILE (not --cage)");

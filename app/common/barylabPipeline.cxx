@@ -9,8 +9,8 @@
 #include "vtkBaryLinearBlendSkinning.h"
 #include "vtkBaryLocalityStatistics.h"
 #include "vtkBaryReduceWeights.h"
+#include "vtkBaryWeightStatistics.h"
 
-#include "core/weight_statistics.h"
 
 #include "vtkAppendPolyData.h"
 #include "vtkCallbackCommand.h"
@@ -28,6 +28,7 @@
 #include "vtkPointSet.h"
 #include "vtkPolyData.h"
 #include "vtkTable.h"
+#include "vtkVariant.h"
 #include "vtkUnstructuredGrid.h"
 
 #include <algorithm>
@@ -392,60 +393,41 @@ vtkSmartPointer<vtkDataSet> ReduceWeights(vtkDataSet* weighted, vtkPolyData* cag
 nlohmann::json WeightStatisticsJson(vtkDataSet* data, const std::string& array_name,
   vtkPolyData* cage, double threshold, int cage_dimension)
 {
-  vtkDataArray* array = data ? data->GetPointData()->GetArray(array_name.c_str()) : nullptr;
-  if (!array)
-  {
-    std::string names;
-    for (int i = 0; data && i < data->GetPointData()->GetNumberOfArrays(); ++i)
-      if (const char* n = data->GetPointData()->GetArrayName(i))
-        names += (names.empty() ? "" : ", ") + std::string(n);
-    throw bary::Error(bary::ErrorCode::InvalidArgument,
-      "no point-data array named '" + array_name + "' (arrays present: " +
-        (names.empty() ? "none" : names) + ")");
-  }
-  const int nc = array->GetNumberOfComponents();
-  const bary::DenseWeights W = vtkBaryConversion::ArrayToMatrix(array);
-
-  bary::WeightStatisticsOptions options;
-  options.threshold = threshold;
-  bary::WeightStatistics s;
+  vtkNew<vtkBaryWeightStatistics> filter;
+  filter->SetInputData(0, data);
   if (cage)
-  {
-    // bare points (free control points, or a 2D cage as `v` lines): component i = point i
-    const bool bare = cage->GetNumberOfPolys() == 0 && cage->GetNumberOfLines() == 0;
-    const vtkBaryCage c = bare ? vtkBaryConversion::ToControlPoints(cage, cage_dimension)
-                               : vtkBaryConversion::ToCage(cage, cage_dimension);
-    if (c.Cage.num_controls() != nc)
-      throw bary::Error(bary::ErrorCode::SizeMismatch,
-        "the weights array '" + array_name + "' has " + std::to_string(nc) +
-          " components but the cage has " + std::to_string(c.Cage.num_controls()) + " points");
-    const int dim = c.Cage.dimension();
-    const Eigen::MatrixXd C = vtkBaryConversion::ToMatrix(cage->GetPoints(), dim);
-    const Eigen::MatrixXd P = vtkBaryConversion::PointsToMatrix(data, dim);
-    s = bary::weight_statistics(W, &C, &P, options);
-  }
-  else
-    s = bary::weight_statistics(W, nullptr, nullptr, options);
-
+    filter->SetCageData(cage);
+  filter->SetWeightsArrayName(array_name.c_str());
+  filter->SetThreshold(threshold);
+  filter->SetCageDimension(cage_dimension);
+  RunAlgorithm(filter, {}, bary::ErrorCode::InvalidArgument);
+  vtkTable* figures = filter->GetOutput(0);
+  const auto value = [figures](const char* name) {
+    return figures->GetColumnByName(name)->GetVariantValue(0).ToDouble();
+  };
+  const auto count = [&value](const char* name) { return static_cast<long long>(value(name)); };
   nlohmann::json j;
-  j["points"] = s.points;
-  j["controls"] = s.controls;
-  j["min_weight"] = s.min_weight;
-  j["max_weight"] = s.max_weight;
-  j["negative_weights"] = s.negative_weights;
-  j["non_finite_rows"] = s.non_finite_rows;
-  j["partition_of_unity"] = { { "max_error", s.max_partition_error },
-    { "mean_error", s.mean_partition_error } };
-  if (s.has_reproduction)
-    j["reproduction"] = { { "max_error", s.max_reproduction_error },
-      { "mean_error", s.mean_reproduction_error },
+  j["points"] = count("points");
+  j["controls"] = count("controls");
+  j["min_weight"] = value("min_weight");
+  j["max_weight"] = value("max_weight");
+  j["negative_weights"] = count("negative_weights");
+  j["non_finite_rows"] = count("non_finite_rows");
+  j["partition_of_unity"] = { { "max_error", value("max_partition_error") },
+    { "mean_error", value("mean_partition_error") } };
+  if (figures->GetColumnByName("max_reproduction_error"))
+    j["reproduction"] = { { "max_error", value("max_reproduction_error") },
+      { "mean_error", value("mean_reproduction_error") },
       { "relative_to", "cage bounding-box diagonal" } };
   // histogram of the number of significant weights per point: count -> number of points
-  std::vector<vtkIdType> histogram(static_cast<std::size_t>(s.max_significant) + 1, 0);
-  for (auto k : s.significant)
-    ++histogram[static_cast<std::size_t>(k)];
-  j["significant"] = { { "threshold", s.threshold }, { "mean_per_point", s.mean_significant },
-    { "max_per_point", s.max_significant }, { "histogram", histogram } };
+  vtkTable* histogram = filter->GetOutput(1);
+  std::vector<long long> points_with(static_cast<std::size_t>(histogram->GetNumberOfRows()));
+  for (vtkIdType k = 0; k < histogram->GetNumberOfRows(); ++k)
+    points_with[static_cast<std::size_t>(k)] =
+      histogram->GetColumnByName("points")->GetVariantValue(k).ToLongLong();
+  j["significant"] = { { "threshold", value("threshold") },
+    { "mean_per_point", value("mean_significant") }, { "max_per_point", count("max_significant") },
+    { "histogram", points_with } };
   return j;
 }
 

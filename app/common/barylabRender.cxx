@@ -3,7 +3,6 @@
 #include "vtkBaryConversion.h"
 
 #include "core/error.h"
-#include "core/skeleton.h"
 
 #include "vtkActor.h"
 #include "vtkCamera.h"

@@ -26,14 +26,15 @@ public:
     if (!input.skeleton)
     {
       // Cage handles: one handle per cage vertex, fixed on the mesh boundary.
-      const DomainMesh mesh = mesh_cage_interior(
-        *input.cage, settings, points, detail::progress_slice(progress, 0.0, 0.1));
+      const DomainMesh mesh =
+        cage_domain_mesh(input, settings, detail::progress_slice(progress, 0.0, 0.1));
       BBWHandles handles;
       handles.extra_handles = input.cage->num_controls();
       handles.fixed_vertices = Eigen::Map<const Eigen::VectorXi>(
         mesh.boundary_vertices.data(), static_cast<Eigen::Index>(mesh.boundary_vertices.size()));
       handles.fixed_values = DenseWeights(mesh.boundary_weights);
-      return solve(mesh.V, mesh.T, handles, points, settings, progress, start);
+      return solve(mesh.V, mesh.T, handles, points, settings, progress,
+        input.domain_V ? -1.0 : start);
     }
     const Skeleton& skeleton = *input.skeleton;
     if (input.domain_V && input.domain_T)

@@ -1,6 +1,7 @@
 /// @file harmonic_method.cpp
 /// Harmonic coordinates (Joshi et al. 2007) as a weight method: linear finite elements on a
-/// mesh of the cage's interior (0-0.9 of the progress), interpolated at the points (0.9-1).
+/// mesh of the cage's interior, made here or given (0-0.9 of the progress), interpolated at the
+/// points (0.9-1).
 
 #include "core/harmonic_coordinates.h"
 #include "core/weight_method.h"
@@ -20,8 +21,11 @@ public:
     options.validate = settings.validate_cage;
     options.polygon_mesh = polygon_mesh_options(settings, points);
     options.surface_mesh = surface_mesh_options(settings, points);
-    const HarmonicCoordinates harmonic(
-      *input.cage, options, detail::progress_slice(progress, 0.0, 0.9));
+    const HarmonicCoordinates harmonic = input.domain_V && input.domain_T
+      ? HarmonicCoordinates(*input.cage,
+          cage_domain_mesh(input, settings, detail::progress_slice(progress, 0.0, 0.1)), options,
+          detail::progress_slice(progress, 0.1, 0.9))
+      : HarmonicCoordinates(*input.cage, options, detail::progress_slice(progress, 0.0, 0.9));
     std::vector<Index> outside;
     WeightsResult result;
     result.W = harmonic.evaluate(

@@ -34,19 +34,9 @@ public:
   WeightsResult compute(const WeightsInput& input, const WeightsSettings& settings,
     const ProgressCallback& progress) const override
   {
-    const Cage& cage = *input.cage;
     const double start = detail::seconds_now();
-    DomainMesh mesh;
-    if (input.domain_V && input.domain_T)
-    {
-      if (settings.validate_cage)
-        validate_cage(cage);
-      mesh = domain_mesh_for_cage(
-        cage, *input.domain_V, *input.domain_T, detail::progress_slice(progress, 0.0, 0.1));
-    }
-    else
-      mesh = mesh_cage_interior(
-        cage, settings, *input.points, detail::progress_slice(progress, 0.0, 0.1));
+    const DomainMesh mesh =
+      cage_domain_mesh(input, settings, detail::progress_slice(progress, 0.0, 0.1));
     const double mesh_seconds = detail::seconds_now() - start;
     LBCResult solved;
     try

@@ -5,6 +5,7 @@
 
 #include "core/error.h"
 #include "core/linear_blend_skinning.h"
+#include "core/skeleton.h"
 
 #include "vtkDataArray.h"
 #include "vtkDoubleArray.h"
@@ -113,4 +114,15 @@ void vtkBaryLinearBlendSkinning::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "WeightsArrayName: " << (this->WeightsArrayName ? this->WeightsArrayName : "(none)")
      << "\n";
   os << indent << "NumberOfThreads: " << this->NumberOfThreads << "\n";
+}
+
+std::vector<Eigen::MatrixXd> vtkBaryLinearBlendSkinning::PoseFromJoints(vtkPolyData* handles,
+  vtkPointSet* posedJoints, int dimension, const Eigen::MatrixXi& pseudoEdges)
+{
+  const bary::Skeleton skeleton = vtkBaryConversion::ToSkeleton(handles, dimension);
+  const Eigen::MatrixXd posed = vtkBaryConversion::PointsToMatrix(posedJoints, dimension);
+  std::vector<Eigen::MatrixXd> pose;
+  for (const Eigen::MatrixXd& T : bary::transforms_from_joints(skeleton, posed, pseudoEdges))
+    pose.push_back(bary::lift_transform(T));
+  return pose;
 }

@@ -23,7 +23,14 @@
 #include "BaryLabFiltersModule.h" // for export macro
 #include "vtkPointSetAlgorithm.h"
 
+#ifndef __VTK_WRAP__
+#include <Eigen/Core> // for Eigen::MatrixXd
+#include <vector>     // for std::vector
+#endif
+
 class vtkDoubleArray;
+class vtkPointSet;
+class vtkPolyData;
 
 class BARYLABFILTERS_EXPORT vtkBaryLinearBlendSkinning : public vtkPointSetAlgorithm
 {
@@ -49,6 +56,20 @@ public:
   vtkSetClampMacro(NumberOfThreads, int, 0, 1024);
   vtkGetMacro(NumberOfThreads, int);
   ///@}
+
+#ifndef __VTK_WRAP__
+  /**
+   * The pose of the skeleton @p handles (points and lines, see vtkBaryConversion::ToSkeleton)
+   * whose joints moved to @p posedJoints (same points, same order): one 3 x 4 transform
+   * [A | t] per handle in the weights' column order (bary::transforms_from_joints; 2D
+   * transforms lifted to 3 x 4). @p pseudoEdges (#E by 2 indices into the point handles,
+   * optional) give point handles their rotations.
+   * @throws bary::Error
+   */
+  static std::vector<Eigen::MatrixXd> PoseFromJoints(vtkPolyData* handles,
+    vtkPointSet* posedJoints, int dimension,
+    const Eigen::MatrixXi& pseudoEdges = Eigen::MatrixXi());
+#endif
 
   /// Includes the transforms' modification time.
   vtkMTimeType GetMTime() override;

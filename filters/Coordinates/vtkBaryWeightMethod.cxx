@@ -225,12 +225,12 @@ bary::WeightsResult vtkBaryWeightMethod::Compute(vtkDataSet* input, vtkPolyData*
   }
   if (domain && warnings)
   {
-    if (settings.method == bary::MethodId::LBC && settings.insert_points)
-      warnings->push_back("InsertPointsIntoMesh is ignored: LBC uses the domain mesh (input 2) "
-                          "as is; the points are interpolated on it.");
+    if (info.accepts_domain && settings.insert_points)
+      warnings->push_back("InsertPointsIntoMesh is ignored: " + info.title +
+        " use the domain mesh (input 2) as is; the points are interpolated on it.");
     if (!info.accepts_domain)
-      warnings->push_back(
-        "The domain (input 2) is used by BBW with skeleton handles and by LBC only; ignored.");
+      warnings->push_back("The domain (input 2) is used by the mesh-based methods (harmonic, bbw, "
+                          "lbc) only; ignored.");
   }
   cage = this->ReadControls(controls);
   const int dim = cage.Cage.dimension();
@@ -249,7 +249,7 @@ bary::WeightsResult vtkBaryWeightMethod::Compute(vtkDataSet* input, vtkPolyData*
   }
   if (info.controls == bary::ControlKind::FreePoints)
     edges = vtkBaryConversion::CellEdges(input);
-  if (domain && settings.method == bary::MethodId::LBC)
+  if (domain && info.accepts_domain)
   {
     vtkBaryConversion::ToSimplices(domain, dim, V, T);
     in.domain_V = &V;

@@ -8,6 +8,7 @@
 #include "vtkBaryErrorObserver.h"
 
 #include "core/error.h"
+#include "core/linear_blend_skinning.h"
 
 #include "vtkAlgorithm.h"
 #include "vtkAppendFilter.h"
@@ -411,20 +412,6 @@ void vtkBaryDataIO::WriteDMAT(const Eigen::MatrixXd& M, const std::string& path)
   }
 }
 
-namespace
-{
-/// A 2D transform (2 x 3) lifted to 3 x 4; a 3 x 4 returned as is.
-Eigen::MatrixXd lift(const Eigen::MatrixXd& T)
-{
-  if (T.rows() == 3)
-    return T;
-  Eigen::MatrixXd L = Eigen::MatrixXd::Zero(3, 4);
-  L.topLeftCorner(2, 2) = T.leftCols(2);
-  L.block(0, 3, 2, 1) = T.col(2);
-  L(2, 2) = 1.0;
-  return L;
-}
-} // namespace
 
 std::vector<Eigen::MatrixXd> vtkBaryDataIO::ReadPose(
   const std::string& path, Eigen::Index handles, const bary::Skeleton* skeleton)
@@ -477,7 +464,7 @@ std::vector<Eigen::MatrixXd> vtkBaryDataIO::ReadPose(
     if (M.rows() / (dim + 1) != handles)
       throw count_mismatch(M.rows() / (dim + 1), "transforms");
     for (Eigen::Index j = 0; j < handles; ++j)
-      pose.push_back(lift(M.block((dim + 1) * j, 0, dim + 1, dim).transpose()));
+      pose.push_back(bary::lift_transform(M.block((dim + 1) * j, 0, dim + 1, dim).transpose()));
     return pose;
   }
 
@@ -541,7 +528,7 @@ std::vector<Eigen::MatrixXd> vtkBaryDataIO::ReadPose(
             std::to_string(values.size()) + " numbers; a pose line holds 12 (3D [A | t] "
             "row-major), 6 (2D), 3 or 2 (a translation)");
     }
-    pose.push_back(lift(T));
+    pose.push_back(bary::lift_transform(T));
   }
   if (static_cast<Eigen::Index>(pose.size()) != handles)
     throw count_mismatch(static_cast<Eigen::Index>(pose.size()), "transforms");

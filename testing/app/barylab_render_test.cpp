@@ -131,7 +131,7 @@ BBWExample load_bbw2d()
   BBWExample e;
   e.handles = vtkBaryDataIO::ReadPolyData(data("skeleton2d.tgf"));
   barylab::WeightsParameters p;
-  p.method = "bbw";
+  p.method = bary::MethodId::BBW;
   p.bbw_fast = true;
   e.weighted = barylab::ComputeWeights(
     vtkBaryDataIO::Read(data("model2d.obj")), e.handles, p, {}, nullptr, vtkBaryDataIO::Read(data("cage2d.obj")));
@@ -174,7 +174,7 @@ TEST(RenderImages, BBWSkinningLibiglHand3D)
   auto mesh = vtkBaryDataIO::Read(dir + "/hand.mesh");
   auto handles = vtkBaryDataIO::ReadPolyData(dir + "/hand.tgf");
   barylab::WeightsParameters p;
-  p.method = "bbw";
+  p.method = bary::MethodId::BBW;
   p.bbw_fast = true;
   auto weighted = barylab::ComputeWeights(mesh, handles, p, {}, nullptr, mesh);
   const bary::Skeleton skeleton = vtkBaryConversion::ToSkeleton(handles, 3);
@@ -197,7 +197,7 @@ TEST(RenderImages, HeartbeatSystoleSCC3D)
   auto controls = vtkBaryDataIO::ReadPolyData(data("heart_controls.obj"));
   auto frame = vtkBaryDataIO::Read(data("heartbeat/frame_10.obj"));
   barylab::WeightsParameters p;
-  p.method = "scc";
+  p.method = bary::MethodId::SCelestial;
   auto weighted = barylab::ComputeWeights(vtkBaryDataIO::Read(data("heart.off")), controls, p);
   auto deformed = barylab::Deform(vtkPointSet::SafeDownCast(weighted), controls,
     vtkPointSet::SafeDownCast(frame), p);
@@ -241,7 +241,7 @@ TEST(RenderImages, LBCWeightField2D)
   mp.target_cells = 1500;
   auto mesh = barylab::MeshCage(cage, nullptr, mp);
   barylab::WeightsParameters p;
-  p.method = "lbc";
+  p.method = bary::MethodId::LBC;
   auto weighted = barylab::ComputeWeights(mesh, cage, p, {}, nullptr, mesh);
   barylab::RenderOptions options;
   options.component = 14; // the left hand
@@ -254,7 +254,7 @@ TEST(RenderImages, LBCWeightField3D)
 {
   auto cage = vtkBaryDataIO::ReadPolyData(data("cage3d.obj"));
   barylab::WeightsParameters p;
-  p.method = "lbc";
+  p.method = bary::MethodId::LBC;
   // a coarse mesh, with thresholds ten times tighter than the paper's: its per-entry thresholds
   // grow with the mesh size and stop 3D runs before the weights are local (68 of 72 weights
   // above 1e-3/72 per point at the default tolerances, 20 here)

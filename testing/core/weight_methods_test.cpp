@@ -1,0 +1,255 @@
+// The one table of weight methods and settings (core/weight_methods.h) and the method
+// dispatch (core/weight_method.h): names and flags unique, defaults equal to the algorithms'
+// option defaults and inside their own ranges, every range enforced (non-finite values too),
+// the content hash sensitive to every setting that changes weights and to no other, and
+// compute_weights equal to calling the algorithm directly.
+
+#include "core/weight_method.h"
+#include "core/weight_methods.h"
+
+#include "core/celestial_coordinates.h"
+#include "core/error.h"
+#include "core/local_barycentric_coordinates.h"
+#include "core/mean_value_coordinates.h"
+
+#include "cage_catalogue.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <set>
+
+namespace
+{
+using bary::MethodId;
+using bary::SettingField;
+using bary::WeightsSettings;
+using Kind = SettingField::Kind;
+
+/// Another allowed value of @p field than its current one in @p s.
+double other_value(const SettingField& field, const WeightsSettings& s)
+{
+  const double now = field.get(s);
+  switch (field.kind)
+  {
+    case Kind::Bool:
+      return now != 0.0 ? 0.0 : 1.0;
+    case Kind::Choice:
+      return now == 0.0 ? 1.0 : 0.0;
+    default:
+      break;
+  }
+  if (!field.values.empty())
+    return field.values.front() == now ? field.values.back() : field.values.front();
+  const double candidate = field.kind == Kind::Int ? now + 1 : (now == 0.0 ? field.maximum / 2 : now * 1.5);
+  return field.accepts(candidate) ? candidate : field.minimum;
+}
+} // namespace
+
+TEST(MethodTable, IdsNamesAndLookups)
+{
+  const auto& table = bary::method_table();
+  ASSERT_EQ(table.size(), 6u);
+  std::set<std::string> names;
+  for (std::size_t i = 0; i < table.size(); ++i)
+  {
+    EXPECT_EQ(static_cast<std::size_t>(table[i].id), i) << "rows in MethodId order";
+    EXPECT_TRUE(names.insert(table[i].name).second) << table[i].name;
+    EXPECT_EQ(bary::method_from_name(table[i].name), table[i].id);
+    EXPECT_EQ(&bary::method_info(table[i].id), &table[i]);
+    EXPECT_NE(table[i].instance, nullptr);
+  }
+  EXPECT_EQ(bary::method_names(), "mvc|harmonic|bbw|tcc|scc|lbc");
+  EXPECT_EQ(bary::find_method("nope"), nullptr);
+  try
+  {
+    bary::method_from_name("nope");
+    FAIL() << "no error";
+  }
+  catch (const bary::Error& e)
+  {
+    EXPECT_EQ(e.code(), bary::ErrorCode::InvalidArgument);
+    EXPECT_STREQ(e.what(), "unknown method 'nope' (available: mvc, harmonic, bbw, tcc, scc, lbc)");
+  }
+  // what the table says about the methods
+  EXPECT_EQ(bary::method_info(MethodId::TCelestial).controls, bary::ControlKind::FreePoints);
+  EXPECT_EQ(bary::method_info(MethodId::BBW).controls, bary::ControlKind::CageOrSkeleton);
+  EXPECT_FALSE(bary::method_info(MethodId::BBW).linear_precision);
+  EXPECT_FALSE(bary::method_info(MethodId::MeanValue).non_negative);
+  EXPECT_TRUE(bary::method_info(MethodId::LBC).domain_mesh);
+}
+
+TEST(SettingsTable, NamesFlagsAndPropertiesAreUnique)
+{
+  std::set<std::string> keys, flags, properties;
+  for (const SettingField& f : bary::weights_setting_fields())
+  {
+    EXPECT_TRUE(keys.insert(f.key).second) << f.key;
+    EXPECT_TRUE(properties.insert(f.property).second) << f.property;
+    EXPECT_FALSE(f.label.empty()) << f.key;
+    EXPECT_FALSE(f.help.empty()) << f.key;
+    std::string rest = f.flag;
+    while (!rest.empty())
+    {
+      const std::string flag = rest.substr(0, rest.find(','));
+      rest = rest.find(',') == std::string::npos ? "" : rest.substr(rest.find(',') + 1);
+      EXPECT_EQ(flag.rfind("--", 0), 0u) << f.key << ": " << flag;
+      EXPECT_TRUE(flags.insert(flag).second) << flag;
+    }
+    EXPECT_EQ(&bary::setting_field(f.key), &f);
+    EXPECT_EQ(bary::setting_field_of_property(f.property), &f);
+  }
+  EXPECT_THROW(bary::setting_field("nope"), bary::Error);
+  EXPECT_EQ(bary::setting_field_of_property("Nope"), nullptr);
+}
+
+TEST(SettingsTable, DefaultsAreTheAlgorithmsAndInRange)
+{
+  const WeightsSettings s;
+  EXPECT_NO_THROW(bary::validate_settings(s));
+  for (const SettingField& f : bary::weights_setting_fields())
+    if (f.kind != Kind::Numbers)
+      EXPECT_TRUE(f.accepts(f.default_value())) << f.key << " = " << f.default_value();
+  const bary::LBCOptions lbc;
+  EXPECT_EQ(s.lbc_primal_tolerance, lbc.primal_tolerance);
+  EXPECT_EQ(s.lbc_dual_tolerance, lbc.dual_tolerance);
+  EXPECT_EQ(s.lbc_max_iterations, lbc.max_iterations);
+  EXPECT_EQ(s.lbc_relaxed_epsilon, lbc.relaxed_tv_epsilon);
+  EXPECT_EQ(s.lbc_locality, lbc.locality);
+  EXPECT_EQ(s.lbc_distance_normalization, lbc.distance_normalization);
+  EXPECT_EQ(!s.lbc_unconstrained, lbc.barycentric_constraints);
+  EXPECT_EQ(s.boundary_tolerance, bary::MeanValueOptions{}.boundary_tolerance);
+  EXPECT_EQ(s.lambda, bary::CelestialOptions{}.lambda);
+  EXPECT_FALSE(s.bbw_fast) << "the front ends' BBW default is the coupled problem";
+  EXPECT_EQ(s.method, MethodId::MeanValue);
+}
+
+TEST(SettingsTable, RangesAreEnforcedWithTheirNames)
+{
+  WeightsSettings s;
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const double inf = std::numeric_limits<double>::infinity();
+  for (const SettingField& f : bary::weights_setting_fields())
+  {
+    if (f.kind == Kind::Numbers)
+      continue;
+    SCOPED_TRACE(f.key);
+    const double before = f.get(s);
+    for (double bad : { nan, inf, -inf, f.minimum - 1.0, f.maximum * 2 + 1.0 })
+    {
+      try
+      {
+        bary::set_setting(s, f.key, bad);
+        ADD_FAILURE() << bad << " accepted";
+      }
+      catch (const bary::Error& e)
+      {
+        EXPECT_EQ(e.code(), bary::ErrorCode::InvalidArgument);
+        EXPECT_NE(std::string(e.what()).find("setting '" + f.key + "'"), std::string::npos) << e.what();
+        EXPECT_NE(std::string(e.what()).find(f.range_text()), std::string::npos) << e.what();
+      }
+      EXPECT_EQ(f.get(s), before) << "unchanged after a refused value";
+    }
+    const double v = other_value(f, s);
+    bary::set_setting(s, f.key, v);
+    EXPECT_EQ(f.get(s), v);
+  }
+  EXPECT_THROW(bary::set_setting(s, "target_cells", 10.5), bary::Error) << "integers only";
+  EXPECT_THROW(bary::set_setting(s, "cage_dimension", 1.0), bary::Error) << "0, 2 or 3";
+  bary::set_setting(s, "outside", std::string("nan"));
+  EXPECT_EQ(s.outside, bary::OutsidePolicy::NaN);
+  EXPECT_EQ(bary::choice_name(s, "outside"), "nan");
+  try
+  {
+    bary::set_setting(s, "lbc_locality", std::string("cubic"));
+    FAIL();
+  }
+  catch (const bary::Error& e)
+  {
+    EXPECT_STREQ(e.what(),
+      "setting 'lbc_locality': unknown value 'cubic' (available: squared | constant | linear)");
+  }
+  s.user_weights = { 1.0, -0.5 };
+  EXPECT_THROW(bary::validate_settings(s), bary::Error) << "s_i >= 0";
+  EXPECT_EQ(bary::setting_field("max_cell_size").range_text(), ">= 0");
+  EXPECT_EQ(bary::setting_field("lambda").range_text(), "[1.000001, 1000000]");
+  EXPECT_EQ(bary::setting_field("cage_dimension").range_text(), "one of 0, 2, 3");
+}
+
+TEST(SettingsTable, HashSeesEverySettingThatChangesWeights)
+{
+  const WeightsSettings base;
+  const std::uint64_t h0 = bary::settings_hash(base);
+  EXPECT_EQ(bary::settings_hash(WeightsSettings{}), h0);
+  for (const SettingField& f : bary::weights_setting_fields())
+  {
+    SCOPED_TRACE(f.key);
+    WeightsSettings s = base;
+    if (f.kind == Kind::Numbers)
+      f.set_numbers(s, { 1.0, 2.0 });
+    else
+      f.set(s, other_value(f, s));
+    EXPECT_FALSE(s == base);
+    if (f.affects_weights)
+      EXPECT_NE(bary::settings_hash(s), h0);
+    else
+      EXPECT_EQ(bary::settings_hash(s), h0) << "results do not depend on it";
+  }
+  WeightsSettings other = base;
+  other.method = MethodId::LBC;
+  EXPECT_NE(bary::settings_hash(other), h0);
+  // the user weights' values count, not just their number
+  WeightsSettings a = base, b = base;
+  a.user_weights = { 1.0, 2.0 };
+  b.user_weights = { 1.0, 2.5 };
+  EXPECT_NE(bary::settings_hash(a), bary::settings_hash(b));
+}
+
+TEST(ComputeWeights, EqualsTheAlgorithmCalledDirectly)
+{
+  const bary::Cage cage = bary::test::unit_square();
+  Eigen::MatrixXd points(3, 2);
+  points << 0.25, 0.5, 0.9, 0.1, 2.0, 0.5;
+  bary::WeightsInput input;
+  input.cage = &cage;
+  input.points = &points;
+  const bary::WeightsResult result = bary::compute_weights(input, WeightsSettings{});
+  const bary::MeanValueResult direct = bary::MeanValueCoordinates(cage).evaluate(points);
+  EXPECT_EQ(result.W, direct.W);
+  EXPECT_EQ(result.location, direct.location);
+  EXPECT_EQ(result.count(bary::PointLocation::Outside), 1);
+  // settings out of range are refused before anything runs
+  WeightsSettings bad;
+  bad.boundary_tolerance = 1.0;
+  EXPECT_THROW(bary::compute_weights(input, bad), bary::Error);
+  bary::WeightsInput empty;
+  EXPECT_THROW(bary::compute_weights(empty, WeightsSettings{}), bary::Error);
+}
+
+TEST(ComputeWeights, NonConvergenceAdviceNamesTheSettings)
+{
+  const bary::Cage cage = bary::test::unit_square();
+  Eigen::MatrixXd points(1, 2);
+  points << 0.3, 0.4;
+  bary::WeightsInput input;
+  input.cage = &cage;
+  input.points = &points;
+  WeightsSettings s;
+  s.method = MethodId::LBC;
+  s.target_cells = 200;
+  s.lbc_max_iterations = 1;
+  try
+  {
+    bary::compute_weights(input, s);
+    FAIL() << "converged in one iteration?";
+  }
+  catch (const bary::Error& e)
+  {
+    EXPECT_EQ(e.code(), bary::ErrorCode::NotConverged);
+    EXPECT_EQ(e.advice(), "raise LBCMaximumIterations (--max-iterations) or loosen "
+                          "LBCPrimalTolerance / LBCDualTolerance (--primal-tolerance, "
+                          "--dual-tolerance)");
+    EXPECT_EQ(std::string(e.what()), e.message() + "; " + e.advice());
+  }
+}
