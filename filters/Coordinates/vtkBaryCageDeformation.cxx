@@ -88,12 +88,8 @@ vtkBaryCageDeformation::vtkBaryCageDeformation()
 
 void vtkBaryCageDeformation::SetWeightMethod(vtkBaryWeightMethod* method)
 {
-  if (!method || method == this->WeightMethod)
-    return;
-  method->Register(this);
-  this->WeightMethod->UnRegister(this);
-  this->WeightMethod = method;
-  this->Modified();
+  if (vtkBaryWeightMethod::Replace(this, this->WeightMethod, method))
+    this->Modified();
 }
 
 vtkMTimeType vtkBaryCageDeformation::GetMTime()

@@ -31,12 +31,8 @@ vtkBaryCoordinates::vtkBaryCoordinates()
 
 void vtkBaryCoordinates::SetWeightMethod(vtkBaryWeightMethod* method)
 {
-  if (!method || method == this->WeightMethod)
-    return;
-  method->Register(this);
-  this->WeightMethod->UnRegister(this);
-  this->WeightMethod = method;
-  this->Modified();
+  if (vtkBaryWeightMethod::Replace(this, this->WeightMethod, method))
+    this->Modified();
 }
 
 vtkMTimeType vtkBaryCoordinates::GetMTime()

@@ -149,6 +149,18 @@ vtkTypeUInt64 vtkBaryWeightMethod::GetSettingsHash()
   return bary::settings_hash(this->GetSettings());
 }
 
+bool vtkBaryWeightMethod::Replace(
+  vtkObjectBase* owner, vtkBaryWeightMethod*& slot, vtkBaryWeightMethod* method)
+{
+  if (!method || method == slot)
+    return false;
+  method->Register(owner);
+  if (slot)
+    slot->UnRegister(owner);
+  slot = method;
+  return true;
+}
+
 void vtkBaryWeightMethod::DeepCopy(vtkBaryWeightMethod* other)
 {
   if (!other || other == this)

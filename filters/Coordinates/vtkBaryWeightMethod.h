@@ -170,6 +170,11 @@ public:
   /// Content hash of every setting that affects the weights (not the thread count).
   vtkTypeUInt64 GetSettingsHash();
 
+  /// For the filters that hold a weight method: @p slot (owned by @p owner, never nullptr)
+  /// becomes @p method, registered by @p owner; nullptr and the same object change nothing.
+  /// True when it changed.
+  static bool Replace(vtkObjectBase* owner, vtkBaryWeightMethod*& slot, vtkBaryWeightMethod* method);
+
   /// Copies every setting of @p other (the user weights array is shared).
   void DeepCopy(vtkBaryWeightMethod* other);
 
