@@ -124,332 +124,252 @@ struct CoupledOutcome
 };
 
 /// The coupled problem (Eq. 8 subject to Eq. 3-6) by a primal-dual active-set method on all
-/// handles at once, started from @p start (the normalized fast weights) and from the fast
-/// phase's factorizations (@p warm). See BBWMode::Coupled for the method.
-CoupledOutcome solve_coupled(const BoxConstrainedQP& qp, const BBWBoundaryConditions& bc,
+/// handles at once: the iterate X (#V by #handles), the active sets, one factorization of Q on
+/// each handle's free set and the multiplier mu of the partition of unity (Eq. 5). See
+/// BBWMode::Coupled for the method; run() reads as its steps 1-5.
+class CoupledSolver
+{
+public:
+  /// Starts from @p start (the normalized fast weights) and from the fast phase's
+  /// factorizations (@p warm, emptied). @p qp, @p o, @p box and @p reporter must outlive the
+  /// solver.
+  CoupledSolver(const BoxConstrainedQP& qp, const BBWBoundaryConditions& bc,
+    const Eigen::MatrixXd& start, std::vector<BoxQPWarmStart>& warm, const BBWOptions& o,
+    const BoxQPOptions& box, ProgressReporter& reporter);
+
+  /// Active-set iterations until no violator is left and the KKT residual and the partition
+  /// error are within their tolerances (or max_outer_iterations), then the clamped weights
+  /// and their certificate.
+  CoupledOutcome run();
+
+private:
+  using States = Eigen::Matrix<BoxQPState, Eigen::Dynamic, Eigen::Dynamic>;
+
+  /// Active sets of the start: fixed rows Fixed, weights <= 0 Lower, >= 1 Upper, else Free.
+  void initialize_states();
+  /// max_i sum_j |Q_ij| (1 if 0): it bounds |Q w| for 0 <= w <= 1, the scale of the gradients.
+  static double gradient_scale(const SparseMatrix& Q);
+  /// One FreeSetFactor per handle, adopting the fast phase's factorization where it has one.
+  void adopt_fast_factors(const BoxConstrainedQP& qp, std::vector<BoxQPWarmStart>& warm);
+  /// FNV-1a hash of the active sets (the safeguard's record of the sets already solved).
+  std::uint64_t state_hash() const;
+
+  /// Step 1: active weights onto their bounds, free weights to 0; each handle's free set F_j,
+  /// each vertex's count of free weights and sum of upper bounds.
+  void collect_free_sets();
+  /// Step 1: per handle, the factorization of Q(F_j, F_j) updated and
+  /// a_j = -Q(F_j, F_j)^-1 Q(F_j, N_j) x_j(N_j), the free weights for mu = 0.
+  void solve_free_sets();
+  /// Step 2: V, the unknown vertices with a free weight, and each vertex's position in it.
+  void collect_multiplier_vertices();
+  /// Step 2: the right-hand side sum_j E_j a_j - (1 - bound sums) on V: the partition
+  /// residual (Eq. 5) of the weights for mu = 0.
+  Eigen::VectorXd multiplier_rhs() const;
+  /// Step 2: S mu = @p rhs on V by conjugate gradients preconditioned with Q(V, V) / #handles,
+  /// started from the last mu, until max |residual| <= @p cg_tolerance (or at most cg_cap_
+  /// iterations); mu is 0 off V afterwards.
+  void solve_multiplier(const Eigen::VectorXd& rhs, double cg_tolerance);
+  /// S z = sum_j E_j^T Q(F_j, F_j)^-1 E_j z on V, the handles' solves in parallel, summed in
+  /// handle order (so the result does not depend on the thread count).
+  void apply_S(const Eigen::VectorXd& z, Eigen::VectorXd& result);
+  /// The preconditioner z = Q(V, V) r / #handles: exactly S^-1 r when every handle is free on V.
+  void precondition(const Eigen::VectorXd& r, Eigen::VectorXd& z);
+  /// Step 3: the free weights x_j(F_j) = a_j - Q(F_j, F_j)^-1 mu(F_j).
+  void update_free_weights();
+  /// Y = Q X, one handle per column, in parallel.
+  void compute_gradients();
+  /// Step 3: mu where no weight is free: the middle of the interval that makes the multipliers
+  /// lambda = Y + mu of the active bounds correctly signed (its best compromise when the
+  /// interval is empty).
+  void multiplier_where_no_weight_is_free();
+  /// Step 4: the KKT measures of the iterate (stationarity, sign, complementarity; partition
+  /// error) into out_, and the violators; returns the largest violation.
+  double find_violators();
+  /// Progress: the decrease of log(violation) towards log(tolerance), in thousandths.
+  void report_progress(double violation);
+  /// Step 5: every violator flips (a block step), or only the last one (the safeguard's single
+  /// step, as in BoxConstrainedQP) after block_attempts block steps without a new best count
+  /// of violators or when the block step returns to an active set already solved.
+  void change_active_sets();
+  /// Weight (i, j) changes sets: free to the bound it crossed, bounded to free.
+  void flip(Index i, Index j);
+  /// A vertex must keep a free weight unless its bounds sum to 1 (else the partition of unity
+  /// has no solution on the active set): free its largest weight.
+  void repair();
+  /// Clamps the weights onto [0, 1] (moves free weights by at most the primal threshold when
+  /// converged), certifies the clamped point (KKT residual, partition error) and sums the
+  /// factorization counts.
+  void clamp_and_certify();
+
+  const SparseMatrix& Q_;
+  const BBWOptions& o_;
+  const BoxQPOptions& box_;
+  ProgressReporter& reporter_;
+  const Index n_, m_;
+  const int threads_;
+  std::vector<char> known_; ///< #V: 1 on the fixed rows
+  Eigen::MatrixXd X_;       ///< #V by #handles: the iterate
+  States state_;            ///< #V by #handles: the active sets
+  // The scale of the gradient's terms: max_i sum_j |Q_ij| bounds |Q| |w| for 0 <= w <= 1.
+  const double sy_;
+  // Free weights are pinned once they leave [0, 1] by tx: half the KKT tolerance, and little
+  // enough that clamping the weights within tx of a bound keeps the partition error of every
+  // vertex within half its tolerance.
+  const double tx_;
+  const double ty_; ///< multipliers of the wrong sign beyond ty_ are violators
+  // Floor of the conjugate gradients' stopping test (the max-norm of the partition residual).
+  const double cg_floor_;
+  const int cg_cap_;
+
+  std::vector<FreeSetFactor> factors_;
+  std::vector<std::vector<int>> free_;    ///< F_j, ascending
+  std::vector<Eigen::VectorXd> a_;        ///< a_j, in the order of factors_[j].rows()
+  std::vector<Eigen::VectorXd> solved_;   ///< apply_S's per-handle solves
+  Eigen::VectorXd mu_, full_, bound_sum_;
+  std::vector<int> free_count_, vpos_, V_;
+  Eigen::MatrixXd Y_; ///< #V by #handles: Q X
+
+  std::unordered_set<std::uint64_t> visited_;
+  Index best_violators_ = std::numeric_limits<Index>::max();
+  int attempts_left_;
+  double first_violation_ = -1.0;
+  long long reported_ = 0;
+  std::vector<std::pair<Index, Index>> violators_; // (vertex, handle)
+  CoupledOutcome out_;
+};
+
+CoupledSolver::CoupledSolver(const BoxConstrainedQP& qp, const BBWBoundaryConditions& bc,
   const Eigen::MatrixXd& start, std::vector<BoxQPWarmStart>& warm, const BBWOptions& o,
   const BoxQPOptions& box, ProgressReporter& reporter)
+  : Q_(qp.matrix())
+  , o_(o)
+  , box_(box)
+  , reporter_(reporter)
+  , n_(Q_.rows())
+  , m_(start.cols())
+  , threads_(detail::thread_count(o.threads))
+  , known_(static_cast<std::size_t>(n_), 0)
+  , X_(start)
+  , state_(n_, m_)
+  , sy_(gradient_scale(Q_))
+  , tx_(std::min(0.5 * o.tolerance, 0.5 * o.partition_tolerance / static_cast<double>(m_)))
+  , ty_(0.5 * o.tolerance * sy_)
+  , cg_floor_(0.1 * o.partition_tolerance)
+  , cg_cap_(static_cast<int>(std::min<Index>(5000, 10 * n_ + 10)))
+  , free_(static_cast<std::size_t>(m_))
+  , a_(static_cast<std::size_t>(m_))
+  , solved_(static_cast<std::size_t>(m_))
+  , mu_(Eigen::VectorXd::Zero(n_))
+  , full_(n_)
+  , bound_sum_(n_)
+  , free_count_(static_cast<std::size_t>(n_))
+  , vpos_(static_cast<std::size_t>(n_), -1)
+  , Y_(n_, m_)
+  , attempts_left_(box.block_attempts)
 {
-  const SparseMatrix& Q = qp.matrix();
-  const Index n = Q.rows(), m = start.cols();
-  const int threads = detail::thread_count(o.threads);
-  std::vector<char> known(static_cast<std::size_t>(n), 0);
   for (Index k = 0; k < bc.vertices.size(); ++k)
-    known[static_cast<std::size_t>(bc.vertices(k))] = 1;
+    known_[static_cast<std::size_t>(bc.vertices(k))] = 1;
+  initialize_states();
+  adopt_fast_factors(qp, warm);
+}
 
-  CoupledOutcome out;
-  Eigen::MatrixXd& X = out.W;
-  X = start;
-  using States = Eigen::Matrix<BoxQPState, Eigen::Dynamic, Eigen::Dynamic>;
-  States state(n, m);
-  for (Index j = 0; j < m; ++j)
-    for (Index i = 0; i < n; ++i)
+void CoupledSolver::initialize_states()
+{
+  for (Index j = 0; j < m_; ++j)
+    for (Index i = 0; i < n_; ++i)
     {
-      BoxQPState& st = state(i, j);
-      if (known[static_cast<std::size_t>(i)])
+      BoxQPState& st = state_(i, j);
+      if (known_[static_cast<std::size_t>(i)])
         st = BoxQPState::Fixed;
-      else if (X(i, j) <= 0.0)
+      else if (X_(i, j) <= 0.0)
         st = BoxQPState::Lower;
-      else if (X(i, j) >= 1.0)
+      else if (X_(i, j) >= 1.0)
         st = BoxQPState::Upper;
       else
         st = BoxQPState::Free;
     }
-  // The scale of the gradient's terms: max_i sum_j |Q_ij| bounds |Q| |w| for 0 <= w <= 1.
+}
+
+double CoupledSolver::gradient_scale(const SparseMatrix& Q)
+{
   double sy = 0.0;
-  for (Index i = 0; i < n; ++i)
+  for (Index i = 0; i < Q.rows(); ++i)
   {
     double row = 0.0;
     for (SparseMatrix::InnerIterator it(Q, i); it; ++it)
       row += std::abs(it.value());
     sy = std::max(sy, row);
   }
-  sy = sy > 0.0 ? sy : 1.0;
-  // Free weights are pinned once they leave [0, 1] by tx: half the KKT tolerance, and little
-  // enough that clamping the weights within tx of a bound keeps the partition error of every
-  // vertex within half its tolerance.
-  const double tx = std::min(0.5 * o.tolerance, 0.5 * o.partition_tolerance / static_cast<double>(m));
-  const double ty = 0.5 * o.tolerance * sy;
-  // Floor of the conjugate gradients' stopping test (the max-norm of the partition residual).
-  const double cg_floor = 0.1 * o.partition_tolerance;
-  const int cg_cap = static_cast<int>(std::min<Index>(5000, 10 * n + 10));
+  return sy > 0.0 ? sy : 1.0;
+}
 
-  std::vector<FreeSetFactor> factors;
-  factors.reserve(static_cast<std::size_t>(m));
-  for (Index j = 0; j < m; ++j)
+void CoupledSolver::adopt_fast_factors(
+  const BoxConstrainedQP& qp, std::vector<BoxQPWarmStart>& warm)
+{
+  factors_.reserve(static_cast<std::size_t>(m_));
+  for (Index j = 0; j < m_; ++j)
   {
-    factors.emplace_back(qp, box);
+    factors_.emplace_back(qp, box_);
     const BoxQPWarmStart& w = warm[static_cast<std::size_t>(j)];
     if (w.factor.computed() && w.factor.rows() == w.factor_free.size())
-      factors.back().adopt(
+      factors_.back().adopt(
         w.factor, std::vector<int>(w.factor_free.data(), w.factor_free.data() + w.factor_free.size()));
   }
   warm.clear();
-  std::vector<std::vector<int>> free(static_cast<std::size_t>(m));
-  std::vector<Eigen::VectorXd> a(static_cast<std::size_t>(m)), solved(static_cast<std::size_t>(m));
-  Eigen::VectorXd mu = Eigen::VectorXd::Zero(n), full(n), bound_sum(n);
-  std::vector<int> free_count(static_cast<std::size_t>(n)), vpos(static_cast<std::size_t>(n), -1), V;
-  Eigen::MatrixXd Y(n, m);
+}
 
-  // S z = sum_j E_j^T A(F_j, F_j)^-1 E_j z on V, the handles' solves in parallel, summed in
-  // handle order (so the result does not depend on the thread count).
-  auto apply_S = [&](const Eigen::VectorXd& z, Eigen::VectorXd& result) {
-    for_each_handle(m, threads, [&](Index j) {
-      const auto ju = static_cast<std::size_t>(j);
-      if (factors[ju].empty() || free[ju].empty())
-        return;
-      const std::vector<int>& rows = factors[ju].rows();
-      Eigen::VectorXd g(static_cast<Index>(rows.size()));
-      for (std::size_t k = 0; k < rows.size(); ++k)
-        g(static_cast<Index>(k)) = z(vpos[static_cast<std::size_t>(rows[k])]);
-      solved[ju] = factors[ju].solve(g);
-    });
-    result.setZero(static_cast<Index>(V.size()));
-    for (Index j = 0; j < m; ++j)
-    {
-      const auto ju = static_cast<std::size_t>(j);
-      if (factors[ju].empty() || free[ju].empty())
-        continue;
-      const std::vector<int>& rows = factors[ju].rows();
-      for (std::size_t k = 0; k < rows.size(); ++k)
-        result(vpos[static_cast<std::size_t>(rows[k])]) += solved[ju](static_cast<Index>(k));
-    }
-  };
-  // The preconditioner Q(V, V) / m: exactly S^-1 when every handle is free on V.
-  auto precondition = [&](const Eigen::VectorXd& r, Eigen::VectorXd& z) {
-    full.setZero();
-    for (std::size_t v = 0; v < V.size(); ++v)
-      full(V[v]) = r(static_cast<Index>(v));
-    const Eigen::VectorXd product = Q * full;
-    z.resize(static_cast<Index>(V.size()));
-    for (std::size_t v = 0; v < V.size(); ++v)
-      z(static_cast<Index>(v)) = product(V[v]) / static_cast<double>(m);
-  };
-  auto state_hash = [&]() {
-    std::uint64_t h = 14695981039346656037ull;
-    for (Index k = 0; k < state.size(); ++k)
-    {
-      h ^= static_cast<std::uint64_t>(static_cast<unsigned char>(state.data()[k]));
-      h *= 1099511628211ull;
-    }
-    return h;
-  };
-
-  std::unordered_set<std::uint64_t> visited;
-  Index best_violators = std::numeric_limits<Index>::max();
-  int attempts_left = box.block_attempts;
-  double last_violation = 1.0, first_violation = -1.0;
-  bool tight = false, refactored_at_end = false;
-  long long reported = 0;
-  std::vector<std::pair<Index, Index>> violators; // (vertex, handle)
-  double stationarity = 0, dual = 0, complementarity = 0, partition = 0;
-
-  while (out.iterations < o.max_outer_iterations)
+std::uint64_t CoupledSolver::state_hash() const
+{
+  std::uint64_t h = 14695981039346656037ull;
+  for (Index k = 0; k < state_.size(); ++k)
   {
-    if (reporter.cancelled())
-      reporter.throw_if_cancelled("bounded biharmonic weights (coupled)");
-    ++out.iterations;
-    visited.insert(state_hash());
+    h ^= static_cast<std::uint64_t>(static_cast<unsigned char>(state_.data()[k]));
+    h *= 1099511628211ull;
+  }
+  return h;
+}
+
+CoupledOutcome CoupledSolver::run()
+{
+  double last_violation = 1.0;
+  bool tight = false, refactored_at_end = false;
+  while (out_.iterations < o_.max_outer_iterations)
+  {
+    if (reporter_.cancelled())
+      reporter_.throw_if_cancelled("bounded biharmonic weights (coupled)");
+    ++out_.iterations;
+    visited_.insert(state_hash());
 
     // 1. Active weights on their bounds; per handle, the factorization of Q on its free set and
-    //    a_j = -Q(F, F)^-1 Q(F, N) x(N), the free weights for mu = 0.
-    for (Index i = 0; i < n; ++i)
-    {
-      free_count[static_cast<std::size_t>(i)] = 0;
-      bound_sum(i) = 0.0;
-    }
-    for (Index j = 0; j < m; ++j)
-    {
-      std::vector<int>& f = free[static_cast<std::size_t>(j)];
-      f.clear();
-      for (Index i = 0; i < n; ++i)
-        switch (state(i, j))
-        {
-          case BoxQPState::Free:
-            f.push_back(static_cast<int>(i));
-            ++free_count[static_cast<std::size_t>(i)];
-            X(i, j) = 0.0;
-            break;
-          case BoxQPState::Lower: X(i, j) = 0.0; break;
-          case BoxQPState::Upper:
-            X(i, j) = 1.0;
-            bound_sum(i) += 1.0;
-            break;
-          case BoxQPState::Fixed: break;
-        }
-    }
-    for_each_handle(m, threads, [&](Index j) {
-      const auto ju = static_cast<std::size_t>(j);
-      if (free[ju].empty())
-        return;
-      factors[ju].update(free[ju]);
-      const std::vector<int>& rows = factors[ju].rows();
-      Eigen::VectorXd rhs(static_cast<Index>(rows.size()));
-      for (std::size_t k = 0; k < rows.size(); ++k)
-      {
-        double sum = 0.0;
-        for (SparseMatrix::InnerIterator it(Q, rows[k]); it; ++it)
-          sum += it.value() * X(it.row(), j);
-        rhs(static_cast<Index>(k)) = -sum;
-      }
-      a[ju] = factors[ju].solve(rhs);
-    });
+    //    a_j, the free weights for mu = 0.
+    collect_free_sets();
+    solve_free_sets();
 
-    // 2. mu on V (vertices with a free weight) from S mu = sum_j a_j - (1 - bound sums), by
-    //    conjugate gradients started from the last mu, to a tolerance that follows the
-    //    violations (tight once they are gone).
-    V.clear();
-    for (Index i = 0; i < n; ++i)
-    {
-      vpos[static_cast<std::size_t>(i)] = -1;
-      if (!known[static_cast<std::size_t>(i)] && free_count[static_cast<std::size_t>(i)] > 0)
-      {
-        vpos[static_cast<std::size_t>(i)] = static_cast<int>(V.size());
-        V.push_back(static_cast<int>(i));
-      }
-    }
-    const Index nv = static_cast<Index>(V.size());
-    Eigen::VectorXd rhs(nv), z(nv), r(nv), p(nv), Sp(nv), x(nv);
-    for (Index v = 0; v < nv; ++v)
-      rhs(v) = bound_sum(V[static_cast<std::size_t>(v)]) - 1.0;
-    for (Index j = 0; j < m; ++j)
-    {
-      const auto ju = static_cast<std::size_t>(j);
-      if (free[ju].empty())
-        continue;
-      const std::vector<int>& rows = factors[ju].rows();
-      for (std::size_t k = 0; k < rows.size(); ++k)
-        rhs(vpos[static_cast<std::size_t>(rows[k])]) += a[ju](static_cast<Index>(k));
-    }
-    const double cg_tolerance = tight ? cg_floor : std::max(cg_floor, 0.1 * last_violation);
-    if (nv > 0)
-    {
-      for (Index v = 0; v < nv; ++v)
-        x(v) = mu(V[static_cast<std::size_t>(v)]);
-      apply_S(x, Sp);
-      r = rhs - Sp;
-      precondition(r, z);
-      p = z;
-      double rz = r.dot(z);
-      for (int k = 0; k < cg_cap && r.cwiseAbs().maxCoeff() > cg_tolerance; ++k)
-      {
-        apply_S(p, Sp);
-        const double curvature = p.dot(Sp);
-        if (!(curvature > 0.0))
-          break;
-        const double alpha = rz / curvature;
-        x += alpha * p;
-        r -= alpha * Sp;
-        precondition(r, z);
-        const double rz_next = r.dot(z);
-        p = z + (rz_next / rz) * p;
-        rz = rz_next;
-        ++out.cg_iterations;
-      }
-    }
-    mu.setZero();
-    for (Index v = 0; v < nv; ++v)
-      mu(V[static_cast<std::size_t>(v)]) = x(v);
+    // 2. mu on V (vertices with a free weight) from S mu = sum_j a_j - (1 - bound sums), to a
+    //    tolerance that follows the violations (tight once they are gone).
+    collect_multiplier_vertices();
+    const double cg_tolerance = tight ? cg_floor_ : std::max(cg_floor_, 0.1 * last_violation);
+    solve_multiplier(multiplier_rhs(), cg_tolerance);
 
-    // 3. The free weights x_F = a_j - Q(F, F)^-1 mu_F, the gradients Y = Q X and the
-    //    multipliers lambda = Y + mu of the bounds.
-    for_each_handle(m, threads, [&](Index j) {
-      const auto ju = static_cast<std::size_t>(j);
-      if (free[ju].empty())
-        return;
-      const std::vector<int>& rows = factors[ju].rows();
-      Eigen::VectorXd g(static_cast<Index>(rows.size()));
-      for (std::size_t k = 0; k < rows.size(); ++k)
-        g(static_cast<Index>(k)) = mu(rows[k]);
-      const Eigen::VectorXd correction = factors[ju].solve(g);
-      for (std::size_t k = 0; k < rows.size(); ++k)
-        X(rows[k], j) = a[ju](static_cast<Index>(k)) - correction(static_cast<Index>(k));
-    });
-    for_each_handle(m, threads, [&](Index j) { Y.col(j) = Q * X.col(j); });
-    // mu where no weight is free: the middle of the interval that makes the multipliers of the
-    // active bounds correctly signed (its best compromise when the interval is empty).
-    for (Index i = 0; i < n; ++i)
-    {
-      if (known[static_cast<std::size_t>(i)] || free_count[static_cast<std::size_t>(i)] > 0)
-        continue;
-      double lo = -std::numeric_limits<double>::infinity(), hi = std::numeric_limits<double>::infinity();
-      for (Index j = 0; j < m; ++j)
-        if (state(i, j) == BoxQPState::Lower)
-          lo = std::max(lo, -Y(i, j));
-        else if (state(i, j) == BoxQPState::Upper)
-          hi = std::min(hi, -Y(i, j));
-      mu(i) = std::isfinite(lo) && std::isfinite(hi) ? 0.5 * (lo + hi) : std::isfinite(lo) ? lo : hi;
-    }
+    // 3. The free weights, the gradients Y = Q X and the multipliers lambda = Y + mu of the
+    //    bounds.
+    update_free_weights();
+    compute_gradients();
+    multiplier_where_no_weight_is_free();
 
     // 4. KKT measures and violators.
-    stationarity = dual = complementarity = partition = 0.0;
-    violators.clear();
-    double violation = 0.0;
-    for (Index i = 0; i < n; ++i)
+    const double violation = find_violators();
+    report_progress(violation);
+    if (violators_.empty())
     {
-      if (known[static_cast<std::size_t>(i)])
-        continue;
-      partition = std::max(partition, std::abs(X.row(i).sum() - 1.0));
-      for (Index j = 0; j < m; ++j)
-      {
-        const double w = X(i, j), lambda = Y(i, j) + mu(i);
-        switch (state(i, j))
-        {
-          case BoxQPState::Free:
-            stationarity = std::max(stationarity, std::abs(lambda) / sy);
-            complementarity = std::max(complementarity, std::abs(lambda) * std::max(0.0, std::min(w, 1.0 - w)) / sy);
-            if (w < -tx || w > 1.0 + tx)
-            {
-              violators.emplace_back(i, j);
-              violation = std::max(violation, std::max(-w, w - 1.0));
-            }
-            break;
-          case BoxQPState::Lower:
-            dual = std::max(dual, -lambda / sy);
-            if (lambda < -ty)
-            {
-              violators.emplace_back(i, j);
-              violation = std::max(violation, -lambda / sy);
-            }
-            break;
-          case BoxQPState::Upper:
-            dual = std::max(dual, lambda / sy);
-            if (lambda > ty)
-            {
-              violators.emplace_back(i, j);
-              violation = std::max(violation, lambda / sy);
-            }
-            break;
-          case BoxQPState::Fixed: break;
-        }
-      }
-    }
-    out.violators = static_cast<Index>(violators.size());
-    out.kkt_residual = std::max({ stationarity, dual, complementarity });
-    out.partition_error = partition;
-
-    // Progress: the decrease of log(violation) towards log(tolerance).
-    if (first_violation < 0.0)
-      first_violation = std::max(violation, 10.0 * o.tolerance);
-    {
-      const double fraction = std::clamp(std::log(first_violation / std::max(violation, 1e-300)) /
-          std::log(first_violation / o.tolerance), 0.0, 1.0);
-      const long long now = static_cast<long long>(999.0 * fraction);
-      if (!reporter.step(std::max(0LL, now - reported)))
-        reporter.throw_if_cancelled("bounded biharmonic weights (coupled)");
-      reported = std::max(reported, now);
-    }
-
-    if (violators.empty())
-    {
-      if (cg_tolerance > cg_floor && !tight)
+      if (cg_tolerance > cg_floor_ && !tight)
       {
         tight = true; // confirm with mu solved to the partition tolerance
         continue;
       }
-      if (partition <= o.partition_tolerance && out.kkt_residual <= o.tolerance)
+      if (out_.partition_error <= o_.partition_tolerance && out_.kkt_residual <= o_.tolerance)
       {
-        out.converged = true;
+        out_.converged = true;
         break;
       }
       // Rounding from factor modifications (or conjugate gradients at their cap): once, solve
@@ -457,7 +377,7 @@ CoupledOutcome solve_coupled(const BoxConstrainedQP& qp, const BBWBoundaryCondit
       if (!refactored_at_end)
       {
         refactored_at_end = true;
-        for (FreeSetFactor& f : factors)
+        for (FreeSetFactor& f : factors_)
           f.force_refactor();
         continue;
       }
@@ -467,105 +387,374 @@ CoupledOutcome solve_coupled(const BoxConstrainedQP& qp, const BBWBoundaryCondit
     tight = false;
 
     // 5. Block step, or the safeguard's single step (as in BoxConstrainedQP).
-    const Index count = static_cast<Index>(violators.size());
-    bool block = true;
-    if (count < best_violators)
-    {
-      best_violators = count;
-      attempts_left = box.block_attempts;
-    }
-    else if (attempts_left > 0)
-      --attempts_left;
-    else
-      block = false;
-    auto flip = [&](Index i, Index j) {
-      BoxQPState& st = state(i, j);
-      if (st == BoxQPState::Free)
-        st = X(i, j) < 0.0 ? BoxQPState::Lower : BoxQPState::Upper;
-      else
-        st = BoxQPState::Free;
-    };
-    // A vertex must keep a free weight unless its bounds sum to 1 (else the partition of unity
-    // has no solution on the active set): free its largest weight.
-    auto repair = [&]() {
-      for (Index i = 0; i < n; ++i)
-      {
-        if (known[static_cast<std::size_t>(i)])
-          continue;
-        Index largest = 0;
-        double sum = 0.0;
-        bool any_free = false;
-        for (Index j = 0; j < m; ++j)
-        {
-          any_free = any_free || state(i, j) == BoxQPState::Free;
-          sum += state(i, j) == BoxQPState::Upper ? 1.0 : 0.0;
-          if (X(i, j) > X(i, largest))
-            largest = j;
-        }
-        if (!any_free && sum != 1.0)
-          state(i, largest) = BoxQPState::Free;
-      }
-    };
-    const States before = state;
-    if (block)
-    {
-      for (const auto& [i, j] : violators)
-        flip(i, j);
-      repair();
-      if (visited.count(state_hash()) != 0)
-      {
-        state = before;
-        block = false;
-      }
-    }
-    if (!block)
-    {
-      // The violator with the largest index (handle-major).
-      auto last = violators.front();
-      for (const auto& v : violators)
-        if (v.second > last.second || (v.second == last.second && v.first > last.first))
-          last = v;
-      flip(last.first, last.second);
-      repair();
-    }
+    change_active_sets();
   }
+  clamp_and_certify();
+  out_.W = std::move(X_);
+  return std::move(out_);
+}
 
-  // Clamp onto the bounds (moves free weights by at most the primal threshold when converged)
-  // and certify the clamped point.
-  for (Index j = 0; j < m; ++j)
-    for (Index i = 0; i < n; ++i)
-      if (!known[static_cast<std::size_t>(i)])
-        X(i, j) = std::clamp(X(i, j), 0.0, 1.0);
-  for_each_handle(m, threads, [&](Index j) { Y.col(j) = Q * X.col(j); });
-  stationarity = dual = complementarity = partition = 0.0;
-  for (Index i = 0; i < n; ++i)
+void CoupledSolver::collect_free_sets()
+{
+  for (Index i = 0; i < n_; ++i)
   {
-    if (known[static_cast<std::size_t>(i)])
-      continue;
-    partition = std::max(partition, std::abs(X.row(i).sum() - 1.0));
-    for (Index j = 0; j < m; ++j)
-    {
-      const double w = X(i, j), lambda = Y(i, j) + mu(i);
-      if (w == 0.0)
-        dual = std::max(dual, -lambda / sy);
-      else if (w == 1.0)
-        dual = std::max(dual, lambda / sy);
-      else
+    free_count_[static_cast<std::size_t>(i)] = 0;
+    bound_sum_(i) = 0.0;
+  }
+  for (Index j = 0; j < m_; ++j)
+  {
+    std::vector<int>& f = free_[static_cast<std::size_t>(j)];
+    f.clear();
+    for (Index i = 0; i < n_; ++i)
+      switch (state_(i, j))
       {
-        stationarity = std::max(stationarity, std::abs(lambda) / sy);
-        complementarity = std::max(complementarity, std::abs(lambda) * std::min(w, 1.0 - w) / sy);
+        case BoxQPState::Free:
+          f.push_back(static_cast<int>(i));
+          ++free_count_[static_cast<std::size_t>(i)];
+          X_(i, j) = 0.0;
+          break;
+        case BoxQPState::Lower: X_(i, j) = 0.0; break;
+        case BoxQPState::Upper:
+          X_(i, j) = 1.0;
+          bound_sum_(i) += 1.0;
+          break;
+        case BoxQPState::Fixed: break;
+      }
+  }
+}
+
+void CoupledSolver::solve_free_sets()
+{
+  for_each_handle(m_, threads_, [&](Index j) {
+    const auto ju = static_cast<std::size_t>(j);
+    if (free_[ju].empty())
+      return;
+    factors_[ju].update(free_[ju]);
+    const std::vector<int>& rows = factors_[ju].rows();
+    Eigen::VectorXd rhs(static_cast<Index>(rows.size()));
+    for (std::size_t k = 0; k < rows.size(); ++k)
+    {
+      double sum = 0.0;
+      for (SparseMatrix::InnerIterator it(Q_, rows[k]); it; ++it)
+        sum += it.value() * X_(it.row(), j);
+      rhs(static_cast<Index>(k)) = -sum;
+    }
+    a_[ju] = factors_[ju].solve(rhs);
+  });
+}
+
+void CoupledSolver::collect_multiplier_vertices()
+{
+  V_.clear();
+  for (Index i = 0; i < n_; ++i)
+  {
+    vpos_[static_cast<std::size_t>(i)] = -1;
+    if (!known_[static_cast<std::size_t>(i)] && free_count_[static_cast<std::size_t>(i)] > 0)
+    {
+      vpos_[static_cast<std::size_t>(i)] = static_cast<int>(V_.size());
+      V_.push_back(static_cast<int>(i));
+    }
+  }
+}
+
+Eigen::VectorXd CoupledSolver::multiplier_rhs() const
+{
+  const Index nv = static_cast<Index>(V_.size());
+  Eigen::VectorXd rhs(nv);
+  for (Index v = 0; v < nv; ++v)
+    rhs(v) = bound_sum_(V_[static_cast<std::size_t>(v)]) - 1.0;
+  for (Index j = 0; j < m_; ++j)
+  {
+    const auto ju = static_cast<std::size_t>(j);
+    if (free_[ju].empty())
+      continue;
+    const std::vector<int>& rows = factors_[ju].rows();
+    for (std::size_t k = 0; k < rows.size(); ++k)
+      rhs(vpos_[static_cast<std::size_t>(rows[k])]) += a_[ju](static_cast<Index>(k));
+  }
+  return rhs;
+}
+
+void CoupledSolver::solve_multiplier(const Eigen::VectorXd& rhs, double cg_tolerance)
+{
+  const Index nv = static_cast<Index>(V_.size());
+  Eigen::VectorXd z(nv), r(nv), p(nv), Sp(nv), x(nv);
+  if (nv > 0)
+  {
+    for (Index v = 0; v < nv; ++v)
+      x(v) = mu_(V_[static_cast<std::size_t>(v)]);
+    apply_S(x, Sp);
+    r = rhs - Sp;
+    precondition(r, z);
+    p = z;
+    double rz = r.dot(z);
+    for (int k = 0; k < cg_cap_ && r.cwiseAbs().maxCoeff() > cg_tolerance; ++k)
+    {
+      apply_S(p, Sp);
+      const double curvature = p.dot(Sp);
+      if (!(curvature > 0.0))
+        break;
+      const double alpha = rz / curvature;
+      x += alpha * p;
+      r -= alpha * Sp;
+      precondition(r, z);
+      const double rz_next = r.dot(z);
+      p = z + (rz_next / rz) * p;
+      rz = rz_next;
+      ++out_.cg_iterations;
+    }
+  }
+  mu_.setZero();
+  for (Index v = 0; v < nv; ++v)
+    mu_(V_[static_cast<std::size_t>(v)]) = x(v);
+}
+
+void CoupledSolver::apply_S(const Eigen::VectorXd& z, Eigen::VectorXd& result)
+{
+  for_each_handle(m_, threads_, [&](Index j) {
+    const auto ju = static_cast<std::size_t>(j);
+    if (factors_[ju].empty() || free_[ju].empty())
+      return;
+    const std::vector<int>& rows = factors_[ju].rows();
+    Eigen::VectorXd g(static_cast<Index>(rows.size()));
+    for (std::size_t k = 0; k < rows.size(); ++k)
+      g(static_cast<Index>(k)) = z(vpos_[static_cast<std::size_t>(rows[k])]);
+    solved_[ju] = factors_[ju].solve(g);
+  });
+  result.setZero(static_cast<Index>(V_.size()));
+  for (Index j = 0; j < m_; ++j)
+  {
+    const auto ju = static_cast<std::size_t>(j);
+    if (factors_[ju].empty() || free_[ju].empty())
+      continue;
+    const std::vector<int>& rows = factors_[ju].rows();
+    for (std::size_t k = 0; k < rows.size(); ++k)
+      result(vpos_[static_cast<std::size_t>(rows[k])]) += solved_[ju](static_cast<Index>(k));
+  }
+}
+
+void CoupledSolver::precondition(const Eigen::VectorXd& r, Eigen::VectorXd& z)
+{
+  full_.setZero();
+  for (std::size_t v = 0; v < V_.size(); ++v)
+    full_(V_[v]) = r(static_cast<Index>(v));
+  const Eigen::VectorXd product = Q_ * full_;
+  z.resize(static_cast<Index>(V_.size()));
+  for (std::size_t v = 0; v < V_.size(); ++v)
+    z(static_cast<Index>(v)) = product(V_[v]) / static_cast<double>(m_);
+}
+
+void CoupledSolver::update_free_weights()
+{
+  for_each_handle(m_, threads_, [&](Index j) {
+    const auto ju = static_cast<std::size_t>(j);
+    if (free_[ju].empty())
+      return;
+    const std::vector<int>& rows = factors_[ju].rows();
+    Eigen::VectorXd g(static_cast<Index>(rows.size()));
+    for (std::size_t k = 0; k < rows.size(); ++k)
+      g(static_cast<Index>(k)) = mu_(rows[k]);
+    const Eigen::VectorXd correction = factors_[ju].solve(g);
+    for (std::size_t k = 0; k < rows.size(); ++k)
+      X_(rows[k], j) = a_[ju](static_cast<Index>(k)) - correction(static_cast<Index>(k));
+  });
+}
+
+void CoupledSolver::compute_gradients()
+{
+  for_each_handle(m_, threads_, [&](Index j) { Y_.col(j) = Q_ * X_.col(j); });
+}
+
+void CoupledSolver::multiplier_where_no_weight_is_free()
+{
+  for (Index i = 0; i < n_; ++i)
+  {
+    if (known_[static_cast<std::size_t>(i)] || free_count_[static_cast<std::size_t>(i)] > 0)
+      continue;
+    double lo = -std::numeric_limits<double>::infinity(), hi = std::numeric_limits<double>::infinity();
+    for (Index j = 0; j < m_; ++j)
+      if (state_(i, j) == BoxQPState::Lower)
+        lo = std::max(lo, -Y_(i, j));
+      else if (state_(i, j) == BoxQPState::Upper)
+        hi = std::min(hi, -Y_(i, j));
+    mu_(i) = std::isfinite(lo) && std::isfinite(hi) ? 0.5 * (lo + hi) : std::isfinite(lo) ? lo : hi;
+  }
+}
+
+double CoupledSolver::find_violators()
+{
+  double stationarity = 0.0, dual = 0.0, complementarity = 0.0, partition = 0.0;
+  violators_.clear();
+  double violation = 0.0;
+  for (Index i = 0; i < n_; ++i)
+  {
+    if (known_[static_cast<std::size_t>(i)])
+      continue;
+    partition = std::max(partition, std::abs(X_.row(i).sum() - 1.0));
+    for (Index j = 0; j < m_; ++j)
+    {
+      const double w = X_(i, j), lambda = Y_(i, j) + mu_(i);
+      switch (state_(i, j))
+      {
+        case BoxQPState::Free:
+          stationarity = std::max(stationarity, std::abs(lambda) / sy_);
+          complementarity = std::max(complementarity, std::abs(lambda) * std::max(0.0, std::min(w, 1.0 - w)) / sy_);
+          if (w < -tx_ || w > 1.0 + tx_)
+          {
+            violators_.emplace_back(i, j);
+            violation = std::max(violation, std::max(-w, w - 1.0));
+          }
+          break;
+        case BoxQPState::Lower:
+          dual = std::max(dual, -lambda / sy_);
+          if (lambda < -ty_)
+          {
+            violators_.emplace_back(i, j);
+            violation = std::max(violation, -lambda / sy_);
+          }
+          break;
+        case BoxQPState::Upper:
+          dual = std::max(dual, lambda / sy_);
+          if (lambda > ty_)
+          {
+            violators_.emplace_back(i, j);
+            violation = std::max(violation, lambda / sy_);
+          }
+          break;
+        case BoxQPState::Fixed: break;
       }
     }
   }
-  out.kkt_residual = std::max({ stationarity, dual, complementarity });
-  out.partition_error = partition;
-  out.converged = out.converged && out.kkt_residual <= o.tolerance;
-  for (const FreeSetFactor& f : factors)
+  out_.violators = static_cast<Index>(violators_.size());
+  out_.kkt_residual = std::max({ stationarity, dual, complementarity });
+  out_.partition_error = partition;
+  return violation;
+}
+
+void CoupledSolver::report_progress(double violation)
+{
+  if (first_violation_ < 0.0)
+    first_violation_ = std::max(violation, 10.0 * o_.tolerance);
+  const double fraction = std::clamp(std::log(first_violation_ / std::max(violation, 1e-300)) /
+      std::log(first_violation_ / o_.tolerance), 0.0, 1.0);
+  const long long now = static_cast<long long>(999.0 * fraction);
+  if (!reporter_.step(std::max(0LL, now - reported_)))
+    reporter_.throw_if_cancelled("bounded biharmonic weights (coupled)");
+  reported_ = std::max(reported_, now);
+}
+
+void CoupledSolver::change_active_sets()
+{
+  const Index count = static_cast<Index>(violators_.size());
+  bool block = true;
+  if (count < best_violators_)
   {
-    out.factorizations += f.factorizations;
-    out.modifications += f.modifications;
+    best_violators_ = count;
+    attempts_left_ = box_.block_attempts;
   }
-  return out;
+  else if (attempts_left_ > 0)
+    --attempts_left_;
+  else
+    block = false;
+  if (block)
+  {
+    const States before = state_;
+    for (const auto& [i, j] : violators_)
+      flip(i, j);
+    repair();
+    if (visited_.count(state_hash()) != 0)
+    {
+      state_ = before;
+      block = false;
+    }
+  }
+  if (!block)
+  {
+    // The violator with the largest index (handle-major).
+    auto last = violators_.front();
+    for (const auto& v : violators_)
+      if (v.second > last.second || (v.second == last.second && v.first > last.first))
+        last = v;
+    flip(last.first, last.second);
+    repair();
+  }
+}
+
+void CoupledSolver::flip(Index i, Index j)
+{
+  BoxQPState& st = state_(i, j);
+  if (st == BoxQPState::Free)
+    st = X_(i, j) < 0.0 ? BoxQPState::Lower : BoxQPState::Upper;
+  else
+    st = BoxQPState::Free;
+}
+
+void CoupledSolver::repair()
+{
+  for (Index i = 0; i < n_; ++i)
+  {
+    if (known_[static_cast<std::size_t>(i)])
+      continue;
+    Index largest = 0;
+    double sum = 0.0;
+    bool any_free = false;
+    for (Index j = 0; j < m_; ++j)
+    {
+      any_free = any_free || state_(i, j) == BoxQPState::Free;
+      sum += state_(i, j) == BoxQPState::Upper ? 1.0 : 0.0;
+      if (X_(i, j) > X_(i, largest))
+        largest = j;
+    }
+    if (!any_free && sum != 1.0)
+      state_(i, largest) = BoxQPState::Free;
+  }
+}
+
+void CoupledSolver::clamp_and_certify()
+{
+  for (Index j = 0; j < m_; ++j)
+    for (Index i = 0; i < n_; ++i)
+      if (!known_[static_cast<std::size_t>(i)])
+        X_(i, j) = std::clamp(X_(i, j), 0.0, 1.0);
+  compute_gradients();
+  double stationarity = 0.0, dual = 0.0, complementarity = 0.0, partition = 0.0;
+  for (Index i = 0; i < n_; ++i)
+  {
+    if (known_[static_cast<std::size_t>(i)])
+      continue;
+    partition = std::max(partition, std::abs(X_.row(i).sum() - 1.0));
+    for (Index j = 0; j < m_; ++j)
+    {
+      const double w = X_(i, j), lambda = Y_(i, j) + mu_(i);
+      if (w == 0.0)
+        dual = std::max(dual, -lambda / sy_);
+      else if (w == 1.0)
+        dual = std::max(dual, lambda / sy_);
+      else
+      {
+        stationarity = std::max(stationarity, std::abs(lambda) / sy_);
+        complementarity = std::max(complementarity, std::abs(lambda) * std::min(w, 1.0 - w) / sy_);
+      }
+    }
+  }
+  out_.kkt_residual = std::max({ stationarity, dual, complementarity });
+  out_.partition_error = partition;
+  out_.converged = out_.converged && out_.kkt_residual <= o_.tolerance;
+  for (const FreeSetFactor& f : factors_)
+  {
+    out_.factorizations += f.factorizations;
+    out_.modifications += f.modifications;
+  }
+}
+
+/// The coupled problem (Eq. 8 subject to Eq. 3-6) by a primal-dual active-set method on all
+/// handles at once, started from @p start (the normalized fast weights) and from the fast
+/// phase's factorizations (@p warm). See BBWMode::Coupled for the method.
+CoupledOutcome solve_coupled(const BoxConstrainedQP& qp, const BBWBoundaryConditions& bc,
+  const Eigen::MatrixXd& start, std::vector<BoxQPWarmStart>& warm, const BBWOptions& o,
+  const BoxQPOptions& box, ProgressReporter& reporter)
+{
+  return CoupledSolver(qp, bc, start, warm, o, box, reporter).run();
 }
 
 [[noreturn]] void throw_not_converged(const std::string& what)

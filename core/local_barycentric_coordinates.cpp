@@ -178,6 +178,37 @@ bool project_feasible(const Eigen::MatrixXd& K, const Eigen::VectorXd& b, const 
   return false;
 }
 
+/// Throws Error(InvalidArgument) naming the first LBCOptions field out of its documented range.
+void validate_options(const LBCOptions& o)
+{
+  if (!(o.penalty > 0.0) || !std::isfinite(o.penalty))
+    invalid("LBCOptions::penalty must be > 0, got " + detail::format_number(o.penalty));
+  if (!(o.scaled_penalty > 0.0) || !std::isfinite(o.scaled_penalty))
+    invalid("LBCOptions::scaled_penalty must be > 0, got " + detail::format_number(o.scaled_penalty));
+  if (!(o.relaxation > 0.0 && o.relaxation < 2.0))
+    invalid("LBCOptions::relaxation must be in (0, 2), got " + detail::format_number(o.relaxation));
+  if (!(o.primal_tolerance > 0.0 && o.primal_tolerance < 1.0))
+    invalid("LBCOptions::primal_tolerance must be in (0, 1), got " + detail::format_number(o.primal_tolerance));
+  if (!(o.dual_tolerance > 0.0 && o.dual_tolerance < 1.0))
+    invalid("LBCOptions::dual_tolerance must be in (0, 1), got " + detail::format_number(o.dual_tolerance));
+  if (o.max_iterations < 1)
+    invalid("LBCOptions::max_iterations must be >= 1, got " + std::to_string(o.max_iterations));
+  if (o.check_interval < 1)
+    invalid("LBCOptions::check_interval must be >= 1, got " + std::to_string(o.check_interval));
+  if (o.locality == LocalityFunction::Custom && !o.custom_locality)
+    invalid("LBCOptions::locality is Custom but custom_locality is empty");
+  if (!(o.relaxed_tv_epsilon >= 0.0) || !std::isfinite(o.relaxed_tv_epsilon))
+    invalid("LBCOptions::relaxed_tv_epsilon must be >= 0, got " + detail::format_number(o.relaxed_tv_epsilon));
+  if (o.threads < 0)
+    invalid("LBCOptions::threads must be >= 0 (0 = OpenMP's default), got " +
+      std::to_string(o.threads));
+  if (!(o.constraint_balance > 0.0) || !std::isfinite(o.constraint_balance))
+    invalid("LBCOptions::constraint_balance must be > 0, got " + detail::format_number(o.constraint_balance));
+  if (o.anderson_history < 1 || o.anderson_history > 50)
+    invalid("LBCOptions::anderson_history must be in [1, 50], got " +
+      std::to_string(o.anderson_history));
+}
+
 } // namespace
 
 // =================================================================================================
@@ -286,6 +317,41 @@ struct LocalBarycentricCoordinates::Impl
     int threads) const;
   double objective_of(const DenseWeights& W, int threads) const;
   double cage_edge_length(const DomainMesh& mesh) const;
+
+  // Set-up steps, in the constructor's order.
+  /// The mesh's sizes (D, nv, nc, nt), T and control_vertex, after checking their shapes.
+  void take_mesh(const DomainMesh& mesh);
+  /// W_fixed (the boundary rows: the cage's hat functions, the Lagrange and linearity
+  /// properties), the free vertices and m, after checking the boundary and control vertices.
+  void split_boundary(const DomainMesh& mesh);
+  /// Vs: the vertices moved and scaled to bounding-box diameter 1 (Appendix B, "Parameters").
+  void rescale(const Eigen::MatrixXd& V);
+  /// G and area on Vs (gradient_operator validates the elements); every vertex in an element.
+  void build_operators();
+  /// distances (Eq. 12), phi (Eq. 11; all 1 with LocalityFunction::Constant) and the TV
+  /// weights phi_i^s A_s of Eq. 14.
+  void compute_locality_weights();
+  /// #V by n geodesic distances g_i to the control points (heat method, §3.3).
+  Eigen::MatrixXd geodesic_distances() const;
+  /// distances = D_i = g_i / max g (Eq. 12, per control point or global; unreachable: 1).
+  void normalize_distances(const Eigen::MatrixXd& g);
+  /// phi_i^s = tau(D_i at the centroid of cell s) (Eq. 11).
+  void locality_at_cells();
+  /// Kmat = [c_i^T 1], Ur (orthonormal basis of range(K)) and H = B K^+, the least-norm
+  /// solution of H K = B (Eq. 16, by SVD as Appendix B); Ur empty and H = 0 without
+  /// barycentric constraints.
+  void constraint_basis();
+  /// The scaled splitting's row scales a (per cell) and b (per free vertex) and the internal
+  /// penalty mu (ConstraintScaling; all 1 and the paper's penalty with Paper).
+  void scale_constraints(const DomainMesh& mesh);
+  /// Ga = diag(a) G restricted to the free columns, and GtA = Ga^T.
+  void scaled_gradient();
+  /// The boundary data's rows: ea = diag(a) G W_fixed and c0 = Ga^T ea, only the nonzero rows
+  /// stored (ea_row, c0_row).
+  void boundary_terms(int threads);
+  /// Factors the Y-system Ga^T Ga + diag(b)^2 (K + beta^2 M with Lumped, G^T G + I with
+  /// Paper), with RowCholesky (Automatic) or the chosen SparseCholesky backend.
+  void factor_y_system();
 };
 
 double LocalBarycentricCoordinates::Impl::cage_edge_length(const DomainMesh& mesh) const
@@ -732,54 +798,13 @@ double LocalBarycentricCoordinates::Impl::objective_of(const DenseWeights& W, in
   return sum * std::pow(scale, D - 1);
 }
 
-// =================================================================================================
+// --- set-up steps of the constructor ------------------------------------------------------------
 
-LocalBarycentricCoordinates::LocalBarycentricCoordinates(
-  const DomainMesh& mesh, const LBCOptions& options, const ProgressCallback& progress)
-  : impl_(std::make_unique<Impl>())
+void LocalBarycentricCoordinates::Impl::take_mesh(const DomainMesh& mesh)
 {
-  Impl& s = *impl_;
-  s.o = options;
-  const LBCOptions& o = s.o;
-  // --- options
-  if (!(o.penalty > 0.0) || !std::isfinite(o.penalty))
-    invalid("LBCOptions::penalty must be > 0, got " + detail::format_number(o.penalty));
-  if (!(o.scaled_penalty > 0.0) || !std::isfinite(o.scaled_penalty))
-    invalid("LBCOptions::scaled_penalty must be > 0, got " + detail::format_number(o.scaled_penalty));
-  if (!(o.relaxation > 0.0 && o.relaxation < 2.0))
-    invalid("LBCOptions::relaxation must be in (0, 2), got " + detail::format_number(o.relaxation));
-  if (!(o.primal_tolerance > 0.0 && o.primal_tolerance < 1.0))
-    invalid("LBCOptions::primal_tolerance must be in (0, 1), got " + detail::format_number(o.primal_tolerance));
-  if (!(o.dual_tolerance > 0.0 && o.dual_tolerance < 1.0))
-    invalid("LBCOptions::dual_tolerance must be in (0, 1), got " + detail::format_number(o.dual_tolerance));
-  if (o.max_iterations < 1)
-    invalid("LBCOptions::max_iterations must be >= 1, got " + std::to_string(o.max_iterations));
-  if (o.check_interval < 1)
-    invalid("LBCOptions::check_interval must be >= 1, got " + std::to_string(o.check_interval));
-  if (o.locality == LocalityFunction::Custom && !o.custom_locality)
-    invalid("LBCOptions::locality is Custom but custom_locality is empty");
-  if (!(o.relaxed_tv_epsilon >= 0.0) || !std::isfinite(o.relaxed_tv_epsilon))
-    invalid("LBCOptions::relaxed_tv_epsilon must be >= 0, got " + detail::format_number(o.relaxed_tv_epsilon));
-  if (o.threads < 0)
-    invalid("LBCOptions::threads must be >= 0 (0 = OpenMP's default), got " +
-      std::to_string(o.threads));
-  if (!(o.constraint_balance > 0.0) || !std::isfinite(o.constraint_balance))
-    invalid("LBCOptions::constraint_balance must be > 0, got " + detail::format_number(o.constraint_balance));
-  if (o.anderson_history < 1 || o.anderson_history > 50)
-    invalid("LBCOptions::anderson_history must be in [1, 50], got " +
-      std::to_string(o.anderson_history));
-  const int threads = thread_count(o.threads);
-  auto check_cancel = [&progress](double f) {
-    if (progress && !progress(f))
-      throw Error(ErrorCode::Cancelled, "local barycentric coordinates were cancelled");
-  };
-  check_cancel(0.0);
-
-  // --- mesh
-  const Eigen::MatrixXd& V = mesh.V;
-  const Index nv = V.rows();
-  const Index nc = mesh.control_vertex.size();
-  const int D = static_cast<int>(V.cols());
+  nv = mesh.V.rows();
+  nc = mesh.control_vertex.size();
+  D = static_cast<int>(mesh.V.cols());
   if (nv == 0 || mesh.T.rows() == 0)
     throw Error(ErrorCode::EmptyInput, "the domain mesh is empty");
   if (D != 2 && D != 3)
@@ -800,13 +825,14 @@ LocalBarycentricCoordinates::LocalBarycentricCoordinates(
       "boundary_weights is " + std::to_string(mesh.boundary_weights.rows()) + " by " +
         std::to_string(mesh.boundary_weights.cols()) + " but there are " + std::to_string(nb) +
         " boundary vertices and " + std::to_string(nc) + " control vertices");
-  s.D = D;
-  s.nv = nv;
-  s.nc = nc;
-  s.nt = mesh.T.rows();
-  s.T = mesh.T;
-  s.control_vertex = mesh.control_vertex;
+  nt = mesh.T.rows();
+  T = mesh.T;
+  control_vertex = mesh.control_vertex;
+}
 
+void LocalBarycentricCoordinates::Impl::split_boundary(const DomainMesh& mesh)
+{
+  const Index nb = static_cast<Index>(mesh.boundary_vertices.size());
   std::vector<int> fixed_row(static_cast<std::size_t>(nv), -1);
   for (Index k = 0; k < nb; ++k)
   {
@@ -827,216 +853,278 @@ LocalBarycentricCoordinates::LocalBarycentricCoordinates(
       invalid("control vertex " + std::to_string(i) + " (mesh vertex " + std::to_string(v) +
         ") is not a boundary vertex of the domain mesh");
   }
-  s.W_fixed = RowMatrix::Zero(nv, nc);
+  W_fixed = RowMatrix::Zero(nv, nc);
   {
     const Eigen::MatrixXd bw = Eigen::MatrixXd(mesh.boundary_weights);
     if (!bw.allFinite())
       throw Error(ErrorCode::NonFinite, "boundary_weights holds NaN or infinity");
     for (Index k = 0; k < nb; ++k)
-      s.W_fixed.row(mesh.boundary_vertices[static_cast<std::size_t>(k)]) = bw.row(k);
+      W_fixed.row(mesh.boundary_vertices[static_cast<std::size_t>(k)]) = bw.row(k);
   }
   for (Index v = 0; v < nv; ++v)
     if (fixed_row[static_cast<std::size_t>(v)] < 0)
-      s.free_vertices.push_back(static_cast<int>(v));
-  s.m = static_cast<Index>(s.free_vertices.size());
-  const Index m = s.m;
+      free_vertices.push_back(static_cast<int>(v));
+  m = static_cast<Index>(free_vertices.size());
+}
 
-  // --- rescale to bounding-box diameter 1 (Appendix B, "Parameters")
-  const auto t_factor = Clock::now();
+void LocalBarycentricCoordinates::Impl::rescale(const Eigen::MatrixXd& V)
+{
   if (!V.allFinite())
     throw Error(ErrorCode::NonFinite, "the mesh has a non-finite vertex coordinate");
   const Eigen::RowVectorXd lo = V.colwise().minCoeff(), hi = V.colwise().maxCoeff();
-  s.scale = (hi - lo).norm();
-  if (!(s.scale > 0.0))
+  scale = (hi - lo).norm();
+  if (!(scale > 0.0))
     invalid("the mesh has zero extent");
-  s.center = 0.5 * (lo + hi);
-  s.Vs = (V.rowwise() - s.center) / s.scale;
+  center = 0.5 * (lo + hi);
+  Vs = (V.rowwise() - center) / scale;
+}
 
-  // --- operators (gradient_operator validates the elements)
-  s.G = gradient_operator(s.Vs, s.T);
-  s.area = simplex_volumes(s.Vs, s.T);
+void LocalBarycentricCoordinates::Impl::build_operators()
+{
+  G = gradient_operator(Vs, T);
+  area = simplex_volumes(Vs, T);
+  std::vector<char> used(static_cast<std::size_t>(nv), 0);
+  for (Index t = 0; t < nt; ++t)
+    for (Index k = 0; k <= D; ++k)
+      used[static_cast<std::size_t>(T(t, k))] = 1;
+  for (Index v = 0; v < nv; ++v)
+    if (!used[static_cast<std::size_t>(v)])
+      invalid("mesh vertex " + std::to_string(v) + " belongs to no element");
+}
+
+void LocalBarycentricCoordinates::Impl::compute_locality_weights()
+{
+  distances = Eigen::MatrixXd::Zero(nv, nc);
+  phi = Eigen::MatrixXd::Ones(nt, nc);
+  if (o.locality != LocalityFunction::Constant)
   {
-    std::vector<char> used(static_cast<std::size_t>(nv), 0);
-    for (Index t = 0; t < s.nt; ++t)
-      for (Index k = 0; k <= D; ++k)
-        used[static_cast<std::size_t>(s.T(t, k))] = 1;
-    for (Index v = 0; v < nv; ++v)
-      if (!used[static_cast<std::size_t>(v)])
-        invalid("mesh vertex " + std::to_string(v) + " belongs to no element");
+    normalize_distances(geodesic_distances());
+    locality_at_cells();
   }
+  weight.resize(nt, nc);
+  for (Index t = 0; t < nt; ++t)
+    for (Index j = 0; j < nc; ++j)
+      weight(t, j) = phi(t, j) * area(t);
+}
+
+Eigen::MatrixXd LocalBarycentricCoordinates::Impl::geodesic_distances() const
+{
+  GeodesicHeatOptions go = o.geodesic;
+  go.threads = o.threads;
+  // BaryLab's supernodal factorisation was the fastest here (LBCOptions::geodesic)
+  if (go.backend == SparseCholesky::Backend::Automatic)
+    go.backend = SparseCholesky::Backend::Supernodal;
+  const GeodesicHeat heat(Vs, T, G, area, go);
+  return heat.distances(control_vertex);
+}
+
+void LocalBarycentricCoordinates::Impl::normalize_distances(const Eigen::MatrixXd& g)
+{
+  // unreachable vertices (another component) count as farthest
+  double global_max = 0.0;
+  for (Index j = 0; j < nc; ++j)
+    for (Index v = 0; v < nv; ++v)
+      if (std::isfinite(g(v, j)))
+        global_max = std::max(global_max, g(v, j));
+  for (Index j = 0; j < nc; ++j)
+  {
+    double mx = global_max;
+    if (o.distance_normalization == DistanceNormalization::PerControlPoint)
+    {
+      mx = 0.0;
+      for (Index v = 0; v < nv; ++v)
+        if (std::isfinite(g(v, j)))
+          mx = std::max(mx, g(v, j));
+    }
+    for (Index v = 0; v < nv; ++v)
+      distances(v, j) =
+        std::isfinite(g(v, j)) && mx > 0.0 ? std::clamp(g(v, j) / mx, 0.0, 1.0) : 1.0;
+  }
+}
+
+void LocalBarycentricCoordinates::Impl::locality_at_cells()
+{
+  for (Index t = 0; t < nt; ++t)
+    for (Index j = 0; j < nc; ++j)
+    {
+      double d = 0.0;
+      for (Index k = 0; k <= D; ++k)
+        d += distances(T(t, k), j);
+      const double value = tau(d / (D + 1));
+      if (!std::isfinite(value) || value < 0.0)
+        invalid("the locality function returned " + detail::format_number(value) + " for D = " +
+          detail::format_number(d / (D + 1)) + "; it must be finite and >= 0");
+      phi(t, j) = value;
+    }
+}
+
+void LocalBarycentricCoordinates::Impl::constraint_basis()
+{
+  Kmat.resize(nc, D + 1);
+  for (Index i = 0; i < nc; ++i)
+  {
+    Kmat.row(i).head(D) = Vs.row(control_vertex(i));
+    Kmat(i, D) = 1.0;
+  }
+  if (!o.barycentric_constraints)
+  {
+    // each w_i on its own: no W K = B (Pi = I, H = 0)
+    Ur.resize(nc, 0);
+    H = RowMatrix::Zero(m, nc);
+    return;
+  }
+  Eigen::JacobiSVD<Eigen::MatrixXd> svd(Kmat, Eigen::ComputeThinU | Eigen::ComputeThinV);
+  const Eigen::VectorXd sv = svd.singularValues();
+  if (!(sv(D) > 1e-10 * sv(0)))
+    invalid("the control points do not span the " + std::to_string(D) +
+      "D space (collinear or coplanar): no barycentric coordinates exist");
+  Ur = svd.matrixU();
+  // K^+ = V S^-1 U^T; H = B K^+ for the free rows
+  const Eigen::MatrixXd Kplus = svd.matrixV() * sv.cwiseInverse().asDiagonal() * Ur.transpose();
+  H.resize(m, nc);
+  for (Index v = 0; v < m; ++v)
+  {
+    Eigen::RowVectorXd bvec(D + 1);
+    bvec.head(D) = Vs.row(free_vertices[static_cast<std::size_t>(v)]);
+    bvec(D) = 1.0;
+    H.row(v) = bvec * Kplus;
+  }
+}
+
+void LocalBarycentricCoordinates::Impl::scale_constraints(const DomainMesh& mesh)
+{
+  a = Eigen::VectorXd::Ones(nt);
+  b = Eigen::VectorXd::Ones(m);
+  mu = o.penalty;
+  if (o.scaling != ConstraintScaling::Lumped)
+    return;
+  const double hc = cage_edge_length(mesh);
+  mu = o.scaled_penalty * hc;
+  Eigen::VectorXd mass = Eigen::VectorXd::Zero(nv);
+  for (Index t = 0; t < nt; ++t)
+    for (Index k = 0; k <= D; ++k)
+      mass(T(t, k)) += area(t) / (D + 1);
+  a = area.cwiseSqrt();
+  for (Index v = 0; v < m; ++v)
+    b(v) = o.constraint_balance / hc *
+      std::sqrt(mass(free_vertices[static_cast<std::size_t>(v)]));
+}
+
+void LocalBarycentricCoordinates::Impl::scaled_gradient()
+{
+  std::vector<int> free_index(static_cast<std::size_t>(nv), -1);
+  for (Index v = 0; v < m; ++v)
+    free_index[static_cast<std::size_t>(free_vertices[static_cast<std::size_t>(v)])] =
+      static_cast<int>(v);
+  std::vector<Eigen::Triplet<double>> triplets;
+  triplets.reserve(static_cast<std::size_t>(G.nonZeros()));
+  for (Index j = 0; j < G.outerSize(); ++j)
+    for (Eigen::SparseMatrix<double>::InnerIterator it(G, j); it; ++it)
+    {
+      const int f = free_index[static_cast<std::size_t>(it.col())];
+      if (f >= 0)
+        triplets.emplace_back(
+          static_cast<int>(it.row()), f, a(it.row() / D) * it.value());
+    }
+  Ga.resize(nt * D, m);
+  Ga.setFromTriplets(triplets.begin(), triplets.end());
+  Ga.makeCompressed();
+  GtA = Csr(Ga.transpose());
+  GtA.makeCompressed();
+}
+
+void LocalBarycentricCoordinates::Impl::boundary_terms(int threads)
+{
+  // E = G W_fixed (free rows of W_fixed are 0), scaled by a; only the cells touching the
+  // boundary have nonzero rows, only those are stored (and likewise for Ga^T diag(a) E).
+  const Eigen::MatrixXd E = G * Eigen::MatrixXd(W_fixed);
+  RowMatrix ea_full(nt * D, nc);
+  for (Index r = 0; r < nt * D; ++r)
+    ea_full.row(r) = a(r / D) * E.row(r);
+  ea_row.assign(static_cast<std::size_t>(nt), -1);
+  Index stored = 0;
+  for (Index t = 0; t < nt; ++t)
+    if (ea_full.middleRows(t * D, D).cwiseAbs().maxCoeff() > 0.0)
+      ea_row[static_cast<std::size_t>(t)] = static_cast<int>(D * stored++);
+  ea.resize(D * stored, nc);
+  for (Index t = 0; t < nt; ++t)
+    if (ea_row[static_cast<std::size_t>(t)] >= 0)
+      ea.middleRows(ea_row[static_cast<std::size_t>(t)], D) = ea_full.middleRows(t * D, D);
+  RowMatrix c0_full;
+  csr_times(GtA, ea_full, c0_full, threads);
+  c0_row.assign(static_cast<std::size_t>(m), -1);
+  stored = 0;
+  for (Index v = 0; v < m; ++v)
+    if (c0_full.row(v).cwiseAbs().maxCoeff() > 0.0)
+      c0_row[static_cast<std::size_t>(v)] = static_cast<int>(stored++);
+  c0.resize(stored, nc);
+  for (Index v = 0; v < m; ++v)
+    if (c0_row[static_cast<std::size_t>(v)] >= 0)
+      c0.row(c0_row[static_cast<std::size_t>(v)]) = c0_full.row(v);
+}
+
+void LocalBarycentricCoordinates::Impl::factor_y_system()
+{
+  if (m == 0)
+    return;
+  Eigen::SparseMatrix<double> S = Eigen::SparseMatrix<double>(GtA * Ga);
+  for (Index v = 0; v < m; ++v)
+    S.coeffRef(v, v) += b(v) * b(v);
+  S.makeCompressed();
+  if (o.backend == SparseCholesky::Backend::Automatic)
+  {
+    use_row_cholesky = true;
+    chol.factor(S);
+  }
+  else
+  {
+    use_row_cholesky = false;
+    sparse = SparseCholesky(o.backend);
+    sparse.compute(S);
+  }
+}
+
+// =================================================================================================
+
+LocalBarycentricCoordinates::LocalBarycentricCoordinates(
+  const DomainMesh& mesh, const LBCOptions& options, const ProgressCallback& progress)
+  : impl_(std::make_unique<Impl>())
+{
+  Impl& s = *impl_;
+  s.o = options;
+  validate_options(s.o);
+  const int threads = thread_count(s.o.threads);
+  auto check_cancel = [&progress](double f) {
+    if (progress && !progress(f))
+      throw Error(ErrorCode::Cancelled, "local barycentric coordinates were cancelled");
+  };
+  check_cancel(0.0);
+
+  // --- mesh: the fixed boundary rows and the free vertices
+  s.take_mesh(mesh);
+  s.split_boundary(mesh);
+
+  // --- rescale to bounding-box diameter 1 (Appendix B, "Parameters"); operators
+  const auto t_factor = Clock::now();
+  s.rescale(mesh.V);
+  s.build_operators();
   s.factor_seconds = seconds_since(t_factor);
   check_cancel(0.05);
 
   // --- locality weights phi_i^s = tau(D_i(centroid)) (§3.3)
   const auto t_geo = Clock::now();
-  s.distances = Eigen::MatrixXd::Zero(nv, nc);
-  s.phi = Eigen::MatrixXd::Ones(s.nt, nc);
-  if (o.locality != LocalityFunction::Constant)
-  {
-    GeodesicHeatOptions go = o.geodesic;
-    go.threads = o.threads;
-    // BaryLab's supernodal factorisation was the fastest here (LBCOptions::geodesic)
-    if (go.backend == SparseCholesky::Backend::Automatic)
-      go.backend = SparseCholesky::Backend::Supernodal;
-    const GeodesicHeat heat(s.Vs, s.T, s.G, s.area, go);
-    Eigen::MatrixXd g = heat.distances(s.control_vertex);
-    // unreachable vertices (another component) count as farthest
-    double global_max = 0.0;
-    for (Index j = 0; j < nc; ++j)
-      for (Index v = 0; v < nv; ++v)
-        if (std::isfinite(g(v, j)))
-          global_max = std::max(global_max, g(v, j));
-    for (Index j = 0; j < nc; ++j)
-    {
-      double mx = global_max;
-      if (o.distance_normalization == DistanceNormalization::PerControlPoint)
-      {
-        mx = 0.0;
-        for (Index v = 0; v < nv; ++v)
-          if (std::isfinite(g(v, j)))
-            mx = std::max(mx, g(v, j));
-      }
-      for (Index v = 0; v < nv; ++v)
-        s.distances(v, j) =
-          std::isfinite(g(v, j)) && mx > 0.0 ? std::clamp(g(v, j) / mx, 0.0, 1.0) : 1.0;
-    }
-    for (Index t = 0; t < s.nt; ++t)
-      for (Index j = 0; j < nc; ++j)
-      {
-        double d = 0.0;
-        for (Index k = 0; k <= D; ++k)
-          d += s.distances(s.T(t, k), j);
-        const double value = s.tau(d / (D + 1));
-        if (!std::isfinite(value) || value < 0.0)
-          invalid("the locality function returned " + detail::format_number(value) + " for D = " +
-            detail::format_number(d / (D + 1)) + "; it must be finite and >= 0");
-        s.phi(t, j) = value;
-      }
-  }
-  s.weight.resize(s.nt, nc);
-  for (Index t = 0; t < s.nt; ++t)
-    for (Index j = 0; j < nc; ++j)
-      s.weight(t, j) = s.phi(t, j) * s.area(t);
+  s.compute_locality_weights();
   s.geodesic_seconds = seconds_since(t_geo);
   check_cancel(0.5);
 
-  // --- constraints W K = B: K = [c_i^T 1], range(K) basis, least-norm H (SVD, Appendix B)
+  // --- constraints W K = B, the scaled splitting and the factorisation of its Y-system
   const auto t_fac2 = Clock::now();
-  s.Kmat.resize(nc, D + 1);
-  for (Index i = 0; i < nc; ++i)
-  {
-    s.Kmat.row(i).head(D) = s.Vs.row(s.control_vertex(i));
-    s.Kmat(i, D) = 1.0;
-  }
-  if (!o.barycentric_constraints)
-  {
-    // each w_i on its own: no W K = B (Pi = I, H = 0)
-    s.Ur.resize(nc, 0);
-    s.H = RowMatrix::Zero(m, nc);
-  }
-  else
-  {
-    Eigen::JacobiSVD<Eigen::MatrixXd> svd(s.Kmat, Eigen::ComputeThinU | Eigen::ComputeThinV);
-    const Eigen::VectorXd sv = svd.singularValues();
-    if (!(sv(D) > 1e-10 * sv(0)))
-      invalid("the control points do not span the " + std::to_string(D) +
-        "D space (collinear or coplanar): no barycentric coordinates exist");
-    s.Ur = svd.matrixU();
-    // K^+ = V S^-1 U^T; H = B K^+ for the free rows
-    const Eigen::MatrixXd Kplus = svd.matrixV() * sv.cwiseInverse().asDiagonal() * s.Ur.transpose();
-    s.H.resize(m, nc);
-    for (Index v = 0; v < m; ++v)
-    {
-      Eigen::RowVectorXd bvec(D + 1);
-      bvec.head(D) = s.Vs.row(s.free_vertices[static_cast<std::size_t>(v)]);
-      bvec(D) = 1.0;
-      s.H.row(v) = bvec * Kplus;
-    }
-  }
-
-  // --- scaled splitting: a per cell, b per free vertex
-  s.a = Eigen::VectorXd::Ones(s.nt);
-  s.b = Eigen::VectorXd::Ones(m);
-  s.mu = o.penalty;
-  if (o.scaling == ConstraintScaling::Lumped)
-  {
-    const double hc = s.cage_edge_length(mesh);
-    s.mu = o.scaled_penalty * hc;
-    Eigen::VectorXd mass = Eigen::VectorXd::Zero(nv);
-    for (Index t = 0; t < s.nt; ++t)
-      for (Index k = 0; k <= D; ++k)
-        mass(s.T(t, k)) += s.area(t) / (D + 1);
-    s.a = s.area.cwiseSqrt();
-    for (Index v = 0; v < m; ++v)
-      s.b(v) = o.constraint_balance / hc *
-        std::sqrt(mass(s.free_vertices[static_cast<std::size_t>(v)]));
-  }
-  {
-    std::vector<int> free_index(static_cast<std::size_t>(nv), -1);
-    for (Index v = 0; v < m; ++v)
-      free_index[static_cast<std::size_t>(s.free_vertices[static_cast<std::size_t>(v)])] =
-        static_cast<int>(v);
-    std::vector<Eigen::Triplet<double>> triplets;
-    triplets.reserve(static_cast<std::size_t>(s.G.nonZeros()));
-    for (Index j = 0; j < s.G.outerSize(); ++j)
-      for (Eigen::SparseMatrix<double>::InnerIterator it(s.G, j); it; ++it)
-      {
-        const int f = free_index[static_cast<std::size_t>(it.col())];
-        if (f >= 0)
-          triplets.emplace_back(
-            static_cast<int>(it.row()), f, s.a(it.row() / D) * it.value());
-      }
-    s.Ga.resize(s.nt * D, m);
-    s.Ga.setFromTriplets(triplets.begin(), triplets.end());
-    s.Ga.makeCompressed();
-    s.GtA = Csr(s.Ga.transpose());
-    s.GtA.makeCompressed();
-    // E = G W_fixed (free rows of W_fixed are 0), scaled by a; only the cells touching the
-    // boundary have nonzero rows, only those are stored (and likewise for Ga^T diag(a) E).
-    const Eigen::MatrixXd E = s.G * Eigen::MatrixXd(s.W_fixed);
-    RowMatrix ea_full(s.nt * D, nc);
-    for (Index r = 0; r < s.nt * D; ++r)
-      ea_full.row(r) = s.a(r / D) * E.row(r);
-    s.ea_row.assign(static_cast<std::size_t>(s.nt), -1);
-    Index stored = 0;
-    for (Index t = 0; t < s.nt; ++t)
-      if (ea_full.middleRows(t * D, D).cwiseAbs().maxCoeff() > 0.0)
-        s.ea_row[static_cast<std::size_t>(t)] = static_cast<int>(D * stored++);
-    s.ea.resize(D * stored, nc);
-    for (Index t = 0; t < s.nt; ++t)
-      if (s.ea_row[static_cast<std::size_t>(t)] >= 0)
-        s.ea.middleRows(s.ea_row[static_cast<std::size_t>(t)], D) = ea_full.middleRows(t * D, D);
-    RowMatrix c0_full;
-    csr_times(s.GtA, ea_full, c0_full, threads);
-    s.c0_row.assign(static_cast<std::size_t>(m), -1);
-    stored = 0;
-    for (Index v = 0; v < m; ++v)
-      if (c0_full.row(v).cwiseAbs().maxCoeff() > 0.0)
-        s.c0_row[static_cast<std::size_t>(v)] = static_cast<int>(stored++);
-    s.c0.resize(stored, nc);
-    for (Index v = 0; v < m; ++v)
-      if (s.c0_row[static_cast<std::size_t>(v)] >= 0)
-        s.c0.row(s.c0_row[static_cast<std::size_t>(v)]) = c0_full.row(v);
-  }
+  s.constraint_basis();
+  s.scale_constraints(mesh);
+  s.scaled_gradient();
+  s.boundary_terms(threads);
   check_cancel(0.6);
-  if (m > 0)
-  {
-    Eigen::SparseMatrix<double> S = Eigen::SparseMatrix<double>(s.GtA * s.Ga);
-    for (Index v = 0; v < m; ++v)
-      S.coeffRef(v, v) += s.b(v) * s.b(v);
-    S.makeCompressed();
-    if (o.backend == SparseCholesky::Backend::Automatic)
-    {
-      s.use_row_cholesky = true;
-      s.chol.factor(S);
-    }
-    else
-    {
-      s.use_row_cholesky = false;
-      s.sparse = SparseCholesky(o.backend);
-      s.sparse.compute(S);
-    }
-  }
+  s.factor_y_system();
   s.factor_seconds += seconds_since(t_fac2);
   check_cancel(1.0);
 }
