@@ -64,6 +64,11 @@ int main(int argc, char** argv)
     const int code = app.exit(e);
     return code == 0 ? 0 : 2;
   }
+  catch (const bary::Error& e) // a value the table's lookups refuse (an unknown --method)
+  {
+    std::cerr << "barylab: error: " << e.what() << "\n";
+    return 1;
+  }
 
   try
   {

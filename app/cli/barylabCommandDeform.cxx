@@ -211,10 +211,14 @@ int run_deform(DeformArgs a)
     throw UsageError("give --cage or --control-points, not both");
   if (!a.posed_controls.empty() && !a.posed.empty())
     throw UsageError("give --deformed-cage or --deformed-control-points, not both");
-  if (a.parameters.method == bary::MethodId::LBC && !a.mesh.empty())
-    throw UsageError("deform --method lbc meshes the cage; for weights on a given mesh run "
-                     "'barylab weights --method lbc --mesh DOMAIN --points MODEL' and pass them "
-                     "with --weights");
+  if (a.parameters.method != bary::MethodId::BBW &&
+    bary::method_info(a.parameters.method).accepts_domain && !a.mesh.empty())
+  {
+    const std::string name = MethodName(a.parameters);
+    throw UsageError("deform --method " + name + " meshes the cage; for weights on a given mesh "
+      "run 'barylab weights --method " + name + " --mesh DOMAIN --points MODEL' and pass them "
+      "with --weights");
+  }
   check_bbw_inputs(a.parameters.method, a.controls.empty() ? a.cage : a.controls, a.handles,
     a.mesh, !a.controls.empty());
   if (!a.user_weights.empty() && a.parameters.method != bary::MethodId::TCelestial)

@@ -47,6 +47,8 @@ void add_method_options(CLI::App* cmd, WeightsParameters& p)
        [&p](const std::string& name) { p.method = bary::method_from_name(name); },
        "coordinate method: " + bary::method_names())
     ->default_str(MethodName(p));
+  cmd->add_option("--weights-name", p.weights_name, "name of the weights point-data array")
+    ->default_val(p.weights_name);
   // Every other setting with a flag, from the one settings table (core/weight_methods.h): its
   // help, range and default are the table's.
   std::map<std::string, CLI::Option_group*> groups;
@@ -110,10 +112,11 @@ void check_bbw_inputs(bary::MethodId id, const std::string& cage,
   const std::string method = bary::method_info(id).name;
   if (id != bary::MethodId::BBW)
   {
-    if (!handles.empty() || (!mesh.empty() && method != "lbc"))
-      throw UsageError(method == "lbc" ? "--handles is for --method bbw"
-                                       : "--handles and --mesh are for --method bbw (--mesh also "
-                                         "for lbc)");
+    const bool takes_mesh = bary::method_info(id).accepts_domain;
+    if (!handles.empty() || (!mesh.empty() && !takes_mesh))
+      throw UsageError(takes_mesh ? "--handles is for --method bbw"
+                                  : "--handles and --mesh are for --method bbw (--mesh also for "
+                                    "harmonic and lbc)");
     const bool point_based = barylab::IsPointBasedMethod(id);
     if (point_based && !controls)
       throw UsageError("--method " + method + " takes free control points: --control-points "

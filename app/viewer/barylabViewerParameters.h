@@ -37,7 +37,7 @@ struct ParameterField
   double minimum = 0.0; ///< Int / Double
   double maximum = 0.0; ///< Int / Double
   std::vector<std::string> choices; ///< Choice
-  /// Methods the field applies to (vtkBaryCoordinates::GetMethodName values); empty = all.
+  /// Methods the field applies to (bary::method_table names); empty = all.
   std::vector<std::string> methods;
   std::function<nlohmann::json(const WeightsParameters&)> get;
   std::function<void(WeightsParameters&, const nlohmann::json&)> set;
@@ -48,7 +48,7 @@ struct ParameterField
 /// Every field the panel shows, in panel order (not the method: it has its own selector).
 const std::vector<ParameterField>& WeightsParameterFields();
 
-/// The method names BaryLab's filters know, in vtkBaryCoordinates order (a method added to the
+/// The method names BaryLab's filters know, in bary::method_table order (a method added to the
 /// filters appears here without viewer changes).
 std::vector<std::string> MethodNames();
 

@@ -169,7 +169,10 @@ int vtkBaryCageDeformation::RequestData(
 
   try
   {
-    const bool blendsDisplacements = this->WeightMethod->GetMethod() == vtkBaryWeightMethod::BBW;
+    // methods without linear precision (BBW) blend displacements, see the class description
+    const bool blendsDisplacements =
+      !bary::method_info(static_cast<bary::MethodId>(this->WeightMethod->GetMethod()))
+         .linear_precision;
     const vtkBaryCage cage = this->WeightMethod->ReadControls(restCage);
     const int dim = cage.Cage.dimension();
     const vtkIdType nc = cage.Cage.num_controls();

@@ -65,6 +65,10 @@ public:
   vtkGetObjectMacro(WeightMethod, vtkBaryWeightMethod);
   ///@}
 
+  /// Includes the weight method's modification time (a setting changed on a shared method
+  /// re-executes the filter).
+  vtkMTimeType GetMTime() override;
+
   ///@{
   /// Weights array read from the model (with UseInputWeights) and written to the output (with
   /// PassWeights). Default "Weights".
@@ -104,8 +108,6 @@ public:
 protected:
   vtkBaryCageDeformation();
   ~vtkBaryCageDeformation() override;
-  vtkMTimeType GetMTime() override;
-
   int FillInputPortInformation(int port, vtkInformation* info) override;
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
 

@@ -3,6 +3,9 @@
  * @brief   Generalized barycentric coordinates of the points of a data set w.r.t. a cage.
  *
  * Input 0: any vtkDataSet whose points are evaluated (a mesh, a point cloud, an image).
+ * The method and all its settings are the WeightMethod's (a vtkBaryWeightMethod, which a
+ * vtkBaryCageDeformation may share): e.g. GetWeightMethod()->SetMethodToLBC().
+ *
  * Input 1 (the cage): a vtkPolyData, interpreted by vtkBaryConversion::ToCage — a closed
  * triangle surface (3D), or one polygon in a plane z = const (2D: a polygon cell, a polyline, or
  * bare points in order as in an .obj with only `v` lines).
@@ -21,11 +24,12 @@
  * points; cells ignored; 2D when they lie in a plane z = const): the domain is their convex hull,
  * component i is control point i. When input 0 has cells, Newton's warm starts follow its edges.
  *
- * Local barycentric coordinates (LBC, Zhang et al. 2014) take a cage as HARMONIC does; the
- * weights are computed on a mesh of its interior (made here with TargetNumberOfCells /
- * MaximumCellSize / InsertPointsIntoMesh, or given on input 2 and used as is), then
- * interpolated at the points. Properties LBCLocality ... LBCBarycentricConstraints (defaults:
- * the paper's). A run that does not converge within LBCMaximumIterations fails the request.
+ * The mesh-based cage methods (HARMONIC, BBW with cage handles, LBC: Zhang et al. 2014) compute
+ * the weights on a mesh of the cage's interior, made here (the method's TargetNumberOfCells /
+ * MaximumCellSize / InsertPointsIntoMesh) or given on input 2 and used as is, then interpolate
+ * them at the points. LBC's settings are the method's LBC* properties (defaults: the paper's);
+ * a run that does not converge within LBCMaximumIterations fails the request, naming the
+ * settings to change.
  *
  * The solver figures of BBW (iterations, KKT residual, bound violation, partition error,
  * times) and of LBC ("mesh_vertices", "mesh_cells", "iterations", "primal_residual",
@@ -88,10 +92,15 @@ public:
   vtkGetObjectMacro(WeightMethod, vtkBaryWeightMethod);
   ///@}
 
+  /// Includes the weight method's modification time (a setting changed on a shared method
+  /// re-executes the filter).
+  vtkMTimeType GetMTime() override;
+
   ///@{
-  /// The domain (input port 2, optional): of BBW with skeleton handles; of LBC, a
-  /// triangulation (2D: triangles in the cage's plane) or tetrahedralization (3D) of the cage's
-  /// interior used as is instead of meshing the cage (each cage vertex must be one of its
+  /// The domain (input port 2, optional): of BBW with skeleton handles; of the mesh-based cage
+  /// methods (HARMONIC, BBW with cage handles, LBC), a triangulation (2D: triangles in the
+  /// cage's plane) or tetrahedralization (3D) of the cage's interior used as is instead of
+  /// meshing the cage (each cage vertex must be one of its
   /// boundary vertices, within 1e-6 of the cage diameter, and its boundary must lie on the
   /// cage; the request fails naming the first cage vertex that has no mesh vertex).
   void SetDomainData(vtkDataSet* domain);
@@ -139,8 +148,6 @@ public:
 protected:
   vtkBaryCoordinates();
   ~vtkBaryCoordinates() override;
-  vtkMTimeType GetMTime() override;
-
   int FillInputPortInformation(int port, vtkInformation* info) override;
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
 #ifndef __VTK_WRAP__

@@ -109,8 +109,12 @@ TEST(SettingsTable, DefaultsAreTheAlgorithmsAndInRange)
   const WeightsSettings s;
   EXPECT_NO_THROW(bary::validate_settings(s));
   for (const SettingField& f : bary::weights_setting_fields())
+  {
     if (f.kind != Kind::Numbers)
+    {
       EXPECT_TRUE(f.accepts(f.default_value())) << f.key << " = " << f.default_value();
+    }
+  }
   const bary::LBCOptions lbc;
   EXPECT_EQ(s.lbc_primal_tolerance, lbc.primal_tolerance);
   EXPECT_EQ(s.lbc_dual_tolerance, lbc.dual_tolerance);
@@ -192,9 +196,13 @@ TEST(SettingsTable, HashSeesEverySettingThatChangesWeights)
       f.set(s, other_value(f, s));
     EXPECT_FALSE(s == base);
     if (f.affects_weights)
+    {
       EXPECT_NE(bary::settings_hash(s), h0);
+    }
     else
+    {
       EXPECT_EQ(bary::settings_hash(s), h0) << "results do not depend on it";
+    }
   }
   WeightsSettings other = base;
   other.method = MethodId::LBC;

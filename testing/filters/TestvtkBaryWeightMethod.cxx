@@ -19,6 +19,8 @@
 #include <limits>
 #include <sstream>
 
+using namespace barylab_test;
+
 TEST(vtkBaryWeightMethod, PropertiesAreTheTablesSettings)
 {
   vtkNew<vtkBaryWeightMethod> m;
@@ -31,8 +33,12 @@ TEST(vtkBaryWeightMethod, PropertiesAreTheTablesSettings)
   EXPECT_FALSE(m->GetLBCUnconstrained());
   // every row of the table is reachable by key and reads back the default
   for (const bary::SettingField& f : bary::weights_setting_fields())
+  {
     if (f.kind != bary::SettingField::Kind::Numbers)
+    {
       EXPECT_EQ(m->GetSetting(f.key.c_str()), f.default_value()) << f.key;
+    }
+  }
   // clamped to the table's range, as vtkSetClampMacro does
   m->SetLBCPrimalTolerance(10.0);
   EXPECT_EQ(m->GetLBCPrimalTolerance(), bary::setting_field("lbc_primal_tolerance").maximum);

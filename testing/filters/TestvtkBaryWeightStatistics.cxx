@@ -20,6 +20,8 @@
 
 #include <cmath>
 
+using namespace barylab_test;
+
 namespace
 {
 vtkSmartPointer<vtkPolyData> UnitSquare()
