@@ -14,7 +14,6 @@
 #include <QApplication>
 #include <QDialog>
 #include <QDockWidget>
-#include <QElapsedTimer>
 #include <QFileDialog>
 #include <QFileInfo>
 #include <QImage>
@@ -26,9 +25,7 @@
 #include <QPushButton>
 #include <QSplitter>
 #include <QStatusBar>
-#include <QTimer>
 #include <QVBoxLayout>
-#include <QtConcurrent/QtConcurrentRun>
 
 #include <QVTKOpenGLNativeWidget.h>
 
@@ -78,17 +75,6 @@ std::string to_std(const QString& s)
 {
   return s.toStdString();
 }
-
-template <class T>
-vtkSmartPointer<T> deep_copy(T* data)
-{
-  if (!data)
-    return nullptr;
-  vtkSmartPointer<T> copy;
-  copy.TakeReference(T::SafeDownCast(data->NewInstance()));
-  copy->DeepCopy(data);
-  return copy;
-}
 } // namespace
 
 QStringList ViewerWindow::ExampleNames()
@@ -101,13 +87,13 @@ QStringList ViewerWindow::ExampleNames()
 
 ViewerWindow::ViewerWindow(QWidget* parent)
   : QMainWindow(parent)
-  , Progress(std::make_shared<std::atomic<double>>(0.0))
-  , CancelFlag(std::make_shared<std::atomic<bool>>(false))
 {
   qRegisterMetaType<barylab::viewer::Inputs>();
-  this->Watcher = std::make_unique<QFutureWatcher<ComputeResult>>();
-  connect(this->Watcher.get(), &QFutureWatcher<ComputeResult>::finished, this,
-    &ViewerWindow::onComputeDone);
+  connect(&this->Runner, &ComputeRunner::finished, this, &ViewerWindow::finishCompute);
+  connect(&this->Runner, &ComputeRunner::abandoned, this, [this]() {
+    this->ProgressBar->hide();
+    this->Panel->sync();
+  });
   this->setWindowTitle("BaryLab viewer");
   this->resize(1280, 800);
   this->buildViews();
@@ -117,14 +103,7 @@ ViewerWindow::ViewerWindow(QWidget* parent)
   this->statusBar()->showMessage("Open a cage and a model (File > Open) or an example.");
 }
 
-ViewerWindow::~ViewerWindow()
-{
-  if (this->Watcher && this->Watcher->isRunning())
-  {
-    this->CancelFlag->store(true);
-    this->Watcher->waitForFinished();
-  }
-}
+ViewerWindow::~ViewerWindow() = default;
 
 QVTKOpenGLNativeWidget* ViewerWindow::view() const
 {
@@ -205,6 +184,8 @@ void ViewerWindow::buildViews()
   this->ProgressBar->setMaximumWidth(220);
   this->ProgressBar->hide();
   this->statusBar()->addPermanentWidget(this->ProgressBar);
+  connect(&this->Runner, &ComputeRunner::progressed, this->ProgressBar,
+    [this](double fraction) { this->ProgressBar->setValue(static_cast<int>(1000.0 * fraction)); });
 }
 
 void ViewerWindow::buildMenus()
@@ -448,87 +429,30 @@ void ViewerWindow::compute()
     this->reportError("nothing to compute: open a cage and a model, or an example");
     return;
   }
-  this->Progress->store(0.0);
-  this->CancelFlag->store(false);
-  this->Running = this->Parameters;
-  this->RunningCompare = this->CompareMethod;
-  // the worker gets its own copies: the views keep drawing the originals
-  auto model = deep_copy(this->State.model());
-  auto controls = deep_copy(this->State.controls());
-  auto domain = deep_copy(this->State.domain());
-  if (this->Synchronous)
-  {
-    QApplication::setOverrideCursor(Qt::WaitCursor);
-    ComputeResult result = RunCompute(model, controls, domain, this->Parameters,
-      this->CompareMethod, this->Progress, this->CancelFlag);
-    QApplication::restoreOverrideCursor();
-    this->finishCompute(result);
-    return;
-  }
-  this->Busy = true;
-  const WeightsParameters parameters = this->Parameters;
-  const QString compare = this->CompareMethod;
-  const auto progress = this->Progress;
-  const auto cancel = this->CancelFlag;
-  this->Watcher->setFuture(QtConcurrent::run([=]() {
-    return RunCompute(model, controls, domain, parameters, compare, progress, cancel);
-  }));
+  this->Runner.start(this->State.model(), this->State.controls(), this->State.domain(),
+    this->Parameters, this->CompareMethod);
+  if (!this->isComputing())
+    return; // synchronous: done already
   this->ProgressBar->setValue(0);
   this->ProgressBar->show();
   this->Panel->sync();
   this->statusBar()->showMessage("Computing " + QString::fromStdString(this->Parameters.method) +
     " weights...");
-  QTimer::singleShot(100, this, &ViewerWindow::onPollProgress);
-}
-
-void ViewerWindow::onPollProgress()
-{
-  if (!this->isComputing())
-    return;
-  this->ProgressBar->setValue(static_cast<int>(1000.0 * this->Progress->load()));
-  QTimer::singleShot(100, this, &ViewerWindow::onPollProgress);
 }
 
 void ViewerWindow::cancel()
 {
-  if (this->isComputing())
-  {
-    this->CancelFlag->store(true);
+  if (this->Runner.cancel())
     this->statusBar()->showMessage("Cancelling...");
-  }
 }
 
 bool ViewerWindow::waitForComputation(int timeout_ms)
 {
-  QElapsedTimer timer;
-  timer.start();
-  while (this->isComputing())
-  {
-    if (timer.elapsed() > timeout_ms)
-      return false;
-    QApplication::processEvents(QEventLoop::AllEvents, 20);
-  }
-  return true;
-}
-
-void ViewerWindow::onComputeDone()
-{
-  const QFuture<ComputeResult> future = this->Watcher->future();
-  if (future.resultCount() == 0)
-  {
-    this->Busy = false;
-    this->ProgressBar->hide();
-    this->Panel->sync();
-    return;
-  }
-  const ComputeResult result = future.result();
-  this->Watcher->setFuture(QFuture<ComputeResult>());
-  this->finishCompute(result);
+  return this->Runner.wait(timeout_ms);
 }
 
 void ViewerWindow::finishCompute(const ComputeResult& result)
 {
-  this->Busy = false;
   this->ProgressBar->hide();
   this->LastSeconds = result.seconds;
   if (!result.error.isEmpty())
@@ -537,14 +461,14 @@ void ViewerWindow::finishCompute(const ComputeResult& result)
     if (result.cancelled)
       this->statusBar()->showMessage("Computation cancelled.");
     else
-      this->reportError("computing " + QString::fromStdString(this->Running.method) +
+      this->reportError("computing " + QString::fromStdString(result.parameters.method) +
         " weights failed: " + result.error);
     this->State.clearPendingPose();
     this->PendingSelection = -1;
     emit computeFinished(false);
     return;
   }
-  this->State.setWeights(result.weighted, result.compare, this->Running, this->RunningCompare);
+  this->State.setWeights(result.weighted, result.compare, result.parameters, result.compare_method);
   if (!this->State.twists().empty() &&
     (!this->shownMode().twistsHandles() ||
       static_cast<int>(this->State.twists().size()) != this->componentCount()))

@@ -11,7 +11,6 @@
 #include "barylabViewerScene.h"
 #include "barylabViewerSession.h"
 
-#include <QFutureWatcher>
 #include <QMainWindow>
 #include <QStringList>
 
@@ -23,8 +22,6 @@
 #include "vtkRenderer.h"
 #include "vtkSmartPointer.h"
 
-#include <atomic>
-#include <memory>
 #include <vector>
 
 class QDockWidget;
@@ -51,7 +48,7 @@ public:
   static QStringList ExampleNames();
 
   // --- state, for tests and scripts ---------------------------------------------------------
-  bool isComputing() const { return this->Busy; }
+  bool isComputing() const { return this->Runner.isBusy(); }
   bool hasWeights() const { return this->State.weighted() != nullptr; }
   vtkDataSet* weighted() const { return this->State.weighted(); }
   vtkDataSet* compareWeighted() const { return this->State.compareWeighted(); }
@@ -99,7 +96,7 @@ public:
   /// Interactive (default): errors also open a message box. Off for tests and --screenshot.
   void setInteractive(bool on) { this->Interactive = on; }
   /// Synchronous: compute() runs in the calling thread (--screenshot, scripts).
-  void setSynchronous(bool on) { this->Synchronous = on; }
+  void setSynchronous(bool on) { this->Runner.setSynchronous(on); }
 
 public slots:
   /// Opens CONTROLS MODEL [DOMAIN] (a .tgf CONTROLS file is a BBW skeleton and needs DOMAIN).
@@ -165,8 +162,6 @@ signals:
   void sceneUpdated();
 
 private slots:
-  void onComputeDone();
-  void onPollProgress();
   void openFilesDialog();
   void openSessionDialog();
   void saveSessionDialog();
@@ -199,8 +194,6 @@ private:
 
   Session State;
   WeightsParameters Parameters;
-  WeightsParameters Running; ///< the parameters of the computation under way
-  QString RunningCompare;
   QString CompareMethod;
   SceneOptions Options;
   SceneInfo Info;
@@ -208,14 +201,10 @@ private:
 
   QStringList Errors;
   bool Interactive = true;
-  bool Synchronous = false;
-  bool Busy = false; ///< a worker runs (until its result is handled)
   double LastSeconds = 0.0;
   bool CameraNeedsReset = true;
 
-  std::unique_ptr<QFutureWatcher<ComputeResult>> Watcher;
-  std::shared_ptr<std::atomic<double>> Progress;
-  std::shared_ptr<std::atomic<bool>> CancelFlag;
+  ComputeRunner Runner; ///< declared after the session: a worker still running stops first
 
   // widgets
   ControlPanel* Panel = nullptr;
