@@ -8,12 +8,9 @@
 
 #include "vtkBaryDataIO.h"
 
-#include "core/error.h"
-
 #include <QAction>
 #include <QApplication>
 #include <QDialog>
-#include <QDockWidget>
 #include <QFileDialog>
 #include <QFileInfo>
 #include <QImage>
@@ -161,16 +158,10 @@ void ViewerWindow::buildViews()
   });
 
   // locality charts (P(t), Q(k)), hidden until asked for
-  this->Locality = new LocalityPanel(this);
-  this->LocalityDock = new QDockWidget("Locality statistics", this);
-  this->LocalityDock->setObjectName("locality_dock");
-  this->LocalityDock->setWidget(this->Locality);
-  this->addDockWidget(Qt::BottomDockWidgetArea, this->LocalityDock);
-  this->LocalityDock->hide();
-  connect(this->LocalityDock, &QDockWidget::visibilityChanged, this, [this](bool visible) {
-    if (visible)
-      this->updateLocality();
-  });
+  this->Locality = new LocalityDock(this->State, this);
+  this->addDockWidget(Qt::BottomDockWidgetArea, this->Locality);
+  this->Locality->hide();
+  connect(this->Locality, &LocalityDock::failed, this, &ViewerWindow::reportError);
 
   // side panel
   this->Panel = new ControlPanel(this);
@@ -496,7 +487,7 @@ void ViewerWindow::finishCompute(const ComputeResult& result)
                                .arg(stats["partition_of_unity"].value("max_error", 0.0), 0, 'g', 2)
                                .arg(stats["significant"].value("mean_per_point", 0.0), 0, 'g', 3));
   if (this->isLocalityShown())
-    this->updateLocality();
+    this->Locality->refresh();
   this->statusBar()->showMessage(
     QString("Computed %1 weights in %2 s.").arg(method).arg(result.seconds, 0, 'f', 3));
   emit computeFinished(true);
@@ -965,82 +956,38 @@ void ViewerWindow::saveDeformedDialog()
     this->saveDeformedModel(path);
 }
 
+LocalityPanel* ViewerWindow::localityPanel() const
+{
+  return this->Locality->panel();
+}
+
 const json& ViewerWindow::localityStatistics() const
 {
-  return this->Locality->statistics();
+  return this->Locality->panel()->statistics();
 }
 
 bool ViewerWindow::isLocalityShown() const
 {
-  return this->LocalityDock && this->LocalityDock->isVisible();
-}
-
-void ViewerWindow::updateLocality()
-{
-  json all = json::array();
-  try
-  {
-    const std::pair<vtkDataSet*, std::string> shown[] = {
-      { this->State.weighted(), this->State.computed().method },
-      { this->State.compareWeighted(), to_std(this->State.computedCompare()) } };
-    for (const auto& [data, method] : shown)
-      if (data)
-      {
-        json s = LocalityStatisticsJson(data, this->State.computed().weights_name);
-        s["method"] = method;
-        all.push_back(std::move(s));
-      }
-  }
-  catch (const std::exception& e)
-  {
-    this->reportError(QString("locality statistics: ") + e.what());
-    all = json::array();
-  }
-  this->Locality->setStatistics(all);
+  return this->Locality && this->Locality->isVisible();
 }
 
 void ViewerWindow::showLocality(bool on)
 {
-  if (on)
-  {
-    this->LocalityDock->show();
-    this->updateLocality(); // also when it was visible already
-  }
-  else
-    this->LocalityDock->hide();
+  this->Locality->setShown(on);
 }
 
 bool ViewerWindow::exportLocalityCsv(const QString& prefix)
 {
-  try
-  {
-    this->updateLocality();
-    this->Locality->writeCsv(to_std(prefix));
-  }
-  catch (const std::exception& e)
-  {
-    this->reportError(QString::fromStdString(e.what()));
+  if (!this->reporting([&]() { this->Locality->writeCsv(prefix); }))
     return false;
-  }
   this->statusBar()->showMessage("Wrote " + prefix + "_P.csv and " + prefix + "_Q.csv");
   return true;
 }
 
 bool ViewerWindow::exportLocalityPng(const QString& path)
 {
-  try
-  {
-    this->updateLocality();
-    if (this->Locality->statistics().empty())
-      throw bary::Error(bary::ErrorCode::InvalidArgument,
-        "no locality statistics to export: compute weights first");
-    this->Locality->writePng(to_std(path));
-  }
-  catch (const std::exception& e)
-  {
-    this->reportError(QString::fromStdString(e.what()));
+  if (!this->reporting([&]() { this->Locality->writePng(path); }))
     return false;
-  }
   this->statusBar()->showMessage("Wrote " + path);
   return true;
 }

@@ -24,7 +24,6 @@
 
 #include <vector>
 
-class QDockWidget;
 class QProgressBar;
 class QVTKOpenGLNativeWidget;
 
@@ -33,6 +32,7 @@ namespace barylab
 namespace viewer
 {
 class ControlPanel;
+class LocalityDock;
 class LocalityPanel;
 class Mode;
 class Views;
@@ -89,7 +89,7 @@ public:
 
   /// The locality charts (P(t), Q(k)) and the statistics they show (an array of
   /// barylab::LocalityStatisticsJson objects with "method"; empty before showLocality()).
-  LocalityPanel* localityPanel() const { return this->Locality; }
+  LocalityPanel* localityPanel() const;
   const nlohmann::json& localityStatistics() const;
   bool isLocalityShown() const;
 
@@ -183,7 +183,6 @@ private:
   void updateDeformation();
   void updateScene();
   void renderViews();
-  void updateLocality();
   void moveControlLive(int id, const double x[3]);
   /// Display options changed: panel and scene follow.
   void optionsChanged();
@@ -208,8 +207,7 @@ private:
 
   // widgets
   ControlPanel* Panel = nullptr;
-  LocalityPanel* Locality = nullptr;
-  QDockWidget* LocalityDock = nullptr;
+  LocalityDock* Locality = nullptr;
   Views* ViewPair = nullptr;
   QProgressBar* ProgressBar = nullptr;
 };
