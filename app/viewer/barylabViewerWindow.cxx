@@ -1,5 +1,6 @@
 #include "barylabViewerWindow.h"
 
+#include "barylabViewerExamples.h"
 #include "barylabViewerLocality.h"
 #include "barylabViewerMode.h"
 #include "barylabViewerPanel.h"
@@ -40,34 +41,6 @@ namespace
 {
 using json = nlohmann::json;
 
-QString data_path(const char* name)
-{
-  return QString(BARYLAB_DEFAULT_DATA_DIR) + "/" + name;
-}
-
-struct Example
-{
-  const char* name;
-  const char* controls;
-  const char* model;
-  const char* domain;
-  const char* method;
-  const char* pose;
-  int selected;
-};
-
-const Example kExamples[] = {
-  { "gingerbread-mvc", "cage2d.obj", "model2d.obj", "", "mvc", "cage2d_posed.obj", 14 },
-  { "kidney-mvc", "cage3d.obj", "model3d.off", "", "mvc", "cage3d_posed.obj", 36 },
-  { "gingerbread-bbw", "skeleton2d.tgf", "model2d.obj", "cage2d.obj", "bbw", "skeleton2d_pose.txt",
-    3 },
-  { "heart-scc", "heart_controls.obj", "heart.off", "", "scc", "heartbeat/frame_05.obj", 0 },
-  // local barycentric coordinates: compare with mvc and open the locality charts (S)
-  { "gingerbread-lbc", "cage2d.obj", "model2d.obj", "", "lbc", "cage2d_posed.obj", 14 },
-  // 2D image mode: a picture as the model, warped as a texture by the cage
-  { "gingerbread-image", "cage2d.obj", "gingerbread.png", "", "mvc", "cage2d_posed.obj", 14 },
-};
-
 std::string to_std(const QString& s)
 {
   return s.toStdString();
@@ -76,10 +49,7 @@ std::string to_std(const QString& s)
 
 QStringList ViewerWindow::ExampleNames()
 {
-  QStringList names;
-  for (const Example& e : kExamples)
-    names << e.name;
-  return names;
+  return viewer::ExampleNames();
 }
 
 ViewerWindow::ViewerWindow(QWidget* parent)
@@ -184,11 +154,8 @@ void ViewerWindow::buildMenus()
   QMenu* file = this->menuBar()->addMenu("&File");
   file->addAction("&Open cage and model...", this, &ViewerWindow::openFilesDialog, QKeySequence::Open);
   QMenu* examples = file->addMenu("Open &example");
-  for (const Example& e : kExamples)
-  {
-    const QString name = e.name;
+  for (const QString& name : viewer::ExampleNames())
     examples->addAction(name, this, [this, name]() { this->loadExample(name); });
-  }
   file->addSeparator();
   file->addAction("&Load session...", this, &ViewerWindow::openSessionDialog, QKeySequence("Ctrl+L"));
   file->addAction("&Save session...", this, &ViewerWindow::saveSessionDialog, QKeySequence::Save);
@@ -311,30 +278,22 @@ bool ViewerWindow::openInputs(const Inputs& given)
 
 bool ViewerWindow::loadExample(const QString& name, bool compute)
 {
-  for (const Example& e : kExamples)
+  const Example* example = FindExample(name);
+  if (!example)
   {
-    if (name != e.name)
-      continue;
-    Inputs in;
-    in.controls = data_path(e.controls);
-    in.model = data_path(e.model);
-    if (*e.domain)
-      in.domain = data_path(e.domain);
-    in.example = e.name;
-    in.pose = data_path(e.pose);
-    this->Parameters = WeightsParameters();
-    this->Parameters.method = e.method;
-    this->CompareMethod.clear();
-    if (!this->openInputs(in))
-      return false;
-    this->PendingSelection = e.selected;
-    this->Panel->sync();
-    if (compute)
-      this->compute();
-    return true;
+    this->reportError("unknown example '" + name + "' (known: " + ExampleNames().join(", ") + ")");
+    return false;
   }
-  this->reportError("unknown example '" + name + "' (known: " + ExampleNames().join(", ") + ")");
-  return false;
+  this->Parameters = WeightsParameters();
+  this->Parameters.method = example->method;
+  this->CompareMethod.clear();
+  if (!this->openInputs(example->inputs()))
+    return false;
+  this->PendingSelection = example->selected;
+  this->Panel->sync();
+  if (compute)
+    this->compute();
+  return true;
 }
 
 void ViewerWindow::updateControlList()
