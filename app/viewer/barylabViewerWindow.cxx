@@ -1,5 +1,6 @@
 #include "barylabViewerWindow.h"
 
+#include "barylabViewerDialogs.h"
 #include "barylabViewerExamples.h"
 #include "barylabViewerLocality.h"
 #include "barylabViewerMode.h"
@@ -11,19 +12,13 @@
 
 #include <QAction>
 #include <QApplication>
-#include <QDialog>
-#include <QFileDialog>
 #include <QFileInfo>
 #include <QImage>
-#include <QLabel>
 #include <QMenuBar>
 #include <QMessageBox>
-#include <QPlainTextEdit>
 #include <QProgressBar>
-#include <QPushButton>
 #include <QSplitter>
 #include <QStatusBar>
-#include <QVBoxLayout>
 
 #include <QVTKOpenGLNativeWidget.h>
 
@@ -152,20 +147,20 @@ void ViewerWindow::buildViews()
 void ViewerWindow::buildMenus()
 {
   QMenu* file = this->menuBar()->addMenu("&File");
-  file->addAction("&Open cage and model...", this, &ViewerWindow::openFilesDialog, QKeySequence::Open);
+  file->addAction("&Open cage and model...", this, [this]() { OpenFilesDialog(*this); }, QKeySequence::Open);
   QMenu* examples = file->addMenu("Open &example");
   for (const QString& name : viewer::ExampleNames())
     examples->addAction(name, this, [this, name]() { this->loadExample(name); });
   file->addSeparator();
-  file->addAction("&Load session...", this, &ViewerWindow::openSessionDialog, QKeySequence("Ctrl+L"));
-  file->addAction("&Save session...", this, &ViewerWindow::saveSessionDialog, QKeySequence::Save);
+  file->addAction("&Load session...", this, [this]() { LoadSessionDialog(*this); }, QKeySequence("Ctrl+L"));
+  file->addAction("&Save session...", this, [this]() { SaveSessionDialog(*this); }, QKeySequence::Save);
   file->addSeparator();
-  file->addAction("Load &pose...", this, &ViewerWindow::loadPoseDialog);
+  file->addAction("Load &pose...", this, [this]() { LoadPoseDialog(*this); });
   file->addAction("Apply the example's pose", this, &ViewerWindow::applyExamplePose, QKeySequence("Ctrl+P"));
-  file->addAction("Save p&ose...", this, &ViewerWindow::savePoseDialog);
-  file->addAction("Save &deformed model...", this, &ViewerWindow::saveDeformedDialog, QKeySequence("Ctrl+D"));
-  file->addAction("Save screens&hot...", this, &ViewerWindow::saveScreenshotDialog, QKeySequence("Ctrl+Shift+S"));
-  file->addAction("&Export locality statistics (PNG, CSV)...", this, &ViewerWindow::exportLocalityDialog);
+  file->addAction("Save p&ose...", this, [this]() { SavePoseDialog(*this); });
+  file->addAction("Save &deformed model...", this, [this]() { SaveDeformedDialog(*this); }, QKeySequence("Ctrl+D"));
+  file->addAction("Save screens&hot...", this, [this]() { SaveScreenshotDialog(*this); }, QKeySequence("Ctrl+Shift+S"));
+  file->addAction("&Export locality statistics (PNG, CSV)...", this, [this]() { ExportLocalityDialog(*this); });
   file->addSeparator();
   file->addAction("&Quit", this, &QWidget::close, QKeySequence::Quit);
   QMenu* edit = this->menuBar()->addMenu("&Edit");
@@ -835,85 +830,11 @@ void ViewerWindow::showCommandLine()
     this->statusBar()->showMessage(line);
     return;
   }
-  QDialog dialog(this);
-  dialog.setWindowTitle("Run in terminal");
-  auto* layout = new QVBoxLayout(&dialog);
-  layout->addWidget(new QLabel("The same weights from the command line:"));
-  auto* text = new QPlainTextEdit(line);
-  text->setReadOnly(true);
-  layout->addWidget(text);
-  auto* close = new QPushButton("Close");
-  connect(close, &QPushButton::clicked, &dialog, &QDialog::accept);
-  layout->addWidget(close);
-  dialog.resize(700, 160);
-  dialog.exec();
+  ShowCommandLineDialog(this, line);
 }
 
 // ------------------------------------------------------------------------------------------
-// file dialogs
-
-void ViewerWindow::openFilesDialog()
-{
-  const QString filter = "Geometry (*.obj *.off *.vtp *.vtu *.vtk *.stl *.ply *.mesh *.tgf);;All files (*)";
-  const QString controls = QFileDialog::getOpenFileName(this,
-    "Controls: cage, skeleton (.tgf) or control points", QString(), filter);
-  if (controls.isEmpty())
-    return;
-  const QString model = QFileDialog::getOpenFileName(this, "Model (points to compute weights at)",
-    QFileInfo(controls).path(), filter);
-  if (model.isEmpty())
-    return;
-  QStringList files = { controls, model };
-  if (IsSkeletonFile(controls))
-  {
-    const QString domain = QFileDialog::getOpenFileName(this,
-      "Domain to mesh (polygon, closed surface or .mesh)", QFileInfo(controls).path(), filter);
-    if (domain.isEmpty())
-      return;
-    files << domain;
-  }
-  this->openFiles(files);
-}
-
-void ViewerWindow::openSessionDialog()
-{
-  const QString path = QFileDialog::getOpenFileName(this, "Load session", QString(),
-    "BaryLab viewer session (*.json)");
-  if (!path.isEmpty())
-    this->loadSession(path);
-}
-
-void ViewerWindow::saveSessionDialog()
-{
-  const QString path = QFileDialog::getSaveFileName(this, "Save session", "session.json",
-    "BaryLab viewer session (*.json)");
-  if (!path.isEmpty())
-    this->saveSession(path);
-}
-
-void ViewerWindow::loadPoseDialog()
-{
-  const QString path = QFileDialog::getOpenFileName(this, "Load pose", QString(),
-    "Posed cage / control points / BBW transforms (*.obj *.off *.vtp *.vtk *.txt *.dmat);;All files (*)");
-  if (!path.isEmpty())
-    this->loadPose(path);
-}
-
-void ViewerWindow::savePoseDialog()
-{
-  const QString path = QFileDialog::getSaveFileName(this, "Save pose", "pose.obj",
-    "Posed controls (*.obj *.vtp *.vtk)");
-  if (!path.isEmpty())
-    this->savePose(path);
-}
-
-void ViewerWindow::saveDeformedDialog()
-{
-  const QString path = QFileDialog::getSaveFileName(this, "Save deformed model", "deformed.vtp",
-    "Model (*.vtp *.vtu *.vtk *.obj *.stl *.ply *.off)");
-  if (!path.isEmpty())
-    this->saveDeformedModel(path);
-}
+// locality statistics
 
 LocalityPanel* ViewerWindow::localityPanel() const
 {
@@ -949,26 +870,6 @@ bool ViewerWindow::exportLocalityPng(const QString& path)
     return false;
   this->statusBar()->showMessage("Wrote " + path);
   return true;
-}
-
-void ViewerWindow::exportLocalityDialog()
-{
-  const QString path = QFileDialog::getSaveFileName(this, "Export locality statistics",
-    "locality.png", "PNG chart and CSV tables (*.png)");
-  if (path.isEmpty())
-    return;
-  QString prefix = path;
-  if (prefix.endsWith(".png", Qt::CaseInsensitive))
-    prefix.chop(4);
-  if (this->exportLocalityPng(prefix + ".png"))
-    this->exportLocalityCsv(prefix);
-}
-
-void ViewerWindow::saveScreenshotDialog()
-{
-  const QString path = QFileDialog::getSaveFileName(this, "Save screenshot", "barylab.png", "PNG (*.png)");
-  if (!path.isEmpty())
-    this->saveScreenshot(path);
 }
 
 } // namespace viewer

@@ -161,16 +161,6 @@ signals:
   void errorReported(const QString& message);
   void sceneUpdated();
 
-private slots:
-  void openFilesDialog();
-  void openSessionDialog();
-  void saveSessionDialog();
-  void loadPoseDialog();
-  void savePoseDialog();
-  void saveDeformedDialog();
-  void saveScreenshotDialog();
-  void exportLocalityDialog();
-
 private:
   void finishCompute(const ComputeResult& result);
   void buildViews();

@@ -1,0 +1,120 @@
+#include "barylabViewerDialogs.h"
+
+#include "barylabViewerSession.h"
+#include "barylabViewerWindow.h"
+
+#include <QDialog>
+#include <QFileDialog>
+#include <QFileInfo>
+#include <QLabel>
+#include <QPlainTextEdit>
+#include <QPushButton>
+#include <QVBoxLayout>
+
+namespace barylab
+{
+namespace viewer
+{
+
+void OpenFilesDialog(ViewerWindow& window)
+{
+  const QString filter = "Geometry (*.obj *.off *.vtp *.vtu *.vtk *.stl *.ply *.mesh *.tgf);;All files (*)";
+  const QString controls = QFileDialog::getOpenFileName(&window,
+    "Controls: cage, skeleton (.tgf) or control points", QString(), filter);
+  if (controls.isEmpty())
+    return;
+  const QString model = QFileDialog::getOpenFileName(&window, "Model (points to compute weights at)",
+    QFileInfo(controls).path(), filter);
+  if (model.isEmpty())
+    return;
+  QStringList files = { controls, model };
+  if (IsSkeletonFile(controls))
+  {
+    const QString domain = QFileDialog::getOpenFileName(&window,
+      "Domain to mesh (polygon, closed surface or .mesh)", QFileInfo(controls).path(), filter);
+    if (domain.isEmpty())
+      return;
+    files << domain;
+  }
+  window.openFiles(files);
+}
+
+void LoadSessionDialog(ViewerWindow& window)
+{
+  const QString path = QFileDialog::getOpenFileName(&window, "Load session", QString(),
+    "BaryLab viewer session (*.json)");
+  if (!path.isEmpty())
+    window.loadSession(path);
+}
+
+void SaveSessionDialog(ViewerWindow& window)
+{
+  const QString path = QFileDialog::getSaveFileName(&window, "Save session", "session.json",
+    "BaryLab viewer session (*.json)");
+  if (!path.isEmpty())
+    window.saveSession(path);
+}
+
+void LoadPoseDialog(ViewerWindow& window)
+{
+  const QString path = QFileDialog::getOpenFileName(&window, "Load pose", QString(),
+    "Posed cage / control points / BBW transforms (*.obj *.off *.vtp *.vtk *.txt *.dmat);;All files (*)");
+  if (!path.isEmpty())
+    window.loadPose(path);
+}
+
+void SavePoseDialog(ViewerWindow& window)
+{
+  const QString path = QFileDialog::getSaveFileName(&window, "Save pose", "pose.obj",
+    "Posed controls (*.obj *.vtp *.vtk)");
+  if (!path.isEmpty())
+    window.savePose(path);
+}
+
+void SaveDeformedDialog(ViewerWindow& window)
+{
+  const QString path = QFileDialog::getSaveFileName(&window, "Save deformed model", "deformed.vtp",
+    "Model (*.vtp *.vtu *.vtk *.obj *.stl *.ply *.off)");
+  if (!path.isEmpty())
+    window.saveDeformedModel(path);
+}
+
+void SaveScreenshotDialog(ViewerWindow& window)
+{
+  const QString path =
+    QFileDialog::getSaveFileName(&window, "Save screenshot", "barylab.png", "PNG (*.png)");
+  if (!path.isEmpty())
+    window.saveScreenshot(path);
+}
+
+void ExportLocalityDialog(ViewerWindow& window)
+{
+  const QString path = QFileDialog::getSaveFileName(&window, "Export locality statistics",
+    "locality.png", "PNG chart and CSV tables (*.png)");
+  if (path.isEmpty())
+    return;
+  QString prefix = path;
+  if (prefix.endsWith(".png", Qt::CaseInsensitive))
+    prefix.chop(4);
+  if (window.exportLocalityPng(prefix + ".png"))
+    window.exportLocalityCsv(prefix);
+}
+
+void ShowCommandLineDialog(QWidget* parent, const QString& line)
+{
+  QDialog dialog(parent);
+  dialog.setWindowTitle("Run in terminal");
+  auto* layout = new QVBoxLayout(&dialog);
+  layout->addWidget(new QLabel("The same weights from the command line:"));
+  auto* text = new QPlainTextEdit(line);
+  text->setReadOnly(true);
+  layout->addWidget(text);
+  auto* close = new QPushButton("Close");
+  QObject::connect(close, &QPushButton::clicked, &dialog, &QDialog::accept);
+  layout->addWidget(close);
+  dialog.resize(700, 160);
+  dialog.exec();
+}
+
+} // namespace viewer
+} // namespace barylab
