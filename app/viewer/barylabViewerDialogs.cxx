@@ -15,6 +15,26 @@ namespace barylab
 {
 namespace viewer
 {
+namespace
+{
+enum class Ask
+{
+  Open,
+  Save
+};
+
+/// Asks for a file to open or to save to; hands a chosen path to @p use.
+template <class Use>
+void ask_path(ViewerWindow& window, Ask ask, const QString& title, const QString& name,
+  const QString& filter, Use&& use)
+{
+  const QString path = ask == Ask::Open
+    ? QFileDialog::getOpenFileName(&window, title, name, filter)
+    : QFileDialog::getSaveFileName(&window, title, name, filter);
+  if (!path.isEmpty())
+    use(path);
+}
+} // namespace
 
 void OpenFilesDialog(ViewerWindow& window)
 {
@@ -41,63 +61,52 @@ void OpenFilesDialog(ViewerWindow& window)
 
 void LoadSessionDialog(ViewerWindow& window)
 {
-  const QString path = QFileDialog::getOpenFileName(&window, "Load session", QString(),
-    "BaryLab viewer session (*.json)");
-  if (!path.isEmpty())
-    window.loadSession(path);
+  ask_path(window, Ask::Open, "Load session", QString(), "BaryLab viewer session (*.json)",
+    [&](const QString& path) { window.loadSession(path); });
 }
 
 void SaveSessionDialog(ViewerWindow& window)
 {
-  const QString path = QFileDialog::getSaveFileName(&window, "Save session", "session.json",
-    "BaryLab viewer session (*.json)");
-  if (!path.isEmpty())
-    window.saveSession(path);
+  ask_path(window, Ask::Save, "Save session", "session.json", "BaryLab viewer session (*.json)",
+    [&](const QString& path) { window.saveSession(path); });
 }
 
 void LoadPoseDialog(ViewerWindow& window)
 {
-  const QString path = QFileDialog::getOpenFileName(&window, "Load pose", QString(),
-    "Posed cage / control points / BBW transforms (*.obj *.off *.vtp *.vtk *.txt *.dmat);;All files (*)");
-  if (!path.isEmpty())
-    window.loadPose(path);
+  ask_path(window, Ask::Open, "Load pose", QString(),
+    "Posed cage / control points / BBW transforms (*.obj *.off *.vtp *.vtk *.txt *.dmat);;All files (*)",
+    [&](const QString& path) { window.loadPose(path); });
 }
 
 void SavePoseDialog(ViewerWindow& window)
 {
-  const QString path = QFileDialog::getSaveFileName(&window, "Save pose", "pose.obj",
-    "Posed controls (*.obj *.vtp *.vtk)");
-  if (!path.isEmpty())
-    window.savePose(path);
+  ask_path(window, Ask::Save, "Save pose", "pose.obj", "Posed controls (*.obj *.vtp *.vtk)",
+    [&](const QString& path) { window.savePose(path); });
 }
 
 void SaveDeformedDialog(ViewerWindow& window)
 {
-  const QString path = QFileDialog::getSaveFileName(&window, "Save deformed model", "deformed.vtp",
-    "Model (*.vtp *.vtu *.vtk *.obj *.stl *.ply *.off)");
-  if (!path.isEmpty())
-    window.saveDeformedModel(path);
+  ask_path(window, Ask::Save, "Save deformed model", "deformed.vtp",
+    "Model (*.vtp *.vtu *.vtk *.obj *.stl *.ply *.off)",
+    [&](const QString& path) { window.saveDeformedModel(path); });
 }
 
 void SaveScreenshotDialog(ViewerWindow& window)
 {
-  const QString path =
-    QFileDialog::getSaveFileName(&window, "Save screenshot", "barylab.png", "PNG (*.png)");
-  if (!path.isEmpty())
-    window.saveScreenshot(path);
+  ask_path(window, Ask::Save, "Save screenshot", "barylab.png", "PNG (*.png)",
+    [&](const QString& path) { window.saveScreenshot(path); });
 }
 
 void ExportLocalityDialog(ViewerWindow& window)
 {
-  const QString path = QFileDialog::getSaveFileName(&window, "Export locality statistics",
-    "locality.png", "PNG chart and CSV tables (*.png)");
-  if (path.isEmpty())
-    return;
-  QString prefix = path;
-  if (prefix.endsWith(".png", Qt::CaseInsensitive))
-    prefix.chop(4);
-  if (window.exportLocalityPng(prefix + ".png"))
-    window.exportLocalityCsv(prefix);
+  ask_path(window, Ask::Save, "Export locality statistics", "locality.png",
+    "PNG chart and CSV tables (*.png)", [&](const QString& path) {
+      QString prefix = path;
+      if (prefix.endsWith(".png", Qt::CaseInsensitive))
+        prefix.chop(4);
+      if (window.exportLocalityPng(prefix + ".png"))
+        window.exportLocalityCsv(prefix);
+    });
 }
 
 void ShowCommandLineDialog(QWidget* parent, const QString& line)
