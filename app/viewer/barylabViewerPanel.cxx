@@ -361,9 +361,21 @@ void ControlPanel::setMovePosition(const double p[3])
     this->MoveBox[k]->setValue(p[k]);
 }
 
-void ControlPanel::setStatistics(const QString& text)
+void ControlPanel::setStatistics(const QString& method, double seconds,
+  const nlohmann::json& statistics)
 {
-  this->StatsLabel->setText(text);
+  const nlohmann::json& s = statistics;
+  this->StatsLabel->setText(QString("%1 weights in %2 s: %3 points x %4 controls<br>"
+                                    "min %5, max %6, partition of unity error %7<br>"
+                                    "mean significant weights per point %8")
+                              .arg(method)
+                              .arg(seconds, 0, 'f', 3)
+                              .arg(s.value("points", 0LL))
+                              .arg(s.value("controls", 0LL))
+                              .arg(s.value("min_weight", 0.0), 0, 'g', 3)
+                              .arg(s.value("max_weight", 0.0), 0, 'g', 3)
+                              .arg(s["partition_of_unity"].value("max_error", 0.0), 0, 'g', 2)
+                              .arg(s["significant"].value("mean_per_point", 0.0), 0, 'g', 3));
 }
 
 } // namespace viewer

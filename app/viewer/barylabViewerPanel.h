@@ -5,6 +5,8 @@
 /// Every widget calls the window's public slots, as a person would through the menus; sync()
 /// puts the window's state back into the widgets without feedback.
 
+#include <nlohmann/json.hpp>
+
 #include <QScrollArea>
 #include <QStringList>
 
@@ -48,8 +50,9 @@ public:
   void setMoveId(int id);
   /// The Move row's position.
   void setMovePosition(const double p[3]);
-  /// The statistics line under the panel (rich text).
-  void setStatistics(const QString& text);
+  /// The statistics line under the panel: @p method's weights computed in @p seconds, their
+  /// size, range, partition of unity error and locality (@p statistics: WeightStatisticsJson).
+  void setStatistics(const QString& method, double seconds, const nlohmann::json& statistics);
 
 private:
   void buildParameterRows(QVBoxLayout* form);

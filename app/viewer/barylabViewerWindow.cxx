@@ -426,20 +426,9 @@ void ViewerWindow::finishCompute(const ComputeResult& result)
   this->Panel->sync();
   this->updateDeformation();
   this->updateScene();
-  const json stats =
-    WeightStatisticsJson(this->State.weighted(), this->Parameters.weights_name, nullptr, -1.0, 0);
   const QString method = QString::fromStdString(this->State.computed().method);
-  this->Panel->setStatistics(QString("%1 weights in %2 s: %3 points x %4 controls<br>"
-                                     "min %5, max %6, partition of unity error %7<br>"
-                                     "mean significant weights per point %8")
-                               .arg(method)
-                               .arg(result.seconds, 0, 'f', 3)
-                               .arg(stats.value("points", 0LL))
-                               .arg(stats.value("controls", 0LL))
-                               .arg(stats.value("min_weight", 0.0), 0, 'g', 3)
-                               .arg(stats.value("max_weight", 0.0), 0, 'g', 3)
-                               .arg(stats["partition_of_unity"].value("max_error", 0.0), 0, 'g', 2)
-                               .arg(stats["significant"].value("mean_per_point", 0.0), 0, 'g', 3));
+  this->Panel->setStatistics(method, result.seconds,
+    WeightStatisticsJson(this->State.weighted(), this->Parameters.weights_name, nullptr, -1.0, 0));
   if (this->isLocalityShown())
     this->Locality->refresh();
   this->statusBar()->showMessage(
@@ -542,31 +531,10 @@ void ViewerWindow::updateScene()
   options.weights_name = this->Parameters.weights_name;
   options.texture = this->State.picture();
   const QString control = this->Panel->currentControlLabel();
-  const auto title = [&](const std::string& method) {
-    std::string t = method + (options.field == SceneOptions::Field::Weight ? ": weight"
-        : options.field == SceneOptions::Field::GradientNorm              ? ": |grad w|"
-                                                                          : ": picture");
-    if (!control.isEmpty())
-      t += " of " + to_std(control);
-    return t;
-  };
-  vtkDataSet* weighted = this->State.weighted();
   this->reporting([&]() {
-    options.title = weighted ? title(this->State.computed().method) : std::string();
-    vtkPointSet* deformed = this->deformedModel();
-    this->Info = BuildScene(this->renderer(), weighted,
-      weighted && deformed ? deformed->GetPoints() : nullptr, this->State.controls(),
-      this->State.posedControls(), options);
-    if (!this->CompareMethod.isEmpty())
-    {
-      vtkDataSet* compare = this->State.compareWeighted();
-      vtkPointSet* compareDeformed = this->State.compareDeformed();
-      options.title = compare ? title(to_std(this->State.computedCompare())) : std::string();
-      BuildScene(this->compareRenderer(), compare,
-        compareDeformed ? compareDeformed->GetPoints() : nullptr, this->State.controls(),
-        this->State.posedControls(), options);
-    }
+    this->ViewPair->build(this->State, options, control, !this->CompareMethod.isEmpty(), this->Info);
   });
+  vtkDataSet* weighted = this->State.weighted();
   if (this->CameraNeedsReset && (weighted || this->State.controls()))
   {
     ResetSceneCamera(this->renderer(), this->Options.dimension);
