@@ -1,8 +1,8 @@
 #include "barylabViewerWindow.h"
 
-#include "barylabViewerDialogs.h"
 #include "barylabViewerExamples.h"
 #include "barylabViewerLocality.h"
+#include "barylabViewerMenus.h"
 #include "barylabViewerMode.h"
 #include "barylabViewerPanel.h"
 #include "barylabViewerParameters.h"
@@ -10,11 +10,9 @@
 
 #include "vtkBaryDataIO.h"
 
-#include <QAction>
 #include <QApplication>
 #include <QFileInfo>
 #include <QImage>
-#include <QMenuBar>
 #include <QMessageBox>
 #include <QProgressBar>
 #include <QSplitter>
@@ -59,7 +57,7 @@ ViewerWindow::ViewerWindow(QWidget* parent)
   this->setWindowTitle("BaryLab viewer");
   this->resize(1280, 800);
   this->buildViews();
-  this->buildMenus();
+  BuildMenus(*this);
   this->Panel->sync();
   this->updateScene();
   this->statusBar()->showMessage("Open a cage and a model (File > Open) or an example.");
@@ -142,50 +140,6 @@ void ViewerWindow::buildViews()
   this->statusBar()->addPermanentWidget(this->ProgressBar);
   connect(&this->Runner, &ComputeRunner::progressed, this->ProgressBar,
     [this](double fraction) { this->ProgressBar->setValue(static_cast<int>(1000.0 * fraction)); });
-}
-
-void ViewerWindow::buildMenus()
-{
-  QMenu* file = this->menuBar()->addMenu("&File");
-  file->addAction("&Open cage and model...", this, [this]() { OpenFilesDialog(*this); }, QKeySequence::Open);
-  QMenu* examples = file->addMenu("Open &example");
-  for (const QString& name : viewer::ExampleNames())
-    examples->addAction(name, this, [this, name]() { this->loadExample(name); });
-  file->addSeparator();
-  file->addAction("&Load session...", this, [this]() { LoadSessionDialog(*this); }, QKeySequence("Ctrl+L"));
-  file->addAction("&Save session...", this, [this]() { SaveSessionDialog(*this); }, QKeySequence::Save);
-  file->addSeparator();
-  file->addAction("Load &pose...", this, [this]() { LoadPoseDialog(*this); });
-  file->addAction("Apply the example's pose", this, &ViewerWindow::applyExamplePose, QKeySequence("Ctrl+P"));
-  file->addAction("Save p&ose...", this, [this]() { SavePoseDialog(*this); });
-  file->addAction("Save &deformed model...", this, [this]() { SaveDeformedDialog(*this); }, QKeySequence("Ctrl+D"));
-  file->addAction("Save screens&hot...", this, [this]() { SaveScreenshotDialog(*this); }, QKeySequence("Ctrl+Shift+S"));
-  file->addAction("&Export locality statistics (PNG, CSV)...", this, [this]() { ExportLocalityDialog(*this); });
-  file->addSeparator();
-  file->addAction("&Quit", this, &QWidget::close, QKeySequence::Quit);
-  QMenu* edit = this->menuBar()->addMenu("&Edit");
-  edit->addAction("&Undo move", this, &ViewerWindow::undo, QKeySequence::Undo);
-  edit->addAction("&Reset pose", this, &ViewerWindow::resetPose, QKeySequence("Ctrl+Shift+R"));
-  for (const Mode* mode : Modes())
-    mode->addActions(edit, *this);
-  QMenu* compute = this->menuBar()->addMenu("&Compute");
-  compute->addAction("&Compute weights", this, &ViewerWindow::compute, QKeySequence("F5"));
-  compute->addAction("C&ancel", this, &ViewerWindow::cancel, QKeySequence("Ctrl+."));
-  compute->addAction("&Run in terminal...", this, &ViewerWindow::showCommandLine, QKeySequence("Ctrl+T"));
-  QMenu* view = this->menuBar()->addMenu("&View");
-  view->addAction("&Weight", this, &ViewerWindow::showWeight, QKeySequence("W"));
-  view->addAction("&Gradient norm", this, &ViewerWindow::showGradientNorm, QKeySequence("G"));
-  view->addAction("&Logarithmic scale", this, [this]() { this->setLogScale(!this->Options.log_scale); },
-    QKeySequence("L"));
-  view->addAction("&Clipping", this, [this]() { this->setClipping(!this->Options.clip); },
-    QKeySequence("C"));
-  view->addAction("Next control", this, [this]() { this->selectControl(this->Options.component + 1); },
-    QKeySequence("N"));
-  view->addAction("Previous control", this,
-    [this]() { this->selectControl(this->Options.component - 1); }, QKeySequence("P"));
-  view->addAction("Reset &camera", this, &ViewerWindow::resetCamera, QKeySequence("Ctrl+R"));
-  view->addAction("Locality &statistics (P, Q)", this,
-    [this]() { this->showLocality(!this->isLocalityShown()); }, QKeySequence("S"));
 }
 
 void ViewerWindow::reportError(const QString& message)

@@ -164,7 +164,6 @@ signals:
 private:
   void finishCompute(const ComputeResult& result);
   void buildViews();
-  void buildMenus();
   void reportError(const QString& message);
   /// Runs @p action; a bary::Error or other exception it throws is reported: false.
   template <class Action>

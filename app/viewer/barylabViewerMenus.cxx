@@ -1,5 +1,7 @@
-#include "barylabViewerDialogs.h"
+#include "barylabViewerMenus.h"
 
+#include "barylabViewerExamples.h"
+#include "barylabViewerMode.h"
 #include "barylabViewerSession.h"
 #include "barylabViewerWindow.h"
 
@@ -7,6 +9,7 @@
 #include <QFileDialog>
 #include <QFileInfo>
 #include <QLabel>
+#include <QMenuBar>
 #include <QPlainTextEdit>
 #include <QPushButton>
 #include <QVBoxLayout>
@@ -35,6 +38,51 @@ void ask_path(ViewerWindow& window, Ask ask, const QString& title, const QString
     use(path);
 }
 } // namespace
+
+void BuildMenus(ViewerWindow& window)
+{
+  ViewerWindow* w = &window;
+  QMenu* file = w->menuBar()->addMenu("&File");
+  file->addAction("&Open cage and model...", w, [w]() { OpenFilesDialog(*w); }, QKeySequence::Open);
+  QMenu* examples = file->addMenu("Open &example");
+  for (const QString& name : ExampleNames())
+    examples->addAction(name, w, [w, name]() { w->loadExample(name); });
+  file->addSeparator();
+  file->addAction("&Load session...", w, [w]() { LoadSessionDialog(*w); }, QKeySequence("Ctrl+L"));
+  file->addAction("&Save session...", w, [w]() { SaveSessionDialog(*w); }, QKeySequence::Save);
+  file->addSeparator();
+  file->addAction("Load &pose...", w, [w]() { LoadPoseDialog(*w); });
+  file->addAction("Apply the example's pose", w, &ViewerWindow::applyExamplePose, QKeySequence("Ctrl+P"));
+  file->addAction("Save p&ose...", w, [w]() { SavePoseDialog(*w); });
+  file->addAction("Save &deformed model...", w, [w]() { SaveDeformedDialog(*w); }, QKeySequence("Ctrl+D"));
+  file->addAction("Save screens&hot...", w, [w]() { SaveScreenshotDialog(*w); }, QKeySequence("Ctrl+Shift+S"));
+  file->addAction("&Export locality statistics (PNG, CSV)...", w, [w]() { ExportLocalityDialog(*w); });
+  file->addSeparator();
+  file->addAction("&Quit", w, &QWidget::close, QKeySequence::Quit);
+  QMenu* edit = w->menuBar()->addMenu("&Edit");
+  edit->addAction("&Undo move", w, &ViewerWindow::undo, QKeySequence::Undo);
+  edit->addAction("&Reset pose", w, &ViewerWindow::resetPose, QKeySequence("Ctrl+Shift+R"));
+  for (const Mode* mode : Modes())
+    mode->addActions(edit, window);
+  QMenu* compute = w->menuBar()->addMenu("&Compute");
+  compute->addAction("&Compute weights", w, &ViewerWindow::compute, QKeySequence("F5"));
+  compute->addAction("C&ancel", w, &ViewerWindow::cancel, QKeySequence("Ctrl+."));
+  compute->addAction("&Run in terminal...", w, &ViewerWindow::showCommandLine, QKeySequence("Ctrl+T"));
+  QMenu* view = w->menuBar()->addMenu("&View");
+  view->addAction("&Weight", w, &ViewerWindow::showWeight, QKeySequence("W"));
+  view->addAction("&Gradient norm", w, &ViewerWindow::showGradientNorm, QKeySequence("G"));
+  view->addAction("&Logarithmic scale", w, [w]() { w->setLogScale(!w->sceneOptions().log_scale); },
+    QKeySequence("L"));
+  view->addAction("&Clipping", w, [w]() { w->setClipping(!w->sceneOptions().clip); },
+    QKeySequence("C"));
+  view->addAction("Next control", w, [w]() { w->selectControl(w->selectedControl() + 1); },
+    QKeySequence("N"));
+  view->addAction("Previous control", w, [w]() { w->selectControl(w->selectedControl() - 1); },
+    QKeySequence("P"));
+  view->addAction("Reset &camera", w, &ViewerWindow::resetCamera, QKeySequence("Ctrl+R"));
+  view->addAction("Locality &statistics (P, Q)", w,
+    [w]() { w->showLocality(!w->isLocalityShown()); }, QKeySequence("S"));
+}
 
 void OpenFilesDialog(ViewerWindow& window)
 {

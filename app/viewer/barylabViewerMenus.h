@@ -1,8 +1,9 @@
 #pragma once
-/// @file barylabViewerDialogs.h
-/// The viewer's file dialogs (File menu) and the "Run in terminal" dialog: each asks for a
-/// path and then calls the window's public slot, which does the work and reports errors, so
-/// tests and scripts call the slots directly and skip the dialogs.
+/// @file barylabViewerMenus.h
+/// The viewer's menu bar (File, Edit, Compute, View: actions and keys), the file dialogs behind
+/// the File menu and the "Run in terminal" dialog. Every action calls a public slot of the
+/// window (a dialog first asks for a path), which does the work and reports errors, so tests
+/// and scripts call the slots directly and skip menus and dialogs.
 
 class QString;
 class QWidget;
@@ -12,6 +13,9 @@ namespace barylab
 namespace viewer
 {
 class ViewerWindow;
+
+/// Fills @p window's menu bar; each mode adds its own actions to the Edit menu (Mode::addActions).
+void BuildMenus(ViewerWindow& window);
 
 /// CONTROLS, MODEL and, for a skeleton (.tgf), the DOMAIN to mesh; then openFiles.
 void OpenFilesDialog(ViewerWindow& window);
