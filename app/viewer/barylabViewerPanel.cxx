@@ -8,6 +8,7 @@
 #include <QComboBox>
 #include <QDoubleSpinBox>
 #include <QDoubleValidator>
+#include <QFileInfo>
 #include <QFormLayout>
 #include <QGroupBox>
 #include <QHBoxLayout>
@@ -19,7 +20,9 @@
 #include <QSpinBox>
 #include <QVBoxLayout>
 
+#include "vtkDataSet.h"
 #include "vtkPoints.h"
+#include "vtkPolyData.h"
 
 #include <nlohmann/json.hpp>
 
@@ -325,14 +328,17 @@ void ControlPanel::sync()
   this->Updating = false;
 }
 
-void ControlPanel::setInputsText(const QString& text)
+void ControlPanel::setInputs(const Session& session)
 {
+  const Inputs& in = session.inputs();
+  const vtkIdType controls = session.controls()->GetNumberOfPoints();
+  QString text = "<b>controls</b> " + QFileInfo(in.controls).fileName() + " (" +
+    QString::number(controls) + " points)<br><b>model</b> " + QFileInfo(in.model).fileName() +
+    " (" + QString::number(session.model()->GetNumberOfPoints()) + " points)";
+  if (!in.domain.isEmpty())
+    text += "<br><b>domain</b> " + QFileInfo(in.domain).fileName();
   this->InputsLabel->setText(text);
-}
-
-void ControlPanel::setControlCount(int count)
-{
-  this->MoveIdBox->setRange(0, std::max(0, count - 1));
+  this->MoveIdBox->setRange(0, std::max(0, static_cast<int>(controls) - 1));
 }
 
 void ControlPanel::setControlLabels(const QStringList& labels, int current)

@@ -27,6 +27,7 @@ namespace barylab
 {
 namespace viewer
 {
+class Session;
 class ViewerWindow;
 
 class ControlPanel : public QScrollArea
@@ -38,10 +39,9 @@ public:
 
   /// Widgets from the window's state (parameters, display options, busy), without feedback.
   void sync();
-  /// The Inputs group's text (rich text).
-  void setInputsText(const QString& text);
-  /// @p count controls: the range of the Move row's id.
-  void setControlCount(int count);
+  /// @p session's inputs just opened: the Inputs group's text (files and their points) and
+  /// the range of the Move row's id (one per control).
+  void setInputs(const Session& session);
   /// The Controls list (one label per weights component), @p current selected.
   void setControlLabels(const QStringList& labels, int current);
   /// The selected control's label ("" when none).

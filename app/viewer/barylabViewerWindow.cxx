@@ -196,7 +196,6 @@ bool ViewerWindow::openInputs(const Inputs& given)
   if (!this->reporting([&]() { this->State.open(given); }))
     return false;
   const Inputs& in = this->State.inputs();
-  vtkPolyData* controls = this->State.controls();
   this->Options.component = 0;
   this->Options.dimension = this->State.modelDimension();
   this->Options.clip = false;
@@ -208,14 +207,7 @@ bool ViewerWindow::openInputs(const Inputs& given)
   this->CameraNeedsReset = true;
   if (IsSkeletonFile(in.controls) && this->Parameters.method != "bbw")
     this->Parameters.method = "bbw";
-  QString text = "<b>controls</b> " + QFileInfo(in.controls).fileName() + " (" +
-    QString::number(controls->GetNumberOfPoints()) + " points)<br><b>model</b> " +
-    QFileInfo(in.model).fileName() + " (" +
-    QString::number(this->State.model()->GetNumberOfPoints()) + " points)";
-  if (!in.domain.isEmpty())
-    text += "<br><b>domain</b> " + QFileInfo(in.domain).fileName();
-  this->Panel->setInputsText(text);
-  this->Panel->setControlCount(static_cast<int>(controls->GetNumberOfPoints()));
+  this->Panel->setInputs(this->State);
   this->setWindowTitle("BaryLab viewer - " +
     (in.example.isEmpty() ? QFileInfo(in.model).fileName() : in.example));
   this->updateControlList();
