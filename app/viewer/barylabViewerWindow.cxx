@@ -33,11 +33,6 @@ namespace viewer
 namespace
 {
 using json = nlohmann::json;
-
-std::string to_std(const QString& s)
-{
-  return s.toStdString();
-}
 } // namespace
 
 QStringList ViewerWindow::ExampleNames()
@@ -249,13 +244,13 @@ void ViewerWindow::updateControlList()
 void ViewerWindow::setMethod(const QString& method)
 {
   const auto names = MethodNames();
-  if (std::find(names.begin(), names.end(), to_std(method)) == names.end())
+  if (std::find(names.begin(), names.end(), method.toStdString()) == names.end())
   {
     this->reportError("unknown method '" + method + "'");
     this->Panel->sync();
     return;
   }
-  this->Parameters.method = to_std(method);
+  this->Parameters.method = method.toStdString();
   this->Panel->sync();
   this->statusBar()->showMessage("Method " + method + ": press Compute (F5).");
 }
@@ -264,7 +259,7 @@ bool ViewerWindow::setParameter(const QString& key, const QVariant& value)
 {
   for (const ParameterField& f : WeightsParameterFields())
   {
-    if (f.key != to_std(key))
+    if (f.key != key.toStdString())
       continue;
     const bool set = this->reporting([&]() {
       json v;
@@ -275,9 +270,9 @@ bool ViewerWindow::setParameter(const QString& key, const QVariant& value)
         case ParameterField::Kind::Double: v = value.toDouble(); break;
         case ParameterField::Kind::Choice:
           v = f.get(this->Parameters).is_number() ? json(value.toString().toInt())
-                                                  : json(to_std(value.toString()));
+                                                  : json(value.toString().toStdString());
           break;
-        case ParameterField::Kind::String: v = to_std(value.toString()); break;
+        case ParameterField::Kind::String: v = value.toString().toStdString(); break;
       }
       f.set(this->Parameters, v);
     });
@@ -370,8 +365,7 @@ void ViewerWindow::finishCompute(const ComputeResult& result)
   this->Options.component = std::clamp(this->Options.component, 0, std::max(0, this->componentCount() - 1));
   this->updateControlList();
   this->Panel->sync();
-  this->updateDeformation();
-  this->updateScene();
+  this->poseChanged();
   const QString method = QString::fromStdString(this->State.computed().method);
   this->Panel->setStatistics(method, result.seconds,
     WeightStatisticsJson(this->State.weighted(), this->Parameters.weights_name, nullptr, -1.0, 0));
@@ -498,10 +492,11 @@ void ViewerWindow::renderViews()
 // ------------------------------------------------------------------------------------------
 // deformation
 
-void ViewerWindow::updateDeformation()
+void ViewerWindow::poseChanged()
 {
   this->reporting([this]() { this->State.updateDeformation(this->shownMode()); },
     "deformation failed: ");
+  this->updateScene();
 }
 
 bool ViewerWindow::setHandleTwist(int handle, double angle_degrees, double scale)
@@ -525,8 +520,7 @@ bool ViewerWindow::setHandleTwist(int handle, double angle_degrees, double scale
     return false;
   }
   this->State.setTwist(handle, { angle_degrees, scale }, n);
-  this->updateDeformation();
-  this->updateScene();
+  this->poseChanged();
   this->statusBar()->showMessage(QString("Handle %1 rotated by %2 deg, scaled by %3.")
                                    .arg(handle).arg(angle_degrees).arg(scale));
   return true;
@@ -535,8 +529,7 @@ bool ViewerWindow::setHandleTwist(int handle, double angle_degrees, double scale
 void ViewerWindow::moveControlLive(int id, const double x[3])
 {
   this->State.moveControl(id, x);
-  this->updateDeformation();
-  this->updateScene();
+  this->poseChanged();
 }
 
 void ViewerWindow::setControlPosition(int id, double x, double y, double z)
@@ -564,8 +557,7 @@ void ViewerWindow::resetPose()
   if (!this->State.controls())
     return;
   this->State.resetPose();
-  this->updateDeformation();
-  this->updateScene();
+  this->poseChanged();
 }
 
 void ViewerWindow::undo()
@@ -575,8 +567,7 @@ void ViewerWindow::undo()
     this->statusBar()->showMessage("Nothing to undo.");
     return;
   }
-  this->updateDeformation();
-  this->updateScene();
+  this->poseChanged();
 }
 
 bool ViewerWindow::loadPose(const QString& path)
@@ -590,8 +581,7 @@ bool ViewerWindow::loadPose(const QString& path)
   if (!this->reporting([&]() { posed = this->shownMode().readPose(this->State, path); }))
     return false;
   this->State.setPose(posed);
-  this->updateDeformation();
-  this->updateScene();
+  this->poseChanged();
   return true;
 }
 
@@ -626,7 +616,7 @@ bool ViewerWindow::saveDeformedModel(const QString& path)
     this->reportError("nothing to save: compute the weights first");
     return false;
   }
-  if (!this->reporting([&]() { vtkBaryDataIO::Write(deformed, to_std(path)); }))
+  if (!this->reporting([&]() { vtkBaryDataIO::Write(deformed, path.toStdString()); }))
     return false;
   this->statusBar()->showMessage("Saved the deformed model to " + path);
   return true;
@@ -669,7 +659,7 @@ bool ViewerWindow::saveSession(const QString& path)
     file.pose = this->State.posedControls();
     json document = SessionToJson(file);
     this->shownMode().writeSession(this->State, document);
-    WriteJson(document, to_std(path));
+    WriteJson(document, path.toStdString());
   });
   if (saved)
     this->statusBar()->showMessage("Saved the session to " + path);

@@ -169,7 +169,8 @@ private:
   template <class Action>
   bool reporting(Action&& action, const QString& prefix = QString());
   void updateControlList();
-  void updateDeformation();
+  /// The pose changed: deforms the weighted models to it (errors reported) and redraws.
+  void poseChanged();
   void updateScene();
   void renderViews();
   void moveControlLive(int id, const double x[3]);
