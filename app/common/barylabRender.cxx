@@ -226,23 +226,13 @@ void add_skeleton_actors(vtkRenderer* renderer, vtkPolyData* handles, vtkPointSe
   const double diameter = std::sqrt((bounds[1] - bounds[0]) * (bounds[1] - bounds[0]) +
     (bounds[3] - bounds[2]) * (bounds[3] - bounds[2]) + (bounds[5] - bounds[4]) * (bounds[5] - bounds[4]));
   const auto lines_actor = [&](const std::vector<int>& bones, double width, const double rgb[3]) {
-    vtkNew<vtkPolyData> wire;
-    wire->SetPoints(points);
     vtkNew<vtkCellArray> cells;
     for (int b : bones)
     {
       const vtkIdType ids[2] = { skeleton.BE(b, 0), skeleton.BE(b, 1) };
       cells->InsertNextCell(2, ids);
     }
-    wire->SetLines(cells);
-    vtkNew<vtkPolyDataMapper> mapper;
-    mapper->SetInputData(wire);
-    mapper->ScalarVisibilityOff();
-    vtkNew<vtkActor> actor;
-    actor->SetMapper(mapper);
-    actor->GetProperty()->SetColor(rgb[0], rgb[1], rgb[2]);
-    actor->GetProperty()->SetLineWidth(static_cast<float>(width));
-    renderer->AddActor(actor);
+    AddLines(renderer, points, cells, width, rgb);
   };
   const auto sphere_actor = [&](const double* center, double radius, const double rgb[3]) {
     vtkNew<vtkSphereSource> sphere;
@@ -387,6 +377,22 @@ void AddSpheres(vtkRenderer* renderer, vtkPoints* points, double radius, const d
   vtkNew<vtkActor> actor;
   actor->SetMapper(mapper);
   actor->GetProperty()->SetColor(rgb[0], rgb[1], rgb[2]);
+  renderer->AddActor(actor);
+}
+
+void AddLines(vtkRenderer* renderer, vtkPoints* points, vtkCellArray* lines, double width,
+  const double rgb[3])
+{
+  vtkNew<vtkPolyData> wire;
+  wire->SetPoints(points);
+  wire->SetLines(lines);
+  vtkNew<vtkPolyDataMapper> mapper;
+  mapper->SetInputData(wire);
+  mapper->ScalarVisibilityOff();
+  vtkNew<vtkActor> actor;
+  actor->SetMapper(mapper);
+  actor->GetProperty()->SetColor(rgb[0], rgb[1], rgb[2]);
+  actor->GetProperty()->SetLineWidth(static_cast<float>(width));
   renderer->AddActor(actor);
 }
 

@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+class vtkCellArray;
 class vtkDataSet;
 class vtkPoints;
 class vtkPointSet;
@@ -69,6 +70,11 @@ void WritePNG(vtkRenderWindow* window, const std::string& path);
 /// One sphere of @p radius at each of @p points (one glyph actor), in colour @p rgb: how cages'
 /// and free control points are drawn here and in the viewer.
 void AddSpheres(vtkRenderer* renderer, vtkPoints* points, double radius, const double rgb[3]);
+
+/// @p lines over @p points as one actor of line width @p width and colour @p rgb: how
+/// skeletons' bones are drawn here and cages' and skeletons' wires in the viewer.
+void AddLines(vtkRenderer* renderer, vtkPoints* points, vtkCellArray* lines, double width,
+  const double rgb[3]);
 
 /// True if an X display is available (DISPLAY is set); rendering needs one.
 bool HasDisplay();

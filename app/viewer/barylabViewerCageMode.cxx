@@ -1,5 +1,6 @@
 #include "barylabViewerCageMode.h"
 
+#include "barylabRender.h"
 #include "barylabViewerSession.h"
 
 #include "vtkBaryConversion.h"

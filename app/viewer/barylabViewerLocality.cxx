@@ -1,5 +1,8 @@
 #include "barylabViewerLocality.h"
 
+#include "barylabPipeline.h"
+#include "barylabViewerSession.h"
+
 #include "core/error.h"
 
 #include <QtCharts/QChart>
@@ -235,6 +238,69 @@ void LocalityPanel::writePng(const std::string& path)
   painter.end();
   if (!pixmap.save(QString::fromStdString(path), "PNG"))
     throw bary::Error(bary::ErrorCode::Io, "cannot write '" + path + "'");
+}
+
+LocalityDock::LocalityDock(const Session& session, QWidget* parent)
+  : QDockWidget("Locality statistics", parent)
+  , State(session)
+  , Panel(new LocalityPanel(this))
+{
+  this->setObjectName("locality_dock");
+  this->setWidget(this->Panel);
+  connect(this, &QDockWidget::visibilityChanged, this, [this](bool visible) {
+    if (visible)
+      this->refresh();
+  });
+}
+
+void LocalityDock::setShown(bool on)
+{
+  if (on)
+  {
+    this->show();
+    this->refresh(); // also when it was visible already
+  }
+  else
+    this->hide();
+}
+
+void LocalityDock::refresh()
+{
+  nlohmann::json all = nlohmann::json::array();
+  try
+  {
+    const std::pair<vtkDataSet*, std::string> shown[] = {
+      { this->State.weighted(), this->State.computed().method },
+      { this->State.compareWeighted(), this->State.computedCompare().toStdString() } };
+    for (const auto& [data, method] : shown)
+      if (data)
+      {
+        nlohmann::json s = LocalityStatisticsJson(data, this->State.computed().weights_name);
+        s["method"] = method;
+        all.push_back(std::move(s));
+      }
+  }
+  catch (const std::exception& e)
+  {
+    emit failed(QString("locality statistics: ") + e.what());
+    all = nlohmann::json::array();
+  }
+  this->Panel->setStatistics(all);
+}
+
+void LocalityDock::writeCsv(const QString& prefix)
+{
+  this->refresh();
+  this->Panel->writeCsv(prefix.toStdString());
+}
+
+void LocalityDock::writePng(const QString& path)
+{
+  this->refresh();
+  if (this->Panel->statistics().empty())
+    throw bary::Error(bary::ErrorCode::InvalidArgument,
+      "no locality statistics to export: compute weights first");
+  this->Panel->writePng(path.toStdString());
 }
 
 } // namespace viewer

@@ -4,10 +4,11 @@
 /// coordinates" (2014), Eq. 19-21 and Fig. 14-15, for the shown method and the comparison
 /// method, drawn with QtCharts from the statistics barylab::LocalityStatisticsJson computes
 /// (vtkBaryLocalityStatistics). Display code only; exportable as CSV (the columns of
-/// `barylab stats --locality --csv`) and PNG.
+/// `barylab stats --locality --csv`) and PNG. The LocalityDock shows them for a Session.
 
 #include <nlohmann/json.hpp>
 
+#include <QDockWidget>
 #include <QWidget>
 
 #include <string>
@@ -50,6 +51,37 @@ private:
   QtCharts::QChartView* PView = nullptr;
   QtCharts::QChartView* QView = nullptr;
   QLabel* Summary = nullptr;
+};
+
+class Session;
+
+/// The dock ("Locality statistics", bottom) holding the charts of a session's weights and
+/// comparison weights; the statistics are recomputed whenever it becomes visible.
+class LocalityDock : public QDockWidget
+{
+  Q_OBJECT
+public:
+  /// @p session must outlive the dock.
+  LocalityDock(const Session& session, QWidget* parent);
+
+  LocalityPanel* panel() const { return this->Panel; }
+  /// Shows the dock (recomputing the statistics, also when it was visible already) or hides it.
+  void setShown(bool on);
+  /// Recomputes the statistics of the session's weights; on a failure the charts are cleared
+  /// and failed() is emitted.
+  void refresh();
+  /// refresh(), then LocalityPanel::writeCsv. @throws bary::Error
+  void writeCsv(const QString& prefix);
+  /// refresh(), then LocalityPanel::writePng. @throws bary::Error(InvalidArgument) when there
+  /// are no statistics (no weights), Error(Io)
+  void writePng(const QString& path);
+
+signals:
+  void failed(const QString& message);
+
+private:
+  const Session& State;
+  LocalityPanel* Panel = nullptr;
 };
 
 } // namespace viewer

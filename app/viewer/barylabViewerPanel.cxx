@@ -8,6 +8,7 @@
 #include <QComboBox>
 #include <QDoubleSpinBox>
 #include <QDoubleValidator>
+#include <QFileInfo>
 #include <QFormLayout>
 #include <QGroupBox>
 #include <QHBoxLayout>
@@ -19,7 +20,9 @@
 #include <QSpinBox>
 #include <QVBoxLayout>
 
+#include "vtkDataSet.h"
 #include "vtkPoints.h"
+#include "vtkPolyData.h"
 
 #include <nlohmann/json.hpp>
 
@@ -325,14 +328,17 @@ void ControlPanel::sync()
   this->Updating = false;
 }
 
-void ControlPanel::setInputsText(const QString& text)
+void ControlPanel::setInputs(const Session& session)
 {
+  const Inputs& in = session.inputs();
+  const vtkIdType controls = session.controls()->GetNumberOfPoints();
+  QString text = "<b>controls</b> " + QFileInfo(in.controls).fileName() + " (" +
+    QString::number(controls) + " points)<br><b>model</b> " + QFileInfo(in.model).fileName() +
+    " (" + QString::number(session.model()->GetNumberOfPoints()) + " points)";
+  if (!in.domain.isEmpty())
+    text += "<br><b>domain</b> " + QFileInfo(in.domain).fileName();
   this->InputsLabel->setText(text);
-}
-
-void ControlPanel::setControlCount(int count)
-{
-  this->MoveIdBox->setRange(0, std::max(0, count - 1));
+  this->MoveIdBox->setRange(0, std::max(0, static_cast<int>(controls) - 1));
 }
 
 void ControlPanel::setControlLabels(const QStringList& labels, int current)
@@ -361,9 +367,21 @@ void ControlPanel::setMovePosition(const double p[3])
     this->MoveBox[k]->setValue(p[k]);
 }
 
-void ControlPanel::setStatistics(const QString& text)
+void ControlPanel::setStatistics(const QString& method, double seconds,
+  const nlohmann::json& statistics)
 {
-  this->StatsLabel->setText(text);
+  const nlohmann::json& s = statistics;
+  this->StatsLabel->setText(QString("%1 weights in %2 s: %3 points x %4 controls<br>"
+                                    "min %5, max %6, partition of unity error %7<br>"
+                                    "mean significant weights per point %8")
+                              .arg(method)
+                              .arg(seconds, 0, 'f', 3)
+                              .arg(s.value("points", 0LL))
+                              .arg(s.value("controls", 0LL))
+                              .arg(s.value("min_weight", 0.0), 0, 'g', 3)
+                              .arg(s.value("max_weight", 0.0), 0, 'g', 3)
+                              .arg(s["partition_of_unity"].value("max_error", 0.0), 0, 'g', 2)
+                              .arg(s["significant"].value("mean_per_point", 0.0), 0, 'g', 3));
 }
 
 } // namespace viewer

@@ -5,6 +5,8 @@
 /// Every widget calls the window's public slots, as a person would through the menus; sync()
 /// puts the window's state back into the widgets without feedback.
 
+#include <nlohmann/json.hpp>
+
 #include <QScrollArea>
 #include <QStringList>
 
@@ -25,6 +27,7 @@ namespace barylab
 {
 namespace viewer
 {
+class Session;
 class ViewerWindow;
 
 class ControlPanel : public QScrollArea
@@ -36,10 +39,9 @@ public:
 
   /// Widgets from the window's state (parameters, display options, busy), without feedback.
   void sync();
-  /// The Inputs group's text (rich text).
-  void setInputsText(const QString& text);
-  /// @p count controls: the range of the Move row's id.
-  void setControlCount(int count);
+  /// @p session's inputs just opened: the Inputs group's text (files and their points) and
+  /// the range of the Move row's id (one per control).
+  void setInputs(const Session& session);
   /// The Controls list (one label per weights component), @p current selected.
   void setControlLabels(const QStringList& labels, int current);
   /// The selected control's label ("" when none).
@@ -48,8 +50,9 @@ public:
   void setMoveId(int id);
   /// The Move row's position.
   void setMovePosition(const double p[3]);
-  /// The statistics line under the panel (rich text).
-  void setStatistics(const QString& text);
+  /// The statistics line under the panel: @p method's weights computed in @p seconds, their
+  /// size, range, partition of unity error and locality (@p statistics: WeightStatisticsJson).
+  void setStatistics(const QString& method, double seconds, const nlohmann::json& statistics);
 
 private:
   void buildParameterRows(QVBoxLayout* form);

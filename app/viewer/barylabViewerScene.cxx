@@ -13,7 +13,6 @@
 #include "barylabRender.h"
 #include "vtkActor.h"
 #include "vtkCamera.h"
-#include "vtkCellArray.h"
 #include "vtkClipPolyData.h"
 #include "vtkCellType.h"
 #include "vtkGenericCell.h"
@@ -247,22 +246,6 @@ vtkSmartPointer<vtkPolyData> sliced_volume(vtkDataSet* weighted, vtkDataArray* w
   return poly;
 }
 } // namespace
-
-void AddLines(vtkRenderer* renderer, vtkPoints* points, vtkCellArray* lines, double width,
-  const double rgb[3])
-{
-  vtkNew<vtkPolyData> wire;
-  wire->SetPoints(points);
-  wire->SetLines(lines);
-  vtkNew<vtkPolyDataMapper> mapper;
-  mapper->SetInputData(wire);
-  mapper->ScalarVisibilityOff();
-  vtkNew<vtkActor> actor;
-  actor->SetMapper(mapper);
-  actor->GetProperty()->SetColor(rgb[0], rgb[1], rgb[2]);
-  actor->GetProperty()->SetLineWidth(static_cast<float>(width));
-  renderer->AddActor(actor);
-}
 
 bool IsPictureFile(const std::string& path)
 {

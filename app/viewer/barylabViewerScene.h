@@ -11,7 +11,6 @@
 
 #include <string>
 
-class vtkCellArray;
 class vtkDataSet;
 class vtkImageData;
 class vtkPoints;
@@ -95,11 +94,6 @@ vtkSmartPointer<vtkDataSet> TexturedCageMesh(vtkPolyData* cage, vtkImageData* pi
 /// @throws bary::Error(InvalidArgument) for a component that does not exist
 SceneInfo BuildScene(vtkRenderer* renderer, vtkDataSet* weighted, vtkPoints* posed_points,
   vtkPolyData* controls, vtkPoints* posed_controls, const SceneOptions& options);
-
-/// Adds @p lines over @p points as one actor of line width @p width and colour @p rgb (the
-/// wires of cages and skeletons).
-void AddLines(vtkRenderer* renderer, vtkPoints* points, vtkCellArray* lines, double width,
-  const double rgb[3]);
 
 /// 2D: orthographic from +z; 3D: a perspective view of the whole scene.
 void ResetSceneCamera(vtkRenderer* renderer, int dimension);

@@ -1,5 +1,8 @@
 #include "barylabViewerViews.h"
 
+#include "barylabViewerScene.h"
+#include "barylabViewerSession.h"
+
 #include <QSplitter>
 #include <QTimer>
 
@@ -55,6 +58,32 @@ Views::Views(QSplitter* splitter, std::function<vtkPoints*()> controls)
 Views::~Views()
 {
   this->Renderer->GetActiveCamera()->RemoveObserver(this->CameraCallback);
+}
+
+void Views::build(const Session& session, SceneOptions options, const QString& control,
+  bool compare, SceneInfo& info)
+{
+  const auto title = [&](const std::string& method) {
+    std::string t = method + (options.field == SceneOptions::Field::Weight ? ": weight"
+        : options.field == SceneOptions::Field::GradientNorm              ? ": |grad w|"
+                                                                          : ": picture");
+    if (!control.isEmpty())
+      t += " of " + control.toStdString();
+    return t;
+  };
+  vtkDataSet* weighted = session.weighted();
+  options.title = weighted ? title(session.computed().method) : std::string();
+  vtkPointSet* deformed = session.deformedModel();
+  info = BuildScene(this->Renderer, weighted, weighted && deformed ? deformed->GetPoints() : nullptr,
+    session.controls(), session.posedControls(), options);
+  if (!compare)
+    return;
+  vtkDataSet* compared = session.compareWeighted();
+  vtkPointSet* compareDeformed = session.compareDeformed();
+  options.title = compared ? title(session.computedCompare().toStdString()) : std::string();
+  BuildScene(this->CompareRenderer, compared,
+    compareDeformed ? compareDeformed->GetPoints() : nullptr, session.controls(),
+    session.posedControls(), options);
 }
 
 void Views::render()

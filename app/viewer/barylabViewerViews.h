@@ -3,9 +3,10 @@
 /// The viewer's two VTK views: the weights shown and, beside it, the comparison method's, with
 /// one camera for both. Clicking near a control point in the first view (12 pixels) and
 /// dragging it is reported as signals in world coordinates; what a click or drag does is the
-/// window's (and its mode's) business.
+/// window's (and its mode's) business. What they draw is a Session's weights (BuildScene).
 
 #include <QObject>
+#include <QString>
 
 #include "vtkSmartPointer.h"
 
@@ -22,6 +23,9 @@ namespace barylab
 {
 namespace viewer
 {
+class Session;
+struct SceneInfo;
+struct SceneOptions;
 
 class Views : public QObject
 {
@@ -37,6 +41,13 @@ public:
   vtkRenderer* renderer() const { return this->Renderer; }
   vtkRenderer* compareRenderer() const { return this->CompareRenderer; }
 
+  /// Rebuilds the scenes (does not render): @p session's weights deformed to its pose in the
+  /// first view and, when @p compare, the comparison weights in the second, drawn with
+  /// @p options; the titles name the method, the field and @p control (the selected control's
+  /// label, "" for none). @p info is set to the first view's as soon as it is built.
+  /// @throws bary::Error (BuildScene)
+  void build(const Session& session, SceneOptions options, const QString& control, bool compare,
+    SceneInfo& info);
   /// Renders both views (the comparison view when visible).
   void render();
   /// Control @p id follows the mouse until the button is released (call on controlPressed).

@@ -1,6 +1,8 @@
 #include "barylabViewerWindow.h"
 
+#include "barylabViewerExamples.h"
 #include "barylabViewerLocality.h"
+#include "barylabViewerMenus.h"
 #include "barylabViewerMode.h"
 #include "barylabViewerPanel.h"
 #include "barylabViewerParameters.h"
@@ -8,27 +10,13 @@
 
 #include "vtkBaryDataIO.h"
 
-#include "core/error.h"
-
-#include <QAction>
 #include <QApplication>
-#include <QDialog>
-#include <QDockWidget>
-#include <QElapsedTimer>
-#include <QFileDialog>
 #include <QFileInfo>
 #include <QImage>
-#include <QLabel>
-#include <QMenuBar>
 #include <QMessageBox>
-#include <QPlainTextEdit>
 #include <QProgressBar>
-#include <QPushButton>
 #include <QSplitter>
 #include <QStatusBar>
-#include <QTimer>
-#include <QVBoxLayout>
-#include <QtConcurrent/QtConcurrentRun>
 
 #include <QVTKOpenGLNativeWidget.h>
 
@@ -45,86 +33,32 @@ namespace viewer
 namespace
 {
 using json = nlohmann::json;
-
-QString data_path(const char* name)
-{
-  return QString(BARYLAB_DEFAULT_DATA_DIR) + "/" + name;
-}
-
-struct Example
-{
-  const char* name;
-  const char* controls;
-  const char* model;
-  const char* domain;
-  const char* method;
-  const char* pose;
-  int selected;
-};
-
-const Example kExamples[] = {
-  { "gingerbread-mvc", "cage2d.obj", "model2d.obj", "", "mvc", "cage2d_posed.obj", 14 },
-  { "kidney-mvc", "cage3d.obj", "model3d.off", "", "mvc", "cage3d_posed.obj", 36 },
-  { "gingerbread-bbw", "skeleton2d.tgf", "model2d.obj", "cage2d.obj", "bbw", "skeleton2d_pose.txt",
-    3 },
-  { "heart-scc", "heart_controls.obj", "heart.off", "", "scc", "heartbeat/frame_05.obj", 0 },
-  // local barycentric coordinates: compare with mvc and open the locality charts (S)
-  { "gingerbread-lbc", "cage2d.obj", "model2d.obj", "", "lbc", "cage2d_posed.obj", 14 },
-  // 2D image mode: a picture as the model, warped as a texture by the cage
-  { "gingerbread-image", "cage2d.obj", "gingerbread.png", "", "mvc", "cage2d_posed.obj", 14 },
-};
-
-std::string to_std(const QString& s)
-{
-  return s.toStdString();
-}
-
-template <class T>
-vtkSmartPointer<T> deep_copy(T* data)
-{
-  if (!data)
-    return nullptr;
-  vtkSmartPointer<T> copy;
-  copy.TakeReference(T::SafeDownCast(data->NewInstance()));
-  copy->DeepCopy(data);
-  return copy;
-}
 } // namespace
 
 QStringList ViewerWindow::ExampleNames()
 {
-  QStringList names;
-  for (const Example& e : kExamples)
-    names << e.name;
-  return names;
+  return viewer::ExampleNames();
 }
 
 ViewerWindow::ViewerWindow(QWidget* parent)
   : QMainWindow(parent)
-  , Progress(std::make_shared<std::atomic<double>>(0.0))
-  , CancelFlag(std::make_shared<std::atomic<bool>>(false))
 {
   qRegisterMetaType<barylab::viewer::Inputs>();
-  this->Watcher = std::make_unique<QFutureWatcher<ComputeResult>>();
-  connect(this->Watcher.get(), &QFutureWatcher<ComputeResult>::finished, this,
-    &ViewerWindow::onComputeDone);
+  connect(&this->Runner, &ComputeRunner::finished, this, &ViewerWindow::finishCompute);
+  connect(&this->Runner, &ComputeRunner::abandoned, this, [this]() {
+    this->ProgressBar->hide();
+    this->Panel->sync();
+  });
   this->setWindowTitle("BaryLab viewer");
   this->resize(1280, 800);
   this->buildViews();
-  this->buildMenus();
+  BuildMenus(*this);
   this->Panel->sync();
   this->updateScene();
   this->statusBar()->showMessage("Open a cage and a model (File > Open) or an example.");
 }
 
-ViewerWindow::~ViewerWindow()
-{
-  if (this->Watcher && this->Watcher->isRunning())
-  {
-    this->CancelFlag->store(true);
-    this->Watcher->waitForFinished();
-  }
-}
+ViewerWindow::~ViewerWindow() = default;
 
 QVTKOpenGLNativeWidget* ViewerWindow::view() const
 {
@@ -182,16 +116,10 @@ void ViewerWindow::buildViews()
   });
 
   // locality charts (P(t), Q(k)), hidden until asked for
-  this->Locality = new LocalityPanel(this);
-  this->LocalityDock = new QDockWidget("Locality statistics", this);
-  this->LocalityDock->setObjectName("locality_dock");
-  this->LocalityDock->setWidget(this->Locality);
-  this->addDockWidget(Qt::BottomDockWidgetArea, this->LocalityDock);
-  this->LocalityDock->hide();
-  connect(this->LocalityDock, &QDockWidget::visibilityChanged, this, [this](bool visible) {
-    if (visible)
-      this->updateLocality();
-  });
+  this->Locality = new LocalityDock(this->State, this);
+  this->addDockWidget(Qt::BottomDockWidgetArea, this->Locality);
+  this->Locality->hide();
+  connect(this->Locality, &LocalityDock::failed, this, &ViewerWindow::reportError);
 
   // side panel
   this->Panel = new ControlPanel(this);
@@ -205,53 +133,8 @@ void ViewerWindow::buildViews()
   this->ProgressBar->setMaximumWidth(220);
   this->ProgressBar->hide();
   this->statusBar()->addPermanentWidget(this->ProgressBar);
-}
-
-void ViewerWindow::buildMenus()
-{
-  QMenu* file = this->menuBar()->addMenu("&File");
-  file->addAction("&Open cage and model...", this, &ViewerWindow::openFilesDialog, QKeySequence::Open);
-  QMenu* examples = file->addMenu("Open &example");
-  for (const Example& e : kExamples)
-  {
-    const QString name = e.name;
-    examples->addAction(name, this, [this, name]() { this->loadExample(name); });
-  }
-  file->addSeparator();
-  file->addAction("&Load session...", this, &ViewerWindow::openSessionDialog, QKeySequence("Ctrl+L"));
-  file->addAction("&Save session...", this, &ViewerWindow::saveSessionDialog, QKeySequence::Save);
-  file->addSeparator();
-  file->addAction("Load &pose...", this, &ViewerWindow::loadPoseDialog);
-  file->addAction("Apply the example's pose", this, &ViewerWindow::applyExamplePose, QKeySequence("Ctrl+P"));
-  file->addAction("Save p&ose...", this, &ViewerWindow::savePoseDialog);
-  file->addAction("Save &deformed model...", this, &ViewerWindow::saveDeformedDialog, QKeySequence("Ctrl+D"));
-  file->addAction("Save screens&hot...", this, &ViewerWindow::saveScreenshotDialog, QKeySequence("Ctrl+Shift+S"));
-  file->addAction("&Export locality statistics (PNG, CSV)...", this, &ViewerWindow::exportLocalityDialog);
-  file->addSeparator();
-  file->addAction("&Quit", this, &QWidget::close, QKeySequence::Quit);
-  QMenu* edit = this->menuBar()->addMenu("&Edit");
-  edit->addAction("&Undo move", this, &ViewerWindow::undo, QKeySequence::Undo);
-  edit->addAction("&Reset pose", this, &ViewerWindow::resetPose, QKeySequence("Ctrl+Shift+R"));
-  for (const Mode* mode : Modes())
-    mode->addActions(edit, *this);
-  QMenu* compute = this->menuBar()->addMenu("&Compute");
-  compute->addAction("&Compute weights", this, &ViewerWindow::compute, QKeySequence("F5"));
-  compute->addAction("C&ancel", this, &ViewerWindow::cancel, QKeySequence("Ctrl+."));
-  compute->addAction("&Run in terminal...", this, &ViewerWindow::showCommandLine, QKeySequence("Ctrl+T"));
-  QMenu* view = this->menuBar()->addMenu("&View");
-  view->addAction("&Weight", this, &ViewerWindow::showWeight, QKeySequence("W"));
-  view->addAction("&Gradient norm", this, &ViewerWindow::showGradientNorm, QKeySequence("G"));
-  view->addAction("&Logarithmic scale", this, [this]() { this->setLogScale(!this->Options.log_scale); },
-    QKeySequence("L"));
-  view->addAction("&Clipping", this, [this]() { this->setClipping(!this->Options.clip); },
-    QKeySequence("C"));
-  view->addAction("Next control", this, [this]() { this->selectControl(this->Options.component + 1); },
-    QKeySequence("N"));
-  view->addAction("Previous control", this,
-    [this]() { this->selectControl(this->Options.component - 1); }, QKeySequence("P"));
-  view->addAction("Reset &camera", this, &ViewerWindow::resetCamera, QKeySequence("Ctrl+R"));
-  view->addAction("Locality &statistics (P, Q)", this,
-    [this]() { this->showLocality(!this->isLocalityShown()); }, QKeySequence("S"));
+  connect(&this->Runner, &ComputeRunner::progressed, this->ProgressBar,
+    [this](double fraction) { this->ProgressBar->setValue(static_cast<int>(1000.0 * fraction)); });
 }
 
 void ViewerWindow::reportError(const QString& message)
@@ -308,7 +191,6 @@ bool ViewerWindow::openInputs(const Inputs& given)
   if (!this->reporting([&]() { this->State.open(given); }))
     return false;
   const Inputs& in = this->State.inputs();
-  vtkPolyData* controls = this->State.controls();
   this->Options.component = 0;
   this->Options.dimension = this->State.modelDimension();
   this->Options.clip = false;
@@ -320,14 +202,7 @@ bool ViewerWindow::openInputs(const Inputs& given)
   this->CameraNeedsReset = true;
   if (IsSkeletonFile(in.controls) && this->Parameters.method != "bbw")
     this->Parameters.method = "bbw";
-  QString text = "<b>controls</b> " + QFileInfo(in.controls).fileName() + " (" +
-    QString::number(controls->GetNumberOfPoints()) + " points)<br><b>model</b> " +
-    QFileInfo(in.model).fileName() + " (" +
-    QString::number(this->State.model()->GetNumberOfPoints()) + " points)";
-  if (!in.domain.isEmpty())
-    text += "<br><b>domain</b> " + QFileInfo(in.domain).fileName();
-  this->Panel->setInputsText(text);
-  this->Panel->setControlCount(static_cast<int>(controls->GetNumberOfPoints()));
+  this->Panel->setInputs(this->State);
   this->setWindowTitle("BaryLab viewer - " +
     (in.example.isEmpty() ? QFileInfo(in.model).fileName() : in.example));
   this->updateControlList();
@@ -339,30 +214,22 @@ bool ViewerWindow::openInputs(const Inputs& given)
 
 bool ViewerWindow::loadExample(const QString& name, bool compute)
 {
-  for (const Example& e : kExamples)
+  const Example* example = FindExample(name);
+  if (!example)
   {
-    if (name != e.name)
-      continue;
-    Inputs in;
-    in.controls = data_path(e.controls);
-    in.model = data_path(e.model);
-    if (*e.domain)
-      in.domain = data_path(e.domain);
-    in.example = e.name;
-    in.pose = data_path(e.pose);
-    this->Parameters = WeightsParameters();
-    this->Parameters.method = e.method;
-    this->CompareMethod.clear();
-    if (!this->openInputs(in))
-      return false;
-    this->PendingSelection = e.selected;
-    this->Panel->sync();
-    if (compute)
-      this->compute();
-    return true;
+    this->reportError("unknown example '" + name + "' (known: " + ExampleNames().join(", ") + ")");
+    return false;
   }
-  this->reportError("unknown example '" + name + "' (known: " + ExampleNames().join(", ") + ")");
-  return false;
+  this->Parameters = WeightsParameters();
+  this->Parameters.method = example->method;
+  this->CompareMethod.clear();
+  if (!this->openInputs(example->inputs()))
+    return false;
+  this->PendingSelection = example->selected;
+  this->Panel->sync();
+  if (compute)
+    this->compute();
+  return true;
 }
 
 void ViewerWindow::updateControlList()
@@ -377,13 +244,13 @@ void ViewerWindow::updateControlList()
 void ViewerWindow::setMethod(const QString& method)
 {
   const auto names = MethodNames();
-  if (std::find(names.begin(), names.end(), to_std(method)) == names.end())
+  if (std::find(names.begin(), names.end(), method.toStdString()) == names.end())
   {
     this->reportError("unknown method '" + method + "'");
     this->Panel->sync();
     return;
   }
-  this->Parameters.method = to_std(method);
+  this->Parameters.method = method.toStdString();
   this->Panel->sync();
   this->statusBar()->showMessage("Method " + method + ": press Compute (F5).");
 }
@@ -392,7 +259,7 @@ bool ViewerWindow::setParameter(const QString& key, const QVariant& value)
 {
   for (const ParameterField& f : WeightsParameterFields())
   {
-    if (f.key != to_std(key))
+    if (f.key != key.toStdString())
       continue;
     const bool set = this->reporting([&]() {
       json v;
@@ -403,9 +270,9 @@ bool ViewerWindow::setParameter(const QString& key, const QVariant& value)
         case ParameterField::Kind::Double: v = value.toDouble(); break;
         case ParameterField::Kind::Choice:
           v = f.get(this->Parameters).is_number() ? json(value.toString().toInt())
-                                                  : json(to_std(value.toString()));
+                                                  : json(value.toString().toStdString());
           break;
-        case ParameterField::Kind::String: v = to_std(value.toString()); break;
+        case ParameterField::Kind::String: v = value.toString().toStdString(); break;
       }
       f.set(this->Parameters, v);
     });
@@ -448,87 +315,30 @@ void ViewerWindow::compute()
     this->reportError("nothing to compute: open a cage and a model, or an example");
     return;
   }
-  this->Progress->store(0.0);
-  this->CancelFlag->store(false);
-  this->Running = this->Parameters;
-  this->RunningCompare = this->CompareMethod;
-  // the worker gets its own copies: the views keep drawing the originals
-  auto model = deep_copy(this->State.model());
-  auto controls = deep_copy(this->State.controls());
-  auto domain = deep_copy(this->State.domain());
-  if (this->Synchronous)
-  {
-    QApplication::setOverrideCursor(Qt::WaitCursor);
-    ComputeResult result = RunCompute(model, controls, domain, this->Parameters,
-      this->CompareMethod, this->Progress, this->CancelFlag);
-    QApplication::restoreOverrideCursor();
-    this->finishCompute(result);
-    return;
-  }
-  this->Busy = true;
-  const WeightsParameters parameters = this->Parameters;
-  const QString compare = this->CompareMethod;
-  const auto progress = this->Progress;
-  const auto cancel = this->CancelFlag;
-  this->Watcher->setFuture(QtConcurrent::run([=]() {
-    return RunCompute(model, controls, domain, parameters, compare, progress, cancel);
-  }));
+  this->Runner.start(this->State.model(), this->State.controls(), this->State.domain(),
+    this->Parameters, this->CompareMethod);
+  if (!this->isComputing())
+    return; // synchronous: done already
   this->ProgressBar->setValue(0);
   this->ProgressBar->show();
   this->Panel->sync();
   this->statusBar()->showMessage("Computing " + QString::fromStdString(this->Parameters.method) +
     " weights...");
-  QTimer::singleShot(100, this, &ViewerWindow::onPollProgress);
-}
-
-void ViewerWindow::onPollProgress()
-{
-  if (!this->isComputing())
-    return;
-  this->ProgressBar->setValue(static_cast<int>(1000.0 * this->Progress->load()));
-  QTimer::singleShot(100, this, &ViewerWindow::onPollProgress);
 }
 
 void ViewerWindow::cancel()
 {
-  if (this->isComputing())
-  {
-    this->CancelFlag->store(true);
+  if (this->Runner.cancel())
     this->statusBar()->showMessage("Cancelling...");
-  }
 }
 
 bool ViewerWindow::waitForComputation(int timeout_ms)
 {
-  QElapsedTimer timer;
-  timer.start();
-  while (this->isComputing())
-  {
-    if (timer.elapsed() > timeout_ms)
-      return false;
-    QApplication::processEvents(QEventLoop::AllEvents, 20);
-  }
-  return true;
-}
-
-void ViewerWindow::onComputeDone()
-{
-  const QFuture<ComputeResult> future = this->Watcher->future();
-  if (future.resultCount() == 0)
-  {
-    this->Busy = false;
-    this->ProgressBar->hide();
-    this->Panel->sync();
-    return;
-  }
-  const ComputeResult result = future.result();
-  this->Watcher->setFuture(QFuture<ComputeResult>());
-  this->finishCompute(result);
+  return this->Runner.wait(timeout_ms);
 }
 
 void ViewerWindow::finishCompute(const ComputeResult& result)
 {
-  this->Busy = false;
   this->ProgressBar->hide();
   this->LastSeconds = result.seconds;
   if (!result.error.isEmpty())
@@ -537,14 +347,14 @@ void ViewerWindow::finishCompute(const ComputeResult& result)
     if (result.cancelled)
       this->statusBar()->showMessage("Computation cancelled.");
     else
-      this->reportError("computing " + QString::fromStdString(this->Running.method) +
+      this->reportError("computing " + QString::fromStdString(result.parameters.method) +
         " weights failed: " + result.error);
     this->State.clearPendingPose();
     this->PendingSelection = -1;
     emit computeFinished(false);
     return;
   }
-  this->State.setWeights(result.weighted, result.compare, this->Running, this->RunningCompare);
+  this->State.setWeights(result.weighted, result.compare, result.parameters, result.compare_method);
   if (!this->State.twists().empty() &&
     (!this->shownMode().twistsHandles() ||
       static_cast<int>(this->State.twists().size()) != this->componentCount()))
@@ -555,24 +365,12 @@ void ViewerWindow::finishCompute(const ComputeResult& result)
   this->Options.component = std::clamp(this->Options.component, 0, std::max(0, this->componentCount() - 1));
   this->updateControlList();
   this->Panel->sync();
-  this->updateDeformation();
-  this->updateScene();
-  const json stats =
-    WeightStatisticsJson(this->State.weighted(), this->Parameters.weights_name, nullptr, -1.0, 0);
+  this->poseChanged();
   const QString method = QString::fromStdString(this->State.computed().method);
-  this->Panel->setStatistics(QString("%1 weights in %2 s: %3 points x %4 controls<br>"
-                                     "min %5, max %6, partition of unity error %7<br>"
-                                     "mean significant weights per point %8")
-                               .arg(method)
-                               .arg(result.seconds, 0, 'f', 3)
-                               .arg(stats.value("points", 0LL))
-                               .arg(stats.value("controls", 0LL))
-                               .arg(stats.value("min_weight", 0.0), 0, 'g', 3)
-                               .arg(stats.value("max_weight", 0.0), 0, 'g', 3)
-                               .arg(stats["partition_of_unity"].value("max_error", 0.0), 0, 'g', 2)
-                               .arg(stats["significant"].value("mean_per_point", 0.0), 0, 'g', 3));
+  this->Panel->setStatistics(method, result.seconds,
+    WeightStatisticsJson(this->State.weighted(), this->Parameters.weights_name, nullptr, -1.0, 0));
   if (this->isLocalityShown())
-    this->updateLocality();
+    this->Locality->refresh();
   this->statusBar()->showMessage(
     QString("Computed %1 weights in %2 s.").arg(method).arg(result.seconds, 0, 'f', 3));
   emit computeFinished(true);
@@ -673,31 +471,10 @@ void ViewerWindow::updateScene()
   options.weights_name = this->Parameters.weights_name;
   options.texture = this->State.picture();
   const QString control = this->Panel->currentControlLabel();
-  const auto title = [&](const std::string& method) {
-    std::string t = method + (options.field == SceneOptions::Field::Weight ? ": weight"
-        : options.field == SceneOptions::Field::GradientNorm              ? ": |grad w|"
-                                                                          : ": picture");
-    if (!control.isEmpty())
-      t += " of " + to_std(control);
-    return t;
-  };
-  vtkDataSet* weighted = this->State.weighted();
   this->reporting([&]() {
-    options.title = weighted ? title(this->State.computed().method) : std::string();
-    vtkPointSet* deformed = this->deformedModel();
-    this->Info = BuildScene(this->renderer(), weighted,
-      weighted && deformed ? deformed->GetPoints() : nullptr, this->State.controls(),
-      this->State.posedControls(), options);
-    if (!this->CompareMethod.isEmpty())
-    {
-      vtkDataSet* compare = this->State.compareWeighted();
-      vtkPointSet* compareDeformed = this->State.compareDeformed();
-      options.title = compare ? title(to_std(this->State.computedCompare())) : std::string();
-      BuildScene(this->compareRenderer(), compare,
-        compareDeformed ? compareDeformed->GetPoints() : nullptr, this->State.controls(),
-        this->State.posedControls(), options);
-    }
+    this->ViewPair->build(this->State, options, control, !this->CompareMethod.isEmpty(), this->Info);
   });
+  vtkDataSet* weighted = this->State.weighted();
   if (this->CameraNeedsReset && (weighted || this->State.controls()))
   {
     ResetSceneCamera(this->renderer(), this->Options.dimension);
@@ -715,10 +492,11 @@ void ViewerWindow::renderViews()
 // ------------------------------------------------------------------------------------------
 // deformation
 
-void ViewerWindow::updateDeformation()
+void ViewerWindow::poseChanged()
 {
   this->reporting([this]() { this->State.updateDeformation(this->shownMode()); },
     "deformation failed: ");
+  this->updateScene();
 }
 
 bool ViewerWindow::setHandleTwist(int handle, double angle_degrees, double scale)
@@ -742,8 +520,7 @@ bool ViewerWindow::setHandleTwist(int handle, double angle_degrees, double scale
     return false;
   }
   this->State.setTwist(handle, { angle_degrees, scale }, n);
-  this->updateDeformation();
-  this->updateScene();
+  this->poseChanged();
   this->statusBar()->showMessage(QString("Handle %1 rotated by %2 deg, scaled by %3.")
                                    .arg(handle).arg(angle_degrees).arg(scale));
   return true;
@@ -752,8 +529,7 @@ bool ViewerWindow::setHandleTwist(int handle, double angle_degrees, double scale
 void ViewerWindow::moveControlLive(int id, const double x[3])
 {
   this->State.moveControl(id, x);
-  this->updateDeformation();
-  this->updateScene();
+  this->poseChanged();
 }
 
 void ViewerWindow::setControlPosition(int id, double x, double y, double z)
@@ -781,8 +557,7 @@ void ViewerWindow::resetPose()
   if (!this->State.controls())
     return;
   this->State.resetPose();
-  this->updateDeformation();
-  this->updateScene();
+  this->poseChanged();
 }
 
 void ViewerWindow::undo()
@@ -792,8 +567,7 @@ void ViewerWindow::undo()
     this->statusBar()->showMessage("Nothing to undo.");
     return;
   }
-  this->updateDeformation();
-  this->updateScene();
+  this->poseChanged();
 }
 
 bool ViewerWindow::loadPose(const QString& path)
@@ -807,8 +581,7 @@ bool ViewerWindow::loadPose(const QString& path)
   if (!this->reporting([&]() { posed = this->shownMode().readPose(this->State, path); }))
     return false;
   this->State.setPose(posed);
-  this->updateDeformation();
-  this->updateScene();
+  this->poseChanged();
   return true;
 }
 
@@ -843,7 +616,7 @@ bool ViewerWindow::saveDeformedModel(const QString& path)
     this->reportError("nothing to save: compute the weights first");
     return false;
   }
-  if (!this->reporting([&]() { vtkBaryDataIO::Write(deformed, to_std(path)); }))
+  if (!this->reporting([&]() { vtkBaryDataIO::Write(deformed, path.toStdString()); }))
     return false;
   this->statusBar()->showMessage("Saved the deformed model to " + path);
   return true;
@@ -886,7 +659,7 @@ bool ViewerWindow::saveSession(const QString& path)
     file.pose = this->State.posedControls();
     json document = SessionToJson(file);
     this->shownMode().writeSession(this->State, document);
-    WriteJson(document, to_std(path));
+    WriteJson(document, path.toStdString());
   });
   if (saved)
     this->statusBar()->showMessage("Saved the session to " + path);
@@ -961,184 +734,46 @@ void ViewerWindow::showCommandLine()
     this->statusBar()->showMessage(line);
     return;
   }
-  QDialog dialog(this);
-  dialog.setWindowTitle("Run in terminal");
-  auto* layout = new QVBoxLayout(&dialog);
-  layout->addWidget(new QLabel("The same weights from the command line:"));
-  auto* text = new QPlainTextEdit(line);
-  text->setReadOnly(true);
-  layout->addWidget(text);
-  auto* close = new QPushButton("Close");
-  connect(close, &QPushButton::clicked, &dialog, &QDialog::accept);
-  layout->addWidget(close);
-  dialog.resize(700, 160);
-  dialog.exec();
+  ShowCommandLineDialog(this, line);
 }
 
 // ------------------------------------------------------------------------------------------
-// file dialogs
+// locality statistics
 
-void ViewerWindow::openFilesDialog()
+LocalityPanel* ViewerWindow::localityPanel() const
 {
-  const QString filter = "Geometry (*.obj *.off *.vtp *.vtu *.vtk *.stl *.ply *.mesh *.tgf);;All files (*)";
-  const QString controls = QFileDialog::getOpenFileName(this,
-    "Controls: cage, skeleton (.tgf) or control points", QString(), filter);
-  if (controls.isEmpty())
-    return;
-  const QString model = QFileDialog::getOpenFileName(this, "Model (points to compute weights at)",
-    QFileInfo(controls).path(), filter);
-  if (model.isEmpty())
-    return;
-  QStringList files = { controls, model };
-  if (IsSkeletonFile(controls))
-  {
-    const QString domain = QFileDialog::getOpenFileName(this,
-      "Domain to mesh (polygon, closed surface or .mesh)", QFileInfo(controls).path(), filter);
-    if (domain.isEmpty())
-      return;
-    files << domain;
-  }
-  this->openFiles(files);
-}
-
-void ViewerWindow::openSessionDialog()
-{
-  const QString path = QFileDialog::getOpenFileName(this, "Load session", QString(),
-    "BaryLab viewer session (*.json)");
-  if (!path.isEmpty())
-    this->loadSession(path);
-}
-
-void ViewerWindow::saveSessionDialog()
-{
-  const QString path = QFileDialog::getSaveFileName(this, "Save session", "session.json",
-    "BaryLab viewer session (*.json)");
-  if (!path.isEmpty())
-    this->saveSession(path);
-}
-
-void ViewerWindow::loadPoseDialog()
-{
-  const QString path = QFileDialog::getOpenFileName(this, "Load pose", QString(),
-    "Posed cage / control points / BBW transforms (*.obj *.off *.vtp *.vtk *.txt *.dmat);;All files (*)");
-  if (!path.isEmpty())
-    this->loadPose(path);
-}
-
-void ViewerWindow::savePoseDialog()
-{
-  const QString path = QFileDialog::getSaveFileName(this, "Save pose", "pose.obj",
-    "Posed controls (*.obj *.vtp *.vtk)");
-  if (!path.isEmpty())
-    this->savePose(path);
-}
-
-void ViewerWindow::saveDeformedDialog()
-{
-  const QString path = QFileDialog::getSaveFileName(this, "Save deformed model", "deformed.vtp",
-    "Model (*.vtp *.vtu *.vtk *.obj *.stl *.ply *.off)");
-  if (!path.isEmpty())
-    this->saveDeformedModel(path);
+  return this->Locality->panel();
 }
 
 const json& ViewerWindow::localityStatistics() const
 {
-  return this->Locality->statistics();
+  return this->Locality->panel()->statistics();
 }
 
 bool ViewerWindow::isLocalityShown() const
 {
-  return this->LocalityDock && this->LocalityDock->isVisible();
-}
-
-void ViewerWindow::updateLocality()
-{
-  json all = json::array();
-  try
-  {
-    const std::pair<vtkDataSet*, std::string> shown[] = {
-      { this->State.weighted(), this->State.computed().method },
-      { this->State.compareWeighted(), to_std(this->State.computedCompare()) } };
-    for (const auto& [data, method] : shown)
-      if (data)
-      {
-        json s = LocalityStatisticsJson(data, this->State.computed().weights_name);
-        s["method"] = method;
-        all.push_back(std::move(s));
-      }
-  }
-  catch (const std::exception& e)
-  {
-    this->reportError(QString("locality statistics: ") + e.what());
-    all = json::array();
-  }
-  this->Locality->setStatistics(all);
+  return this->Locality && this->Locality->isVisible();
 }
 
 void ViewerWindow::showLocality(bool on)
 {
-  if (on)
-  {
-    this->LocalityDock->show();
-    this->updateLocality(); // also when it was visible already
-  }
-  else
-    this->LocalityDock->hide();
+  this->Locality->setShown(on);
 }
 
 bool ViewerWindow::exportLocalityCsv(const QString& prefix)
 {
-  try
-  {
-    this->updateLocality();
-    this->Locality->writeCsv(to_std(prefix));
-  }
-  catch (const std::exception& e)
-  {
-    this->reportError(QString::fromStdString(e.what()));
+  if (!this->reporting([&]() { this->Locality->writeCsv(prefix); }))
     return false;
-  }
   this->statusBar()->showMessage("Wrote " + prefix + "_P.csv and " + prefix + "_Q.csv");
   return true;
 }
 
 bool ViewerWindow::exportLocalityPng(const QString& path)
 {
-  try
-  {
-    this->updateLocality();
-    if (this->Locality->statistics().empty())
-      throw bary::Error(bary::ErrorCode::InvalidArgument,
-        "no locality statistics to export: compute weights first");
-    this->Locality->writePng(to_std(path));
-  }
-  catch (const std::exception& e)
-  {
-    this->reportError(QString::fromStdString(e.what()));
+  if (!this->reporting([&]() { this->Locality->writePng(path); }))
     return false;
-  }
   this->statusBar()->showMessage("Wrote " + path);
   return true;
-}
-
-void ViewerWindow::exportLocalityDialog()
-{
-  const QString path = QFileDialog::getSaveFileName(this, "Export locality statistics",
-    "locality.png", "PNG chart and CSV tables (*.png)");
-  if (path.isEmpty())
-    return;
-  QString prefix = path;
-  if (prefix.endsWith(".png", Qt::CaseInsensitive))
-    prefix.chop(4);
-  if (this->exportLocalityPng(prefix + ".png"))
-    this->exportLocalityCsv(prefix);
-}
-
-void ViewerWindow::saveScreenshotDialog()
-{
-  const QString path = QFileDialog::getSaveFileName(this, "Save screenshot", "barylab.png", "PNG (*.png)");
-  if (!path.isEmpty())
-    this->saveScreenshot(path);
 }
 
 } // namespace viewer

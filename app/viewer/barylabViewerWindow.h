@@ -11,7 +11,6 @@
 #include "barylabViewerScene.h"
 #include "barylabViewerSession.h"
 
-#include <QFutureWatcher>
 #include <QMainWindow>
 #include <QStringList>
 
@@ -23,11 +22,8 @@
 #include "vtkRenderer.h"
 #include "vtkSmartPointer.h"
 
-#include <atomic>
-#include <memory>
 #include <vector>
 
-class QDockWidget;
 class QProgressBar;
 class QVTKOpenGLNativeWidget;
 
@@ -36,6 +32,7 @@ namespace barylab
 namespace viewer
 {
 class ControlPanel;
+class LocalityDock;
 class LocalityPanel;
 class Mode;
 class Views;
@@ -51,7 +48,7 @@ public:
   static QStringList ExampleNames();
 
   // --- state, for tests and scripts ---------------------------------------------------------
-  bool isComputing() const { return this->Busy; }
+  bool isComputing() const { return this->Runner.isBusy(); }
   bool hasWeights() const { return this->State.weighted() != nullptr; }
   vtkDataSet* weighted() const { return this->State.weighted(); }
   vtkDataSet* compareWeighted() const { return this->State.compareWeighted(); }
@@ -92,14 +89,14 @@ public:
 
   /// The locality charts (P(t), Q(k)) and the statistics they show (an array of
   /// barylab::LocalityStatisticsJson objects with "method"; empty before showLocality()).
-  LocalityPanel* localityPanel() const { return this->Locality; }
+  LocalityPanel* localityPanel() const;
   const nlohmann::json& localityStatistics() const;
   bool isLocalityShown() const;
 
   /// Interactive (default): errors also open a message box. Off for tests and --screenshot.
   void setInteractive(bool on) { this->Interactive = on; }
   /// Synchronous: compute() runs in the calling thread (--screenshot, scripts).
-  void setSynchronous(bool on) { this->Synchronous = on; }
+  void setSynchronous(bool on) { this->Runner.setSynchronous(on); }
 
 public slots:
   /// Opens CONTROLS MODEL [DOMAIN] (a .tgf CONTROLS file is a BBW skeleton and needs DOMAIN).
@@ -164,31 +161,18 @@ signals:
   void errorReported(const QString& message);
   void sceneUpdated();
 
-private slots:
-  void onComputeDone();
-  void onPollProgress();
-  void openFilesDialog();
-  void openSessionDialog();
-  void saveSessionDialog();
-  void loadPoseDialog();
-  void savePoseDialog();
-  void saveDeformedDialog();
-  void saveScreenshotDialog();
-  void exportLocalityDialog();
-
 private:
   void finishCompute(const ComputeResult& result);
   void buildViews();
-  void buildMenus();
   void reportError(const QString& message);
   /// Runs @p action; a bary::Error or other exception it throws is reported: false.
   template <class Action>
   bool reporting(Action&& action, const QString& prefix = QString());
   void updateControlList();
-  void updateDeformation();
+  /// The pose changed: deforms the weighted models to it (errors reported) and redraws.
+  void poseChanged();
   void updateScene();
   void renderViews();
-  void updateLocality();
   void moveControlLive(int id, const double x[3]);
   /// Display options changed: panel and scene follow.
   void optionsChanged();
@@ -199,8 +183,6 @@ private:
 
   Session State;
   WeightsParameters Parameters;
-  WeightsParameters Running; ///< the parameters of the computation under way
-  QString RunningCompare;
   QString CompareMethod;
   SceneOptions Options;
   SceneInfo Info;
@@ -208,19 +190,14 @@ private:
 
   QStringList Errors;
   bool Interactive = true;
-  bool Synchronous = false;
-  bool Busy = false; ///< a worker runs (until its result is handled)
   double LastSeconds = 0.0;
   bool CameraNeedsReset = true;
 
-  std::unique_ptr<QFutureWatcher<ComputeResult>> Watcher;
-  std::shared_ptr<std::atomic<double>> Progress;
-  std::shared_ptr<std::atomic<bool>> CancelFlag;
+  ComputeRunner Runner; ///< declared after the session: a worker still running stops first
 
   // widgets
   ControlPanel* Panel = nullptr;
-  LocalityPanel* Locality = nullptr;
-  QDockWidget* LocalityDock = nullptr;
+  LocalityDock* Locality = nullptr;
   Views* ViewPair = nullptr;
   QProgressBar* ProgressBar = nullptr;
 };
