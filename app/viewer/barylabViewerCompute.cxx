@@ -42,7 +42,7 @@ ComputeResult RunCompute(vtkSmartPointer<vtkDataSet> model, vtkSmartPointer<vtkP
     {
       WeightsParameters p = parameters;
       if (run == 1)
-        p.method = compare_method.toStdString();
+        p.method = bary::method_from_name(compare_method.toStdString());
       RunCallbacks callbacks;
       callbacks.progress = [progress, run, runs](double f) {
         progress->store((run + f) / runs);

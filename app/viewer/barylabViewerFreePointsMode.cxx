@@ -10,7 +10,8 @@ namespace viewer
 
 bool FreePointsMode::serves(const std::string& method, const Session&) const
 {
-  return IsPointBasedMethod(method);
+  const bary::MethodInfo* info = bary::find_method(method);
+  return info && info->controls == bary::ControlKind::FreePoints;
 }
 
 QStringList FreePointsMode::commandLineInputs(const Inputs& inputs) const

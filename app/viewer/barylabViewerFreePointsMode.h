@@ -15,7 +15,7 @@ class FreePointsMode : public Mode
 {
 public:
   ControlKind controlKind() const override { return ControlKind::FreePoints; }
-  /// The point-based methods (barylab::IsPointBasedMethod).
+  /// The methods whose controls are free points (bary::ControlKind::FreePoints).
   bool serves(const std::string& method, const Session& session) const override;
   QStringList commandLineInputs(const Inputs& inputs) const override;
 };

@@ -270,7 +270,7 @@ void LocalityDock::refresh()
   try
   {
     const std::pair<vtkDataSet*, std::string> shown[] = {
-      { this->State.weighted(), this->State.computed().method },
+      { this->State.weighted(), MethodName(this->State.computed()) },
       { this->State.compareWeighted(), this->State.computedCompare().toStdString() } };
     for (const auto& [data, method] : shown)
       if (data)

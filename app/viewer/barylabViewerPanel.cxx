@@ -289,7 +289,7 @@ void ControlPanel::sync()
   const QString compare = this->Window->compareMethod();
   const SceneOptions& options = this->Window->sceneOptions();
   this->MethodBox->setCurrentIndex(
-    this->MethodBox->findData(QString::fromStdString(parameters.method)));
+    this->MethodBox->findData(QString::fromStdString(MethodName(parameters))));
   this->CompareBox->setCurrentIndex(std::max(0, this->CompareBox->findData(compare)));
   const auto& fields = WeightsParameterFields();
   for (std::size_t i = 0; i < fields.size(); ++i)
@@ -297,7 +297,7 @@ void ControlPanel::sync()
     const ParameterField& f = fields[i];
     const nlohmann::json value = f.get(parameters);
     QWidget* editor = this->ParameterWidgets[i].second;
-    const bool applies = f.AppliesTo(parameters.method) ||
+    const bool applies = f.AppliesTo(MethodName(parameters)) ||
       (!compare.isEmpty() && f.AppliesTo(compare.toStdString()));
     this->ParameterWidgets[i].first->setVisible(applies);
     if (auto* b = qobject_cast<QCheckBox*>(editor))

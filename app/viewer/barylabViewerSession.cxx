@@ -227,7 +227,7 @@ void Session::updateDeformation(const Mode& mode)
     this->Deformed = mode.deform(*this, this->Weighted, p);
     if (this->CompareWeighted)
     {
-      p.method = to_std(this->ComputedCompare);
+      p.method = bary::method_from_name(to_std(this->ComputedCompare));
       this->CompareDeformed = mode.deform(*this, this->CompareWeighted, p);
     }
   }

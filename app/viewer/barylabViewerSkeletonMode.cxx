@@ -5,10 +5,10 @@
 #include "barylabViewerWindow.h"
 
 #include "vtkBaryConversion.h"
+#include "vtkBaryLinearBlendSkinning.h"
 #include "vtkBaryDataIO.h"
 
 #include "core/error.h"
-#include "core/skeleton.h"
 
 #include <QBoxLayout>
 #include <QDoubleSpinBox>
@@ -135,18 +135,13 @@ std::vector<Eigen::MatrixXd> SkeletonMode::Transforms(const Session& session)
   const int dim = session.modelDimension();
   const bary::Skeleton s = vtkBaryConversion::ToSkeleton(session.controls(), dim);
   const Eigen::MatrixXd posed = vtkBaryConversion::ToMatrix(session.posedControls(), dim);
+  vtkNew<vtkPolyData> joints;
+  joints->SetPoints(session.posedControls());
   std::vector<Eigen::MatrixXd> pose;
   int handle = 0;
-  for (Eigen::MatrixXd T : bary::transforms_from_joints(s, posed))
+  // the joints' pose as 3 x 4 transforms, as the command line computes it
+  for (Eigen::MatrixXd T : vtkBaryLinearBlendSkinning::PoseFromJoints(session.controls(), joints, dim))
   {
-    if (dim == 2)
-    { // lift [A | t] (2 x 3) to 3 x 4, as the command line does
-      Eigen::MatrixXd L = Eigen::MatrixXd::Zero(3, 4);
-      L.topLeftCorner(2, 2) = T.leftCols(2);
-      L.block(0, 3, 2, 1) = T.col(2);
-      L(2, 2) = 1.0;
-      T = L;
-    }
     const HandleTwist twist = session.twist(handle);
     if (!twist.IsIdentity())
     {

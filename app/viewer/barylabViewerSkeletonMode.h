@@ -4,7 +4,7 @@
 /// are the point handles, then the bones; the joints are dragged, the selected handle is
 /// rotated and scaled about its centre (HandleTwist: keys ] [ + -, the panel's
 /// "Rotate/scale handle" row), and the model is skinned with one transform per handle
-/// (bary::transforms_from_joints, then the twist: Eq. 1 of the BBW paper).
+/// (vtkBaryLinearBlendSkinning::PoseFromJoints, then the twist: Eq. 1 of the BBW paper).
 
 #include "barylabViewerMode.h"
 

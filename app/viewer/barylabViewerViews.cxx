@@ -72,7 +72,7 @@ void Views::build(const Session& session, SceneOptions options, const QString& c
     return t;
   };
   vtkDataSet* weighted = session.weighted();
-  options.title = weighted ? title(session.computed().method) : std::string();
+  options.title = weighted ? title(MethodName(session.computed())) : std::string();
   vtkPointSet* deformed = session.deformedModel();
   info = BuildScene(this->Renderer, weighted, weighted && deformed ? deformed->GetPoints() : nullptr,
     session.controls(), session.posedControls(), options);

@@ -82,12 +82,12 @@ vtkRenderer* ViewerWindow::compareRenderer() const
 
 const Mode& ViewerWindow::currentMode() const
 {
-  return ModeFor(this->Parameters.method, this->State);
+  return ModeFor(MethodName(this->Parameters), this->State);
 }
 
 const Mode& ViewerWindow::shownMode() const
 {
-  return this->State.weighted() ? ModeFor(this->State.computed().method, this->State)
+  return this->State.weighted() ? ModeFor(MethodName(this->State.computed()), this->State)
                                 : this->currentMode();
 }
 
@@ -200,8 +200,8 @@ bool ViewerWindow::openInputs(const Inputs& given)
   else if (this->Options.field == SceneOptions::Field::Image)
     this->Options.field = SceneOptions::Field::Weight;
   this->CameraNeedsReset = true;
-  if (IsSkeletonFile(in.controls) && this->Parameters.method != "bbw")
-    this->Parameters.method = "bbw";
+  if (IsSkeletonFile(in.controls) && this->Parameters.method != bary::MethodId::BBW)
+    this->Parameters.method = bary::MethodId::BBW;
   this->Panel->setInputs(this->State);
   this->setWindowTitle("BaryLab viewer - " +
     (in.example.isEmpty() ? QFileInfo(in.model).fileName() : in.example));
@@ -221,7 +221,7 @@ bool ViewerWindow::loadExample(const QString& name, bool compute)
     return false;
   }
   this->Parameters = WeightsParameters();
-  this->Parameters.method = example->method;
+  this->Parameters.method = bary::method_from_name(example->method);
   this->CompareMethod.clear();
   if (!this->openInputs(example->inputs()))
     return false;
@@ -250,7 +250,7 @@ void ViewerWindow::setMethod(const QString& method)
     this->Panel->sync();
     return;
   }
-  this->Parameters.method = method.toStdString();
+  this->Parameters.method = bary::method_from_name(method.toStdString());
   this->Panel->sync();
   this->statusBar()->showMessage("Method " + method + ": press Compute (F5).");
 }
@@ -322,7 +322,7 @@ void ViewerWindow::compute()
   this->ProgressBar->setValue(0);
   this->ProgressBar->show();
   this->Panel->sync();
-  this->statusBar()->showMessage("Computing " + QString::fromStdString(this->Parameters.method) +
+  this->statusBar()->showMessage("Computing " + QString::fromStdString(MethodName(this->Parameters)) +
     " weights...");
 }
 
@@ -347,7 +347,7 @@ void ViewerWindow::finishCompute(const ComputeResult& result)
     if (result.cancelled)
       this->statusBar()->showMessage("Computation cancelled.");
     else
-      this->reportError("computing " + QString::fromStdString(result.parameters.method) +
+      this->reportError("computing " + QString::fromStdString(MethodName(result.parameters)) +
         " weights failed: " + result.error);
     this->State.clearPendingPose();
     this->PendingSelection = -1;
@@ -366,7 +366,7 @@ void ViewerWindow::finishCompute(const ComputeResult& result)
   this->updateControlList();
   this->Panel->sync();
   this->poseChanged();
-  const QString method = QString::fromStdString(this->State.computed().method);
+  const QString method = QString::fromStdString(MethodName(this->State.computed()));
   this->Panel->setStatistics(method, result.seconds,
     WeightStatisticsJson(this->State.weighted(), this->Parameters.weights_name, nullptr, -1.0, 0));
   if (this->isLocalityShown())

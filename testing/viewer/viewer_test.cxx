@@ -122,7 +122,7 @@ class ViewerTest : public QObject
     window->SetSize(side_by_side ? 1200 : 800, 600);
     barylab::viewer::SceneOptions options = w->sceneOptions();
     options.controls = w->controlKind();
-    options.title = w->parameters().method;
+    options.title = barylab::MethodName(w->parameters());
     vtkNew<vtkRenderer> left, right;
     window->AddRenderer(left);
     barylab::viewer::BuildScene(left, w->weighted(), w->deformedModel()->GetPoints(),
@@ -175,9 +175,9 @@ private slots:
       QVERIFY2(w->findChild<QWidget*>(key) != nullptr, qPrintable(key));
     // JSON round trip and the command line
     barylab::WeightsParameters p;
-    p.method = "harmonic";
+    p.method = bary::MethodId::Harmonic;
     p.target_cells = 5000;
-    p.outside = "nearest";
+    p.outside = bary::OutsidePolicy::Nearest;
     p.insert_points = true;
     const barylab::WeightsParameters q = ParametersFromJson(ParametersToJson(p));
     QCOMPARE(ParametersToJson(q).dump(), ParametersToJson(p).dump());
@@ -501,7 +501,7 @@ private slots:
   {
     // local barycentric coordinates appear as one more method (no viewer code of their own)
     loadAndWait("gingerbread-lbc");
-    QCOMPARE(QString::fromStdString(w->parameters().method), QString("lbc"));
+    QCOMPARE(QString::fromStdString(barylab::MethodName(w->parameters())), QString("lbc"));
     QVERIFY(w->findChild<QWidget*>("lbc_locality") != nullptr); // its parameter rows
     vtkDataArray* W = w->weighted()->GetPointData()->GetArray("Weights");
     double lowest = 1.0, partition = 0.0;
@@ -941,7 +941,7 @@ private slots:
     QVERIFY(w->setParameter("target_cells", 5000));
     QVERIFY(w->commandLine().contains("--method harmonic --cells 5000 --cage"));
     QVERIFY(w->openFiles({ data("skeleton2d.tgf"), data("model2d.obj"), data("cage2d.obj") }));
-    QCOMPARE(QString::fromStdString(w->parameters().method), QString("bbw"));
+    QCOMPARE(QString::fromStdString(barylab::MethodName(w->parameters())), QString("bbw"));
     QVERIFY(w->commandLine().contains("--handles " + data("skeleton2d.tgf") + " --mesh " +
       data("cage2d.obj")));
     QVERIFY(w->openFiles({ data("heart_controls.obj"), data("heart.off") }));
