@@ -27,7 +27,7 @@
 
 #include "barylabCli.h"
 
-#include "core/error.h"
+#include "core/common/error.h"
 
 #include <CLI/CLI.hpp>
 

@@ -6,7 +6,7 @@
 #include "vtkBaryLinearBlendSkinning.h"
 #include "vtkBaryDataIO.h"
 
-#include "core/error.h"
+#include "core/common/error.h"
 
 #include "vtkDataArray.h"
 #include "vtkDataSet.h"

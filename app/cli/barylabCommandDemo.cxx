@@ -8,7 +8,7 @@
 #include "vtkBaryConversion.h"
 #include "vtkBaryDataIO.h"
 
-#include "core/error.h"
+#include "core/common/error.h"
 
 #include "vtkDataArray.h"
 #include "vtkDataSet.h"

@@ -4,7 +4,7 @@
 
 #include "vtkBaryDataIO.h"
 
-#include "core/error.h"
+#include "core/common/error.h"
 
 #include "vtkDataArray.h"
 #include "vtkDataSet.h"

@@ -5,7 +5,7 @@
 
 #include "vtkBaryDataIO.h"
 
-#include "core/error.h"
+#include "core/common/error.h"
 
 #include "vtkDataSet.h"
 #include "vtkPolyData.h"

@@ -3,7 +3,7 @@
 
 #include "barylabCli.h"
 
-#include "core/weight_methods.h"
+#include "core/coordinates/weight_methods.h"
 
 #include <CLI/CLI.hpp>
 

@@ -4,8 +4,8 @@
 /// running the coordinate and deformation filters with errors turned into exceptions, and
 /// summarising results. No algorithm code: everything numerical is in core/ and filters/.
 
-#include "core/error.h"
-#include "core/weight_methods.h"
+#include "core/common/error.h"
+#include "core/coordinates/weight_methods.h"
 
 #include <Eigen/Core>
 #include <nlohmann/json.hpp>

@@ -2,7 +2,7 @@
 
 #include "vtkBaryConversion.h"
 
-#include "core/error.h"
+#include "core/common/error.h"
 
 #include "vtkActor.h"
 #include "vtkCamera.h"

@@ -1,6 +1,6 @@
 #include "barylabViewerCompute.h"
 
-#include "core/error.h"
+#include "core/common/error.h"
 
 #include <QApplication>
 #include <QElapsedTimer>

@@ -3,7 +3,7 @@
 #include "barylabPipeline.h"
 #include "barylabViewerSession.h"
 
-#include "core/error.h"
+#include "core/common/error.h"
 
 #include <QtCharts/QChart>
 #include <QtCharts/QChartView>

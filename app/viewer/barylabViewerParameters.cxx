@@ -1,8 +1,8 @@
 #include "barylabViewerParameters.h"
 
-#include "core/weight_methods.h"
+#include "core/coordinates/weight_methods.h"
 
-#include "core/error.h"
+#include "core/common/error.h"
 
 #include <algorithm>
 #include <sstream>

@@ -2,7 +2,7 @@
 
 #include "barylabViewerMode.h"
 
-#include "core/error.h"
+#include "core/common/error.h"
 
 #include "vtkImageData.h"
 #include "vtkImageReader2.h"

@@ -8,7 +8,7 @@
 #include "vtkBaryLinearBlendSkinning.h"
 #include "vtkBaryDataIO.h"
 
-#include "core/error.h"
+#include "core/common/error.h"
 
 #include <QBoxLayout>
 #include <QDoubleSpinBox>

@@ -1,4 +1,4 @@
-#include "anderson.h"
+#include "core/detail/anderson.h"
 
 #include <Eigen/Cholesky>
 

@@ -3,7 +3,7 @@
 /// Anderson acceleration of a fixed-point iteration, as local barycentric coordinates' ADMM
 /// uses it (LBCOptions::anderson).
 
-#include "../types.h"
+#include "core/common/types.h"
 
 #include <Eigen/Core>
 

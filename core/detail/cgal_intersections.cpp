@@ -1,4 +1,4 @@
-#include "cgal_intersections.h"
+#include "core/detail/cgal_intersections.h"
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Polygon_mesh_processing/polygon_soup_to_polygon_mesh.h>

@@ -3,7 +3,7 @@
 /// Exact intersection tests (CGAL, exact predicates) used by cage validation. Kept in one
 /// translation unit because CGAL headers are heavy to compile.
 
-#include "../types.h"
+#include "core/common/types.h"
 
 #include <utility>
 #include <vector>

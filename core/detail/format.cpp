@@ -1,4 +1,4 @@
-#include "format.h"
+#include "core/detail/format.h"
 
 #include <sstream>
 

@@ -3,7 +3,7 @@
 /// Numbers, points and index lists as core's error messages write them. Every formatter writes
 /// what std::ostream writes with the given precision (significant digits, "%g" style).
 
-#include "../types.h"
+#include "core/common/types.h"
 
 #include <Eigen/Core>
 

@@ -6,8 +6,8 @@
 /// exception rethrown on the calling thread. Every chunk is computed by the same sequential code
 /// into its own output, so the results do not depend on the number of threads.
 
-#include "../progress.h"
-#include "../types.h"
+#include "core/common/progress.h"
+#include "core/common/types.h"
 
 #include <algorithm>
 #include <atomic>

@@ -1,6 +1,6 @@
-#include "polygon_mesher_cgal.h"
+#include "core/detail/polygon_mesher_cgal.h"
 
-#include "../error.h"
+#include "core/common/error.h"
 
 #include <CGAL/Constrained_Delaunay_triangulation_2.h>
 #include <CGAL/Delaunay_mesh_face_base_2.h>

@@ -3,7 +3,7 @@
 /// The CGAL part of mesh_polygon (domain_mesh.h), kept in one translation unit because CGAL's
 /// headers are heavy to compile.
 
-#include "../types.h"
+#include "core/common/types.h"
 
 #include <functional>
 #include <vector>

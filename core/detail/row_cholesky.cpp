@@ -1,6 +1,6 @@
-#include "row_cholesky.h"
+#include "core/detail/row_cholesky.h"
 
-#include "../error.h"
+#include "core/common/error.h"
 
 #include <Eigen/OrderingMethods>
 #include <Eigen/SparseCholesky>

@@ -9,7 +9,7 @@
 /// of the block per factor entry (a contiguous axpy over the columns) is faster (LBCOptions::
 /// backend documents the measurements). LBC can still use SparseCholesky for comparison.
 
-#include "../types.h"
+#include "core/common/types.h"
 
 #include <Eigen/SparseCore>
 

@@ -1,6 +1,6 @@
-#include "tetgen_mesher.h"
+#include "core/detail/tetgen_mesher.h"
 
-#include "../error.h"
+#include "core/common/error.h"
 
 #include <tetgen.h>
 

@@ -3,7 +3,7 @@
 /// The TetGen part of mesh_closed_surface (domain_mesh.h): the only file that includes
 /// tetgen.h.
 
-#include "../types.h"
+#include "core/common/types.h"
 
 #include <string>
 

@@ -3,8 +3,8 @@
 #include "vtkBaryConversion.h"
 #include "vtkBaryFilterErrors.h"
 
-#include "core/cage_deformation.h"
-#include "core/error.h"
+#include "core/deformation/cage_deformation.h"
+#include "core/common/error.h"
 
 #include "vtkCellArray.h"
 #include "vtkDataArray.h"

@@ -3,8 +3,8 @@
 #include "vtkBaryConversion.h"
 #include "vtkBaryFilterErrors.h"
 
-#include "core/domain_mesh.h"
-#include "core/error.h"
+#include "core/meshing/domain_mesh.h"
+#include "core/common/error.h"
 
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"

@@ -1,7 +1,7 @@
 #include "vtkBaryConversion.h"
 
-#include "core/error.h"
-#include "core/locality_statistics.h"
+#include "core/common/error.h"
+#include "core/analysis/locality_statistics.h"
 
 #include "vtkCell.h"
 #include "vtkCellArray.h"

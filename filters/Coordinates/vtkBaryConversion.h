@@ -22,11 +22,11 @@
 #include "vtkObject.h"
 
 #ifndef __VTK_WRAP__
-#include "core/cage.h"  // for bary::Cage
-#include "core/domain_mesh.h" // for bary::DomainMesh
-#include "core/error.h" // for bary::ErrorCode
-#include "core/skeleton.h" // for bary::Skeleton
-#include "core/types.h" // for bary::DenseWeights
+#include "core/common/cage.h"  // for bary::Cage
+#include "core/meshing/domain_mesh.h" // for bary::DomainMesh
+#include "core/common/error.h" // for bary::ErrorCode
+#include "core/deformation/skeleton.h" // for bary::Skeleton
+#include "core/common/types.h" // for bary::DenseWeights
 #include <vector>       // for std::vector
 #endif
 

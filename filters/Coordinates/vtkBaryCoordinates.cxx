@@ -3,7 +3,7 @@
 #include "vtkBaryConversion.h"
 #include "vtkBaryFilterErrors.h"
 
-#include "core/error.h"
+#include "core/common/error.h"
 
 #include "vtkDataArray.h"
 #include "vtkDataSet.h"

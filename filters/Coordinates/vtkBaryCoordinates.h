@@ -65,7 +65,7 @@
 #include "vtkBaryWeightMethod.h" // for the methods and their settings
 
 #ifndef __VTK_WRAP__
-#include "core/weights_result.h" // for bary::WeightsResult
+#include "core/common/weights_result.h" // for bary::WeightsResult
 #endif
 
 class vtkDataArray;

@@ -13,7 +13,7 @@
 
 #include "vtkBaryConversion.h"
 
-#include "core/error.h"
+#include "core/common/error.h"
 
 #include <exception>
 

@@ -3,9 +3,9 @@
 #include "vtkBaryConversion.h"
 #include "vtkBaryFilterErrors.h"
 
-#include "core/error.h"
-#include "core/linear_blend_skinning.h"
-#include "core/skeleton.h"
+#include "core/common/error.h"
+#include "core/deformation/linear_blend_skinning.h"
+#include "core/deformation/skeleton.h"
 
 #include "vtkDataArray.h"
 #include "vtkDoubleArray.h"

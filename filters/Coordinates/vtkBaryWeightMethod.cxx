@@ -2,8 +2,8 @@
 
 #include "vtkBaryConversion.h"
 
-#include "core/error.h"
-#include "core/weight_method.h"
+#include "core/common/error.h"
+#include "core/coordinates/weight_method.h"
 
 #include "vtkCellType.h"
 #include "vtkDataArray.h"

@@ -26,9 +26,9 @@
 
 #ifndef __VTK_WRAP__
 #include "vtkBaryConversion.h"   // for vtkBaryCage
-#include "core/progress.h"       // for bary::ProgressCallback
-#include "core/weight_methods.h" // for bary::WeightsSettings
-#include "core/weights_result.h" // for bary::WeightsResult
+#include "core/common/progress.h"       // for bary::ProgressCallback
+#include "core/coordinates/weight_methods.h" // for bary::WeightsSettings
+#include "core/common/weights_result.h" // for bary::WeightsResult
 #include <string>                // for std::string
 #include <vector>                // for std::vector
 #endif

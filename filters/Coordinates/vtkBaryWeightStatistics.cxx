@@ -3,8 +3,8 @@
 #include "vtkBaryConversion.h"
 #include "vtkBaryFilterErrors.h"
 
-#include "core/error.h"
-#include "core/weight_statistics.h"
+#include "core/common/error.h"
+#include "core/analysis/weight_statistics.h"
 
 #include "vtkDataArray.h"
 #include "vtkDataSet.h"

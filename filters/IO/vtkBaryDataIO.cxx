@@ -7,8 +7,8 @@
 
 #include "vtkBaryErrorObserver.h"
 
-#include "core/error.h"
-#include "core/linear_blend_skinning.h"
+#include "core/common/error.h"
+#include "core/deformation/linear_blend_skinning.h"
 
 #include "vtkAlgorithm.h"
 #include "vtkAppendFilter.h"

@@ -1,5 +1,5 @@
 #ifndef __VTK_WRAP__
-#include "core/skeleton.h" // for bary::Skeleton
+#include "core/deformation/skeleton.h" // for bary::Skeleton
 #include <vector>          // for std::vector
 #include <Eigen/Core> // for Eigen::MatrixXd
 #endif

@@ -3,10 +3,10 @@
 // fast and coupled modes, with active-set iteration counts; libigl's hand (7,234 vertices, 20
 // bones) on 1 and 2 threads when ../shared/data is present; and pose time per frame (linear
 // blend skinning) against the number of points and handles. See docs/benchmarks.md.
-#include "core/bbw.h"
-#include "core/domain_mesh.h"
-#include "core/linear_blend_skinning.h"
-#include "core/skeleton.h"
+#include "core/coordinates/bbw.h"
+#include "core/meshing/domain_mesh.h"
+#include "core/deformation/linear_blend_skinning.h"
+#include "core/deformation/skeleton.h"
 
 #include "igl_formats.h"
 

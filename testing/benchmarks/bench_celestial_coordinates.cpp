@@ -23,7 +23,7 @@
 ///
 /// How it was run and what it measured: docs/celestial-coordinates.md.
 
-#include "core/celestial_coordinates.h"
+#include "core/coordinates/celestial_coordinates.h"
 
 #include <benchmark/benchmark.h>
 

@@ -1,6 +1,6 @@
 // Harmonic coordinates: bind time (mesh the cage's interior, factor, solve for all cage
 // vertices) against mesh size, 2D and 3D, split into phases. See docs/benchmarks.md.
-#include "core/harmonic_coordinates.h"
+#include "core/coordinates/harmonic_coordinates.h"
 
 #include <benchmark/benchmark.h>
 

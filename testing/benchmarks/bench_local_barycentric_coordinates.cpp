@@ -6,11 +6,11 @@
 // handles, on the authors' four triangulations, the bundled 2D and 3D cages and three simple 3D
 // cages). See docs/benchmarks.md and docs/local-barycentric-coordinates.md for the results and
 // how they were taken.
-#include "core/bbw.h"
-#include "core/domain_mesh.h"
-#include "core/harmonic_coordinates.h"
-#include "core/local_barycentric_coordinates.h"
-#include "core/locality_statistics.h"
+#include "core/coordinates/bbw.h"
+#include "core/meshing/domain_mesh.h"
+#include "core/coordinates/harmonic_coordinates.h"
+#include "core/coordinates/local_barycentric_coordinates.h"
+#include "core/analysis/locality_statistics.h"
 
 #include "cage_catalogue.h"
 

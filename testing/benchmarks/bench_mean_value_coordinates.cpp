@@ -34,8 +34,8 @@
 ///
 /// How it was run and what it measured: docs/benchmarks.md.
 
-#include "core/cage.h"
-#include "core/mean_value_coordinates.h"
+#include "core/common/cage.h"
+#include "core/coordinates/mean_value_coordinates.h"
 
 #include <Eigen/Geometry>
 #include <benchmark/benchmark.h>

@@ -10,13 +10,13 @@
 // Benchmark Table1/<case>/<mode> times one deformation frame, x' = W c' (mode 0: dense MVC,
 // Eigen dense product; mode 1: sparse LBC, CSR product), and reports memory, supports and
 // errors as counters. Run on one thread (OMP_NUM_THREADS=1); see docs/benchmarks.md.
-#include "core/cage.h"
-#include "core/cage_deformation.h"
-#include "core/domain_mesh.h"
-#include "core/local_barycentric_coordinates.h"
-#include "core/locality_statistics.h"
-#include "core/mean_value_coordinates.h"
-#include "core/mesh_point_locator.h"
+#include "core/common/cage.h"
+#include "core/deformation/cage_deformation.h"
+#include "core/meshing/domain_mesh.h"
+#include "core/coordinates/local_barycentric_coordinates.h"
+#include "core/analysis/locality_statistics.h"
+#include "core/coordinates/mean_value_coordinates.h"
+#include "core/meshing/mesh_point_locator.h"
 
 #include <benchmark/benchmark.h>
 

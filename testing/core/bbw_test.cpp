@@ -2,10 +2,10 @@
 // built here (unit-square grids, a cube of tetrahedra), plus the libigl authors' MATLAB
 // active-set weights for the decimated knight as an independent oracle (skipped when the shared
 // data folder is absent).
-#include "core/bbw.h"
-#include "core/error.h"
-#include "core/fem_operators.h"
-#include "core/min_quad_with_fixed.h"
+#include "core/coordinates/bbw.h"
+#include "core/common/error.h"
+#include "core/solvers/fem_operators.h"
+#include "core/solvers/min_quad_with_fixed.h"
 #include "error_matchers.h"
 #include "igl_formats.h"
 #include "statistics_matchers.h"

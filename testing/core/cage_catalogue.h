@@ -6,7 +6,7 @@
 /// shared): the winding numbers, distances and samplers below must not borrow the code they are
 /// used to test.
 
-#include "core/cage.h"
+#include "core/common/cage.h"
 
 #include <cstdint>
 #include <ostream>

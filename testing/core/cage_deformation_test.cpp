@@ -1,8 +1,8 @@
 // Tests for core/cage_deformation.h: deform_points (dense and sparse) and sparsify_weights.
 #include "cage_catalogue.h"
-#include "core/cage_deformation.h"
-#include "core/error.h"
-#include "core/mean_value_coordinates.h"
+#include "core/deformation/cage_deformation.h"
+#include "core/common/error.h"
+#include "core/coordinates/mean_value_coordinates.h"
 #include "error_matchers.h"
 
 #include <gtest/gtest.h>

@@ -1,8 +1,8 @@
 // Tests for core/cage.h: every branch of validate_cage (error code and the culprit named in the
 // message), signed_measure and is_positively_oriented, and the catalogue itself.
 #include "cage_catalogue.h"
-#include "core/cage.h"
-#include "core/error.h"
+#include "core/common/cage.h"
+#include "core/common/error.h"
 #include "error_matchers.h"
 
 #include <gtest/gtest.h>

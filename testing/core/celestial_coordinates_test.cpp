@@ -21,8 +21,8 @@
 // - Invariance: two solves with tolerance 1e-12 each give weights within ~ cond * 1e-12;
 //   kInvarianceTol = 1e-9 (measured: <= 2e-12).
 // - Warm vs cold: both stop within the tolerance of the same root: kWarmColdTol = 1e-9.
-#include "core/celestial_coordinates.h"
-#include "core/error.h"
+#include "core/coordinates/celestial_coordinates.h"
+#include "core/common/error.h"
 #include "error_matchers.h"
 #include "statistics_matchers.h"
 

@@ -18,9 +18,9 @@
 //   slack of 1e-6 relative (0.01 degree) is enough.
 #include "cage_catalogue.h"
 #include "core/detail/tetgen_mesher.h"
-#include "core/domain_mesh.h"
-#include "core/error.h"
-#include "core/fem_operators.h"
+#include "core/meshing/domain_mesh.h"
+#include "core/common/error.h"
+#include "core/solvers/fem_operators.h"
 #include "error_matchers.h"
 
 #include <Eigen/Geometry>

@@ -2,7 +2,7 @@
 /// @file error_matchers.h
 /// Asserting on bary::Error: the code and the fragments the message must contain.
 
-#include "core/error.h"
+#include "core/common/error.h"
 
 #include <gtest/gtest.h>
 

@@ -1,9 +1,9 @@
 // Tests for core/error.h: codes, names and the message an Error carries.
-#include "core/error.h"
+#include "core/common/error.h"
 
 #include "cage_catalogue.h"
-#include "core/domain_mesh.h"
-#include "core/local_barycentric_coordinates.h"
+#include "core/meshing/domain_mesh.h"
+#include "core/coordinates/local_barycentric_coordinates.h"
 
 #include <gtest/gtest.h>
 

@@ -8,8 +8,8 @@
 // mesh add #T terms. The tolerances below are a few hundred eps times the scale of the terms
 // (1e-13 for one element or row, 1e-12 for whole-mesh sums of up to a few thousand terms),
 // far below any modelling error they could hide (which would be O(1)).
-#include "core/error.h"
-#include "core/fem_operators.h"
+#include "core/common/error.h"
+#include "core/solvers/fem_operators.h"
 #include "error_matchers.h"
 
 #include <Eigen/Dense>

@@ -15,10 +15,10 @@
 //   distance takes the whole detour (>= 70% of it asserted, 106% measured);
 // - cube, 6269 tetrahedra: mean error 0.020, max 0.096 (diameter 1.73).
 #include "cage_catalogue.h"
-#include "core/domain_mesh.h"
-#include "core/error.h"
-#include "core/fem_operators.h"
-#include "core/geodesic_heat.h"
+#include "core/meshing/domain_mesh.h"
+#include "core/common/error.h"
+#include "core/solvers/fem_operators.h"
+#include "core/solvers/geodesic_heat.h"
 #include "error_matchers.h"
 
 #include <gtest/gtest.h>

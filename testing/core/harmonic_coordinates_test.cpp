@@ -8,8 +8,8 @@
 // - Against the analytic solution (square: bilinear functions), P1 elements converge like
 //   O(h^2); the test measures the order over three meshes instead of fixing an absolute error.
 #include "cage_catalogue.h"
-#include "core/error.h"
-#include "core/harmonic_coordinates.h"
+#include "core/common/error.h"
+#include "core/coordinates/harmonic_coordinates.h"
 #include "error_matchers.h"
 
 #include <gtest/gtest.h>

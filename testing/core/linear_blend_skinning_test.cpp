@@ -1,7 +1,7 @@
 // Tests for core/linear_blend_skinning.h: Eq. (1) of Jacobson et al. 2011 on hand-made weights
 // and transforms, and the §3.4 rotations inferred from pseudo-edges.
-#include "core/error.h"
-#include "core/linear_blend_skinning.h"
+#include "core/common/error.h"
+#include "core/deformation/linear_blend_skinning.h"
 #include "error_matchers.h"
 
 #include <Eigen/Geometry>

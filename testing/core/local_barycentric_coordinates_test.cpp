@@ -30,13 +30,13 @@
 // 60-unknown-row problem its objective was 2.7e-10 (relative) from the LBC optimum and its
 // constraint violation 9e-9; 1e-6 is asserted.
 #include "cage_catalogue.h"
-#include "core/bbw.h"
-#include "core/domain_mesh.h"
-#include "core/error.h"
-#include "core/fem_operators.h"
-#include "core/harmonic_coordinates.h"
-#include "core/local_barycentric_coordinates.h"
-#include "core/locality_statistics.h"
+#include "core/coordinates/bbw.h"
+#include "core/meshing/domain_mesh.h"
+#include "core/common/error.h"
+#include "core/solvers/fem_operators.h"
+#include "core/coordinates/harmonic_coordinates.h"
+#include "core/coordinates/local_barycentric_coordinates.h"
+#include "core/analysis/locality_statistics.h"
 #include "error_matchers.h"
 #include "statistics_matchers.h"
 

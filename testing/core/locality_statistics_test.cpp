@@ -7,10 +7,10 @@
 // the rounding of a row's sum, 1e-13 allowed; with None the partition error equals the dropped
 // mass exactly (1e-15).
 #include "cage_catalogue.h"
-#include "core/domain_mesh.h"
-#include "core/error.h"
-#include "core/harmonic_coordinates.h"
-#include "core/locality_statistics.h"
+#include "core/meshing/domain_mesh.h"
+#include "core/common/error.h"
+#include "core/coordinates/harmonic_coordinates.h"
+#include "core/analysis/locality_statistics.h"
 #include "error_matchers.h"
 
 #include <gtest/gtest.h>

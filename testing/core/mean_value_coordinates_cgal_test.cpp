@@ -10,7 +10,7 @@
 // with relative error ~u adds ~n u); 1e-10 * sum|w| leaves room for CGAL's square roots of
 // long products on the 64-gon.
 #include "cage_catalogue.h"
-#include "core/mean_value_coordinates.h"
+#include "core/coordinates/mean_value_coordinates.h"
 
 #include <CGAL/Barycentric_coordinates_2/Mean_value_coordinates_2.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>

@@ -27,8 +27,8 @@
 // - Orientation: reversing changes only the order/sign of operations; 1e-12 times sum|w|.
 // - 3D outside: see kOutside3DTol (grazing faces).
 #include "cage_catalogue.h"
-#include "core/error.h"
-#include "core/mean_value_coordinates.h"
+#include "core/common/error.h"
+#include "core/coordinates/mean_value_coordinates.h"
 #include "error_matchers.h"
 
 #include <Eigen/Geometry>

@@ -13,9 +13,9 @@
 // of the mesh diameter leaves a wide margin. Their sum is 1 to one rounding (lambda_0 =
 // 1 - the others): 1e-14.
 #include "cage_catalogue.h"
-#include "core/domain_mesh.h"
-#include "core/error.h"
-#include "core/mesh_point_locator.h"
+#include "core/meshing/domain_mesh.h"
+#include "core/common/error.h"
+#include "core/meshing/mesh_point_locator.h"
 #include "error_matchers.h"
 
 #include <Eigen/Geometry>

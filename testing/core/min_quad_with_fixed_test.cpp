@@ -6,9 +6,9 @@
 // Tolerances. The stiffness matrices here have O(1) entries (2D) and condition numbers
 // O(h^-2) <= ~1e3, so solutions carry errors of ~cond * eps ~ 1e-13 relative at most; 1e-12 is
 // the bound used for "exact" results, and bitwise equality where the code copies values.
-#include "core/error.h"
-#include "core/fem_operators.h"
-#include "core/min_quad_with_fixed.h"
+#include "core/common/error.h"
+#include "core/solvers/fem_operators.h"
+#include "core/solvers/min_quad_with_fixed.h"
 #include "error_matchers.h"
 
 #include <gtest/gtest.h>

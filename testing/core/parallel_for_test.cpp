@@ -1,6 +1,6 @@
 // Tests for core/detail/parallel_for.h: the chunked OpenMP loop with progress and cancellation.
 #include "core/detail/parallel_for.h"
-#include "core/error.h"
+#include "core/common/error.h"
 #include "error_matchers.h"
 
 #include <gtest/gtest.h>

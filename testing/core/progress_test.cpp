@@ -1,7 +1,7 @@
 // Tests for core/progress.h: the fraction mapping, throttling, cancellation and thread safety
 // of ProgressReporter.
-#include "core/error.h"
-#include "core/progress.h"
+#include "core/common/error.h"
+#include "core/common/progress.h"
 #include "error_matchers.h"
 
 #include <gtest/gtest.h>

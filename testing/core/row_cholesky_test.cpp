@@ -1,6 +1,6 @@
 // Tests for core/detail/row_cholesky.h: LBC's sparse Cholesky solved for row-major blocks.
 #include "core/detail/row_cholesky.h"
-#include "core/error.h"
+#include "core/common/error.h"
 #include "error_matchers.h"
 
 #include <Eigen/Dense>

@@ -1,8 +1,8 @@
 // Tests for core/skeleton.h: validation, bone samples for meshing, bone parents, forward
 // kinematics (checked against joint continuity and an independent composition of rotations) and
 // transforms from moved joints.
-#include "core/error.h"
-#include "core/skeleton.h"
+#include "core/common/error.h"
+#include "core/deformation/skeleton.h"
 #include "error_matchers.h"
 
 #include <gtest/gtest.h>

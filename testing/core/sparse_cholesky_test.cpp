@@ -6,8 +6,8 @@
 // [1, 9], so cond(A) <= 9: a backward-stable Cholesky solve gives a relative residual of a few
 // eps times the fill (~ 1e-15) and a relative error below cond(A) times that. 1e-12 leaves a
 // margin of 100x on both.
-#include "core/error.h"
-#include "core/sparse_cholesky.h"
+#include "core/common/error.h"
+#include "core/solvers/sparse_cholesky.h"
 #include "error_matchers.h"
 
 #include <Eigen/Dense>

@@ -2,7 +2,7 @@
 /// @file statistics_matchers.h
 /// Asserting on WeightsResult::statistics: exactly these names, in this order, finite values.
 
-#include "core/weights_result.h"
+#include "core/common/weights_result.h"
 
 #include <gtest/gtest.h>
 

@@ -4,13 +4,13 @@
 // the content hash sensitive to every setting that changes weights and to no other, and
 // compute_weights equal to calling the algorithm directly.
 
-#include "core/weight_method.h"
-#include "core/weight_methods.h"
+#include "core/coordinates/weight_method.h"
+#include "core/coordinates/weight_methods.h"
 
-#include "core/celestial_coordinates.h"
-#include "core/error.h"
-#include "core/local_barycentric_coordinates.h"
-#include "core/mean_value_coordinates.h"
+#include "core/coordinates/celestial_coordinates.h"
+#include "core/common/error.h"
+#include "core/coordinates/local_barycentric_coordinates.h"
+#include "core/coordinates/mean_value_coordinates.h"
 
 #include "cage_catalogue.h"
 

@@ -1,9 +1,9 @@
 // Tests for core/weight_statistics.h, on hand-built matrices whose statistics are worked out
 // by hand in the comments.
 #include "cage_catalogue.h"
-#include "core/error.h"
-#include "core/mean_value_coordinates.h"
-#include "core/weight_statistics.h"
+#include "core/common/error.h"
+#include "core/coordinates/mean_value_coordinates.h"
+#include "core/analysis/weight_statistics.h"
 #include "error_matchers.h"
 
 #include <gtest/gtest.h>

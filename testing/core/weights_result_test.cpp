@@ -1,9 +1,9 @@
 // Tests for core/weights_result.h: the shape every weights computation returns.
-#include "core/bbw.h"
-#include "core/celestial_coordinates.h"
-#include "core/local_barycentric_coordinates.h"
-#include "core/mean_value_coordinates.h"
-#include "core/weights_result.h"
+#include "core/coordinates/bbw.h"
+#include "core/coordinates/celestial_coordinates.h"
+#include "core/coordinates/local_barycentric_coordinates.h"
+#include "core/coordinates/mean_value_coordinates.h"
+#include "core/common/weights_result.h"
 
 #include <gtest/gtest.h>
 

@@ -4,7 +4,7 @@
 
 #include "vtkBaryConversion.h"
 
-#include "core/error.h"
+#include "core/common/error.h"
 
 #include "vtkDoubleArray.h"
 #include "vtkFloatArray.h"

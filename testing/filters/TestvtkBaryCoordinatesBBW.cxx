@@ -8,7 +8,7 @@
 #include "vtkBaryConversion.h"
 #include "vtkBaryCoordinates.h"
 
-#include "core/bbw.h"
+#include "core/coordinates/bbw.h"
 
 #include "vtkCellArray.h"
 #include "vtkPolyData.h"

@@ -12,8 +12,8 @@
 #include "vtkBaryConversion.h"
 #include "vtkBaryCoordinates.h"
 
-#include "core/domain_mesh.h"
-#include "core/local_barycentric_coordinates.h"
+#include "core/meshing/domain_mesh.h"
+#include "core/coordinates/local_barycentric_coordinates.h"
 
 #include "vtkCallbackCommand.h"
 #include "vtkCommand.h"

@@ -6,7 +6,7 @@
 #include "vtkBaryOFFReader.h"
 #include "vtkBaryOFFWriter.h"
 
-#include "core/error.h"
+#include "core/common/error.h"
 
 #include "vtkCellArray.h"
 #include "vtkDoubleArray.h"

@@ -6,8 +6,8 @@
 #include "vtkBaryDataIO.h"
 #include "vtkBaryLinearBlendSkinning.h"
 
-#include "core/error.h"
-#include "core/skeleton.h"
+#include "core/common/error.h"
+#include "core/deformation/skeleton.h"
 
 #include "vtkDoubleArray.h"
 #include "vtkPointData.h"

@@ -6,7 +6,7 @@
 #include "vtkBaryMEDITReader.h"
 #include "vtkBaryTGFReader.h"
 
-#include "core/error.h"
+#include "core/common/error.h"
 
 #include "vtkCellArray.h"
 #include "vtkCellData.h"

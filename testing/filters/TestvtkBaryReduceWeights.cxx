@@ -6,7 +6,7 @@
 #include "vtkBaryConversion.h"
 #include "vtkBaryReduceWeights.h"
 
-#include "core/locality_statistics.h"
+#include "core/analysis/locality_statistics.h"
 
 #include "vtkDoubleArray.h"
 #include "vtkFieldData.h"

@@ -9,7 +9,7 @@
 #include "vtkBaryCoordinates.h"
 #include "filters_test_utils.h"
 
-#include "core/weight_methods.h"
+#include "core/coordinates/weight_methods.h"
 
 #include "vtkDoubleArray.h"
 

@@ -7,7 +7,7 @@
 
 #include "filters_test_utils.h"
 
-#include "core/weight_statistics.h"
+#include "core/analysis/weight_statistics.h"
 
 #include "vtkDoubleArray.h"
 #include "vtkIdTypeArray.h"

@@ -11,7 +11,7 @@
 
 #include "vtkBaryConversion.h"
 #include "vtkBaryDataIO.h"
-#include "core/skeleton.h"
+#include "core/deformation/skeleton.h"
 
 #include <QApplication>
 #include <QDir>

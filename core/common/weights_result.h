@@ -1,0 +1,48 @@
+#pragma once
+/// @file weights_result.h
+/// What every weights computation returns: the weights, where each point lies, the undefined
+/// rows, named statistics and whether the solver converged. The result structs of the methods
+/// (MeanValueResult, CelestialResult, LBCResult, BBWResult) derive from WeightsResult and add
+/// their own fields; each method fills the shared fields itself, so a caller (filter, CLI)
+/// reports any method the same way.
+
+#include "core/common/types.h"
+
+#include <limits>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace bary
+{
+
+/// Where a point lies relative to the cage / the control points' hull / the domain mesh.
+/// The values are those of the "CageLocation" array of the filters: 0 inside, 1 outside, 2 on
+/// the cage.
+enum class PointLocation : unsigned char
+{
+  Inside = 0,   ///< strictly inside (MVC: |winding number| = 1, either cage orientation)
+  Outside = 1,  ///< strictly outside (MVC: winding number 0)
+  Boundary = 2, ///< on the cage / hull / mesh boundary (within the method's tolerance)
+};
+
+/// Named figures of a computation, in the order computed (iterations, residuals, seconds, ...).
+using Statistics = std::vector<std::pair<std::string, double>>;
+
+/// What every weights computation returns.
+struct WeightsResult
+{
+  DenseWeights W;                      ///< #P by #C (row-major)
+  std::vector<PointLocation> location; ///< #P (may be empty where a method has none)
+  std::vector<Index> undefined;        ///< rows of W that are NaN (undefined weights), increasing
+  Statistics statistics;               ///< named figures, order computed
+  bool converged = true;               ///< the method's solver reached its tolerance
+
+  /// The value of the first statistic called @p name, or @p fallback when there is none.
+  double statistic(
+    const std::string& name, double fallback = std::numeric_limits<double>::quiet_NaN()) const;
+  /// How many points lie @p where (counted in location).
+  Index count(PointLocation where) const;
+};
+
+} // namespace bary

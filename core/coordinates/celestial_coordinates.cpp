@@ -1,0 +1,1431 @@
+#include "core/coordinates/celestial_coordinates.h"
+
+#include "core/detail/format.h"
+#include "core/detail/parallel_for.h"
+#include "core/common/error.h"
+
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Surface_mesh.h>
+#include <CGAL/convex_hull_2.h>
+#include <CGAL/convex_hull_3.h>
+
+#include <Eigen/Cholesky>
+#include <Eigen/Geometry>
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <iterator>
+#include <limits>
+#include <map>
+#include <numeric>
+#include <string>
+#include <utility>
+
+// Notation: p the query point, v_i the controls, d_i = |v_i - p|, q_i = (v_i - p) / d_i.
+//
+// Both schemes solve F(x) = sum_i beta_i(x . q_i) q_i = 0 for x in R^dim with an increasing,
+// positive beta(a); then alpha_i = (beta_i / d_i) / sum_j (beta_j / d_j) (Eq. 3).
+//  - TCC (Eq. 8/9): beta(a) = s_i + exp(a), x = psi. F is the gradient of the strictly convex
+//    Phi(psi) = sum_i exp(psi . q_i) + psi . sum_i s_i q_i; J = sum_i exp(a_i) q_i q_i^T is the
+//    Jacobian of Appendix A (A.1), symmetric, so the paper's (J^-1)^T = J^-1.
+//  - SCC (Eq. 11/15/18): mu_i = q_i . c + sqrt((q_i . c)^2 + K), K = lambda^2 + 2 lambda |c|.
+//    Dividing by sqrt(K) gives mu_i = sqrt(K) m(q_i . y), y = c / sqrt(K), m(a) = a + sqrt(a^2+1)
+//    (= exp(asinh a)). c -> y is a bijection of R^dim (|y| increases with |c| from 0 to
+//    infinity) with inverse c = lambda m(|y|) y, because K = lambda^2 m(|y|)^2. So Eq. (11) is
+//    sum_i m(q_i . y)^2 q_i = 0 with beta_i = m_i^2 up to the common factor K, which cancels in
+//    Eq. (3): lambda has no effect on the coordinates. In y, F is the gradient of the strictly
+//    convex Phi(y) = sum_i (m_i^3 / 6 + m_i / 2) (d/da of m^3/6 + m/2 is m^2: m' = m / r with
+//    r = sqrt(a^2 + 1)), and J = sum_i (2 m_i^2 / r_i) q_i q_i^T. In c (the paper's Sect. 5.3)
+//    the Jacobian has the extra term (2 lambda sum_i mu_i / S_i q_i) (c / |c|)^T: it is not
+//    symmetric, not defined at c = 0, and it is singular on surfaces where |F(c)| = K |G(y)|
+//    has local minima that are not solutions (the factor K shrinks with |c|). Newton in c with
+//    J^-1 and a residual line search stalled there on 19.5% of 10,000 random interior points
+//    (30 controls) and on all points 1e-8..1e-4 from a face; with the printed (J^-1)^T on
+//    74% (docs/celestial-coordinates.md). In y: none. m(a) for a < 0 is evaluated as
+//    1 / (r - a), which does not cancel.
+// Newton is safeguarded by Armijo backtracking on Phi; Phi's decrease is below its rounding
+// once the residual is ~1e-8 of sum beta, so a step is also accepted when the relative residual
+// is below 1e-6 and the residual norm decreases.
+
+namespace bary
+{
+namespace
+{
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+constexpr double kRoundoff = std::numeric_limits<double>::epsilon() / 2; // u = 2^-53
+constexpr Index kChunk = 256;      // points per warm-start chunk (independent of the threads)
+constexpr int kMaxBacktracks = 50; // halvings of the Newton step before giving up
+constexpr double kArmijo = 1e-4;
+constexpr double kResidualSwitch = 1e-6; // below: also accept residual-norm decrease
+
+/// m(a) = a + sqrt(a^2 + 1) without cancellation; r = sqrt(a^2 + 1).
+inline double m_of(double a, double r)
+{
+  return a >= 0.0 ? a + r : 1.0 / (r - a);
+}
+
+// ------------------------------------------------------------------------------------------
+// Newton for one point, fixed dimension D. q is stored as D arrays of n (structure of arrays).
+
+/// Solves the symmetric positive definite D x D system A x = b (NaN if it is singular).
+template<int D>
+Eigen::Matrix<double, D, 1> solve_spd(
+  const Eigen::Matrix<double, D, D>& A, const Eigen::Matrix<double, D, 1>& b)
+{
+  // Cholesky A = L L^T by hand (a quarter of Eigen's pivoting LDLT in the profile); a
+  // non-positive pivot gives NaN, which the caller treats as a failed step.
+  Eigen::Matrix<double, D, 1> x;
+  if constexpr (D == 1)
+    x[0] = b[0] / A(0, 0);
+  else if constexpr (D == 2)
+  {
+    const double l00 = std::sqrt(A(0, 0)), l10 = A(1, 0) / l00;
+    const double l11 = std::sqrt(A(1, 1) - l10 * l10);
+    const double y0 = b[0] / l00, y1 = (b[1] - l10 * y0) / l11;
+    x[1] = y1 / l11;
+    x[0] = (y0 - l10 * x[1]) / l00;
+  }
+  else
+  {
+    const double l00 = std::sqrt(A(0, 0)), l10 = A(1, 0) / l00, l20 = A(2, 0) / l00;
+    const double l11 = std::sqrt(A(1, 1) - l10 * l10);
+    const double l21 = (A(2, 1) - l20 * l10) / l11;
+    const double l22 = std::sqrt(A(2, 2) - l20 * l20 - l21 * l21);
+    const double y0 = b[0] / l00, y1 = (b[1] - l10 * y0) / l11,
+                 y2 = (b[2] - l20 * y0 - l21 * y1) / l22;
+    x[2] = y2 / l22;
+    x[1] = (y1 - l21 * x[2]) / l11;
+    x[0] = (y0 - l10 * x[1] - l20 * x[2]) / l00;
+  }
+  return x;
+}
+
+struct SolveStats
+{
+  int iterations = 0;
+  double residual = kNaN;
+  bool converged = false;
+};
+
+template<int D>
+class Newton
+{
+public:
+  using Vec = Eigen::Matrix<double, D, 1>;
+  using Mat = Eigen::Matrix<double, D, D>;
+
+  /// @param q D * n doubles, q[k * n + i] = component k of q_i; @param s n user weights or
+  /// nullptr (TCC only); @param scratch 6 n doubles (the betas of the current and the trial
+  /// iterate, and four work arrays). Not thread-safe: one per thread.
+  Newton(CelestialScheme scheme, const double* q, const double* s, Index n, double* scratch)
+    : scheme_(scheme)
+    , q_(q)
+    , s_(s)
+    , n_(n)
+    , a_(scratch + 2 * n)
+    , t_(scratch + 3 * n)
+    , m_(scratch + 4 * n)
+    , w_(scratch + 5 * n)
+  {
+    cur_.beta = scratch;
+    next_.beta = scratch + n;
+    rs_.setZero();
+    s_sum_ = 0.0;
+    if (scheme_ == CelestialScheme::T && s_ != nullptr)
+      for (Index i = 0; i < n_; ++i)
+      {
+        rs_ += s_[i] * qi(i);
+        s_sum_ += s_[i];
+      }
+  }
+
+  /// TCC: the linearised system of Sect. 4.2, sum_i (s_i + 1 + psi . q_i) q_i = 0.
+  /// SCC: c0 = -l, l = the centre of mass of the segments cut by the sphere of radius lambda
+  /// around p (Sect. 5.3): l = (lambda / 2n) sum_i q_i; returned as y0 = c0 / sqrt(K(c0)).
+  Vec cold_start(double lambda) const
+  {
+    Vec sum = Vec::Zero();
+    for (Index i = 0; i < n_; ++i)
+      sum += qi(i);
+    if (scheme_ == CelestialScheme::T)
+    {
+      Mat A = Mat::Zero();
+      for (Index i = 0; i < n_; ++i)
+        A.noalias() += qi(i) * qi(i).transpose();
+      const Vec x = solve_spd<D>(A, -(sum + rs_));
+      return x.allFinite() ? x : Vec::Zero();
+    }
+    const Vec c0 = -(lambda / (2.0 * static_cast<double>(n_))) * sum;
+    return c0 / std::sqrt(lambda * lambda + 2.0 * lambda * c0.norm());
+  }
+
+  /// Newton from x (updated in place). After it, beta() holds the betas at x.
+  SolveStats solve(Vec& x, double tol, int max_iterations)
+  {
+    SolveStats stats;
+    eval(x, cur_);
+    if (!cur_.finite)
+      return stats;
+    for (;;)
+    {
+      const double fnorm = cur_.F.norm();
+      stats.residual = fnorm / cur_.sb;
+      // The rounding floor: a_i = x . q_i carries an error ~ u |x|_1, which moves beta_i by
+      // ~ 2 u |x|_1 beta_i (both schemes), so F by 2 u |x|_1 sum beta, plus the n-term sums.
+      // It exceeds the default tolerance only where |x| is large: within ~1e-9 of the hull.
+      const double floor = 4.0 * kRoundoff * (x.template lpNorm<1>() + static_cast<double>(n_));
+      if (stats.residual <= std::max(tol, floor))
+      {
+        stats.converged = true;
+        return stats;
+      }
+      if (stats.iterations >= max_iterations)
+        return stats;
+      Vec d = -solve_spd<D>(cur_.J, cur_.F);
+      if constexpr (D > 1)
+        if (!d.allFinite()) // a rounded pivot <= 0 (J nearly singular, very near the hull)
+          d = -cur_.J.ldlt().solve(cur_.F);
+      if (!d.allFinite() || !(cur_.F.dot(d) < 0.0))
+        d = -cur_.F / cur_.J.trace(); // steepest descent, scaled
+      if (!d.allFinite())
+        return stats;
+      const double slope = cur_.F.dot(d);
+      double t = 1.0;
+      bool accepted = false;
+      Vec xn;
+      for (int k = 0; k < kMaxBacktracks && !accepted; ++k, t *= 0.5)
+      {
+        xn = x + t * d;
+        eval(xn, next_);
+        if (!next_.finite)
+          continue;
+        accepted = next_.phi <= cur_.phi + kArmijo * t * slope ||
+          (stats.residual < kResidualSwitch && next_.F.norm() <= (1.0 - kArmijo * t) * fnorm);
+      }
+      if (!accepted)
+      {
+        eval(x, cur_); // restore the betas of x
+        return stats;  // stagnation: no step reduces the merit functions
+      }
+      x = xn;
+      std::swap(cur_, next_);
+      ++stats.iterations;
+    }
+  }
+
+  /// beta_i at the last x solve() was given or returned (SCC: up to the common factor K,
+  /// which cancels in Eq. 3).
+  const double* beta() const { return cur_.beta; }
+
+private:
+  struct State
+  {
+    Vec F;
+    Mat J;
+    double phi = 0.0, sb = 0.0;
+    bool finite = false;
+    double* beta = nullptr; // n
+  };
+
+  Vec qi(Index i) const
+  {
+    Vec v;
+    for (int k = 0; k < D; ++k)
+      v[k] = q_[k * n_ + i];
+    return v;
+  }
+
+  // F, J, Phi and sum beta at x, and the betas into st.beta. First a_i = x . q_i and the
+  // transcendental part (exp or sqrt) as Eigen array expressions, which vectorize (std::sqrt
+  // and std::exp in a loop do not: errno, no SIMD exp in libm), then one loop of products and
+  // sums with scalar accumulators, vectorized by omp simd. Results do not depend on threads.
+  void eval(const Vec& x, State& st) const
+  {
+    const Index n = n_;
+    const double* q0 = q_;
+    const double* q1 = q_ + (D > 1 ? n : 0);
+    const double* q2 = q_ + (D > 2 ? 2 * n : 0);
+    using Array = Eigen::Array<double, Eigen::Dynamic, 1>;
+    Eigen::Map<Array> a(a_, n), t(t_, n);
+    if constexpr (D == 1)
+      a = x[0] * Eigen::Map<const Array>(q0, n);
+    else if constexpr (D == 2)
+      a = x[0] * Eigen::Map<const Array>(q0, n) + x[1] * Eigen::Map<const Array>(q1, n);
+    else
+      a = x[0] * Eigen::Map<const Array>(q0, n) + x[1] * Eigen::Map<const Array>(q1, n) +
+        x[2] * Eigen::Map<const Array>(q2, n);
+    const double* tp = t_;
+    double* beta = st.beta;
+    double f0 = 0, f1 = 0, f2 = 0, j00 = 0, j01 = 0, j02 = 0, j11 = 0, j12 = 0, j22 = 0;
+    double phi = 0, sb = 0;
+    if (scheme_ == CelestialScheme::T)
+    {
+      t = a.exp(); // e_i
+      const double* s = s_;
+#pragma omp simd reduction(+ : f0, f1, f2, j00, j01, j02, j11, j12, j22, phi)
+      for (Index i = 0; i < n; ++i)
+      {
+        const double e = tp[i];
+        beta[i] = s ? s[i] + e : e;
+        phi += e;
+        const double w0 = e * q0[i];
+        f0 += w0;
+        j00 += w0 * q0[i];
+        if constexpr (D > 1)
+        {
+          const double w1 = e * q1[i];
+          f1 += w1;
+          j01 += w0 * q1[i];
+          j11 += w1 * q1[i];
+          if constexpr (D > 2)
+          {
+            const double w2 = e * q2[i];
+            f2 += w2;
+            j02 += w0 * q2[i];
+            j12 += w1 * q2[i];
+            j22 += w2 * q2[i];
+          }
+        }
+      }
+      sb = phi + s_sum_;
+      phi += x.dot(rs_);
+      f0 += rs_[0];
+      if constexpr (D > 1)
+        f1 += rs_[1];
+      if constexpr (D > 2)
+        f2 += rs_[2];
+    }
+    else
+    {
+      // r = sqrt(a^2 + 1); one division for 1 / r and, for a < 0, m = 1 / (r - a): with
+      // D = r (r - a), 1 / r = (r - a) / D (the same rounded r - a above and below, so its
+      // cancellation for a >> 0 does not matter) and 1 / (r - a) = r / D.
+      Eigen::Map<Array> m(m_, n), w(w_, n), b(beta, n);
+      t = (a.square() + 1.0).sqrt();
+      w = 1.0 / (t * (t - a)); // 1 / D
+      m = (a >= 0.0).select(a + t, t * w);
+      b = m.square();
+      w = 2.0 * b * (t - a) * w; // 2 m^2 / r
+      const double* mp = m_;
+      const double* wp = w_;
+#pragma omp simd reduction(+ : f0, f1, f2, j00, j01, j02, j11, j12, j22, phi, sb)
+      for (Index i = 0; i < n; ++i)
+      {
+        const double mi = mp[i], bi = beta[i], wi = wp[i];
+        phi += mi * (bi * (1.0 / 6.0) + 0.5);
+        sb += bi;
+        f0 += bi * q0[i];
+        const double w0 = wi * q0[i];
+        j00 += w0 * q0[i];
+        if constexpr (D > 1)
+        {
+          f1 += bi * q1[i];
+          const double w1 = wi * q1[i];
+          j01 += w0 * q1[i];
+          j11 += w1 * q1[i];
+          if constexpr (D > 2)
+          {
+            f2 += bi * q2[i];
+            j02 += w0 * q2[i];
+            j12 += w1 * q2[i];
+            j22 += wi * q2[i] * q2[i];
+          }
+        }
+      }
+    }
+    st.F[0] = f0;
+    st.J(0, 0) = j00;
+    if constexpr (D > 1)
+    {
+      st.F[1] = f1;
+      st.J(0, 1) = st.J(1, 0) = j01;
+      st.J(1, 1) = j11;
+    }
+    if constexpr (D > 2)
+    {
+      st.F[2] = f2;
+      st.J(0, 2) = st.J(2, 0) = j02;
+      st.J(1, 2) = st.J(2, 1) = j12;
+      st.J(2, 2) = j22;
+    }
+    st.phi = phi;
+    st.sb = sb;
+    st.finite = std::isfinite(phi) && std::isfinite(sb) && st.F.allFinite() && st.J.allFinite();
+  }
+
+  CelestialScheme scheme_;
+  const double* q_;
+  const double* s_;
+  Index n_;
+  double* a_;          // n: a_i = x . q_i
+  double* t_;          // n: exp(a_i) (TCC) or sqrt(a_i^2 + 1) (SCC)
+  double* m_;          // n: m(a_i) (SCC)
+  double* w_;          // n: 2 m_i^2 / r_i (SCC)
+  Vec rs_;             // sum_i s_i q_i (TCC)
+  double s_sum_ = 0.0; // sum_i s_i (TCC)
+  State cur_, next_;
+};
+
+// ------------------------------------------------------------------------------------------
+// Hilbert curve order (Skilling, "Programming the Hilbert curve", AIP Conf. Proc. 707, 2004).
+
+template<int D>
+std::uint64_t hilbert_key(std::array<std::uint32_t, D> X, int bits)
+{
+  const std::uint32_t M = 1u << (bits - 1);
+  for (std::uint32_t Q = M; Q > 1; Q >>= 1)
+  {
+    const std::uint32_t P = Q - 1;
+    for (int i = 0; i < D; ++i)
+      if (X[i] & Q)
+        X[0] ^= P;
+      else
+      {
+        const std::uint32_t t = (X[0] ^ X[i]) & P;
+        X[0] ^= t;
+        X[i] ^= t;
+      }
+  }
+  for (int i = 1; i < D; ++i)
+    X[i] ^= X[i - 1];
+  std::uint32_t t = 0;
+  for (std::uint32_t Q = M; Q > 1; Q >>= 1)
+    if (X[D - 1] & Q)
+      t ^= Q - 1;
+  for (int i = 0; i < D; ++i)
+    X[i] ^= t;
+  std::uint64_t key = 0;
+  for (int b = bits - 1; b >= 0; --b)
+    for (int i = 0; i < D; ++i)
+      key = (key << 1) | ((X[i] >> b) & 1u);
+  return key;
+}
+
+/// Indices 0..#P-1 sorted along a Hilbert curve through the bounding box of X (ties by index).
+std::vector<Index> hilbert_order(const Eigen::MatrixXd& X, int threads)
+{
+  const Index np = X.rows();
+  const int dim = static_cast<int>(X.cols());
+  const int bits = 16; // 65536 cells per axis: ample for warm starts, and cheap
+  const Eigen::RowVectorXd lo = X.colwise().minCoeff(), hi = X.colwise().maxCoeff();
+  const double cells = std::ldexp(1.0, bits) - 1.0;
+  std::vector<std::pair<std::uint64_t, Index>> keys(static_cast<std::size_t>(np));
+#pragma omp parallel for schedule(static) num_threads(threads) if (np >= 4096)
+  for (Index p = 0; p < np; ++p)
+  {
+    std::array<std::uint32_t, 3> c{ 0, 0, 0 };
+    for (int k = 0; k < dim; ++k)
+    {
+      const double ext = hi[k] - lo[k];
+      const double u = ext > 0.0 ? (X(p, k) - lo[k]) / ext : 0.0;
+      c[static_cast<std::size_t>(k)] =
+        static_cast<std::uint32_t>(std::clamp(u * cells, 0.0, cells));
+    }
+    const std::uint64_t key =
+      dim == 2 ? hilbert_key<2>({ c[0], c[1] }, bits) : hilbert_key<3>({ c[0], c[1], c[2] }, bits);
+    keys[static_cast<std::size_t>(p)] = { key, p };
+  }
+  std::sort(keys.begin(), keys.end());
+  std::vector<Index> order(static_cast<std::size_t>(np));
+  for (Index p = 0; p < np; ++p)
+    order[static_cast<std::size_t>(p)] = keys[static_cast<std::size_t>(p)].second;
+  return order;
+}
+
+// ------------------------------------------------------------------------------------------
+// Convex hull, recursively: a node is a face of the hull (the hull itself, a facet, an edge of
+// a facet, a vertex) in its own orthonormal coordinates, with the planes bounding it there and
+// the node of the face on each plane.
+
+using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
+
+struct HullNode
+{
+  int dim = 0;
+  std::vector<Index> ids;    // controls on this face (global ids)
+  Eigen::VectorXd origin;    // global coordinates of the local origin
+  Eigen::MatrixXd basis;     // global dim x dim, orthonormal columns
+  Eigen::MatrixXd local;     // dim x #ids, the controls in local coordinates
+  Eigen::MatrixXd normals;   // dim x #planes, outward unit normals (local coordinates)
+  Eigen::VectorXd offsets;   // #planes: x is inside plane k iff normals.col(k) . x <= offsets[k]
+  std::vector<int> children; // node of the face on each plane
+};
+
+} // namespace
+
+struct CelestialCoordinates::Impl
+{
+  Points V;
+  CelestialOptions options;
+  int dim = 0;
+  double diameter = 0.0;
+  double tol = 0.0;            // absolute boundary tolerance
+  std::vector<HullNode> nodes; // nodes[0] is the hull
+  std::vector<double> s;       // TCC user weights (empty: zero)
+
+  void validate();
+  void build_hull();
+  int add_node(
+    int dim, std::vector<Index> ids, const Eigen::VectorXd& origin, const Eigen::MatrixXd& basis);
+  void build_planes(int node);
+
+  Eigen::VectorXd to_local(const HullNode& node, const double* p) const
+  {
+    Eigen::VectorXd x(node.dim);
+    const Eigen::Map<const Eigen::VectorXd> pg(p, dim);
+    x.noalias() = node.basis.transpose() * (pg - node.origin);
+    return x;
+  }
+  /// max_k (normals_k . x - offsets_k) and its argmax.
+  static double max_plane_distance(const HullNode& node, const Eigen::VectorXd& x, int* arg)
+  {
+    double best = -std::numeric_limits<double>::infinity();
+    *arg = -1;
+    for (Index k = 0; k < node.normals.cols(); ++k)
+    {
+      const double s = node.normals.col(k).dot(x) - node.offsets[k];
+      if (s > best)
+      {
+        best = s;
+        *arg = static_cast<int>(k);
+      }
+    }
+    return best;
+  }
+
+  CelestialLocation classify(const double* p) const;
+  SolveStats solve_on_face(int node, const double* p, double* w) const;
+};
+
+namespace
+{
+
+/// Orthonormal basis (columns) of the orthogonal complement of the unit vector n in R^3.
+Eigen::Matrix<double, 3, 2> complement_basis(const Eigen::Vector3d& n)
+{
+  Eigen::Index k;
+  n.cwiseAbs().minCoeff(&k);
+  Eigen::Vector3d e = Eigen::Vector3d::Zero();
+  e[k] = 1.0;
+  const Eigen::Vector3d u = n.cross(e).normalized();
+  Eigen::Matrix<double, 3, 2> B;
+  B.col(0) = u;
+  B.col(1) = n.cross(u);
+  return B;
+}
+
+} // namespace
+
+int CelestialCoordinates::Impl::add_node(
+  int node_dim, std::vector<Index> ids, const Eigen::VectorXd& origin, const Eigen::MatrixXd& basis)
+{
+  HullNode node;
+  node.dim = node_dim;
+  node.ids = std::move(ids);
+  node.origin = origin;
+  node.basis = basis;
+  node.local.resize(node_dim, static_cast<Index>(node.ids.size()));
+  for (std::size_t j = 0; j < node.ids.size(); ++j)
+    node.local.col(static_cast<Index>(j)) =
+      basis.transpose() * (V.row(node.ids[j]).transpose() - origin);
+  nodes.push_back(std::move(node));
+  const int index = static_cast<int>(nodes.size()) - 1;
+  build_planes(index);
+  return index;
+}
+
+// The planes of a node and, recursively, their faces. The combinatorial hull comes from CGAL
+// (exact predicates); each face's control set is every control within tol of its plane, and
+// the plane is refitted through the best-conditioned triple of that set, so slivers of nearly
+// coplanar controls neither give inaccurate normals nor duplicate faces.
+void CelestialCoordinates::Impl::build_planes(int index)
+{
+  const int k = nodes[static_cast<std::size_t>(index)].dim;
+  if (k == 0)
+    return;
+  const Eigen::MatrixXd L = nodes[static_cast<std::size_t>(index)].local; // copy: nodes grows
+  const std::vector<Index> ids = nodes[static_cast<std::size_t>(index)].ids;
+  const Eigen::VectorXd origin = nodes[static_cast<std::size_t>(index)].origin;
+  const Eigen::MatrixXd basis = nodes[static_cast<std::size_t>(index)].basis;
+  const Index m = L.cols();
+
+  std::vector<Eigen::VectorXd> normals;
+  std::vector<double> offsets;
+  std::vector<std::vector<Index>> face_ids; // positions into ids
+  auto on_plane = [&](const Eigen::VectorXd& n, double o) {
+    std::vector<Index> on;
+    for (Index j = 0; j < m; ++j)
+      if (std::abs(n.dot(L.col(j)) - o) <= tol)
+        on.push_back(j);
+    return on;
+  };
+  auto add_plane = [&](Eigen::VectorXd n, double o, std::vector<Index> on) {
+    for (const auto& f : face_ids)
+      if (f == on)
+        return;
+    normals.push_back(std::move(n));
+    offsets.push_back(o);
+    face_ids.push_back(std::move(on));
+  };
+
+  if (k == 1)
+  {
+    Index lo = 0, hi = 0;
+    for (Index j = 1; j < m; ++j)
+    {
+      if (L(0, j) < L(0, lo))
+        lo = j;
+      if (L(0, j) > L(0, hi))
+        hi = j;
+    }
+    add_plane(Eigen::VectorXd::Constant(1, 1.0), L(0, hi), { hi });
+    add_plane(Eigen::VectorXd::Constant(1, -1.0), -L(0, lo), { lo });
+  }
+  else if (k == 2)
+  {
+    using P2 = Kernel::Point_2;
+    std::vector<P2> pts;
+    for (Index j = 0; j < m; ++j)
+      pts.emplace_back(L(0, j), L(1, j));
+    std::vector<P2> hull;
+    CGAL::convex_hull_2(pts.begin(), pts.end(), std::back_inserter(hull)); // counterclockwise
+    for (std::size_t e = 0; e < hull.size(); ++e)
+    {
+      const P2& a = hull[e];
+      const P2& b = hull[(e + 1) % hull.size()];
+      Eigen::VectorXd n(2);
+      n << b.y() - a.y(), a.x() - b.x(); // outward for a counterclockwise polygon
+      n.normalize();
+      const double o = n[0] * a.x() + n[1] * a.y();
+      add_plane(n, o, on_plane(n, o));
+    }
+  }
+  else
+  {
+    using P3 = Kernel::Point_3;
+    std::vector<P3> pts;
+    std::map<std::array<double, 3>, Index> where;
+    for (Index j = 0; j < m; ++j)
+    {
+      pts.emplace_back(L(0, j), L(1, j), L(2, j));
+      where.emplace(std::array<double, 3>{ L(0, j), L(1, j), L(2, j) }, j);
+    }
+    CGAL::Surface_mesh<P3> hull;
+    CGAL::convex_hull_3(pts.begin(), pts.end(), hull);
+    const Eigen::Vector3d centroid = L.rowwise().mean();
+    for (auto f : hull.faces())
+    {
+      std::array<Index, 3> t{};
+      int c = 0;
+      for (auto v : CGAL::vertices_around_face(hull.halfedge(f), hull))
+      {
+        const P3& pt = hull.point(v);
+        if (c < 3)
+          t[static_cast<std::size_t>(c)] = where.at({ pt.x(), pt.y(), pt.z() });
+        ++c;
+      }
+      const Eigen::Vector3d a = L.col(t[0]), b = L.col(t[1]), cc = L.col(t[2]);
+      Eigen::Vector3d n = (b - a).cross(cc - a).normalized();
+      std::vector<Index> on = on_plane(n, n.dot(a));
+      // refit: a far pair of the set (the farthest from its first control), then the control
+      // farthest from their line
+      Index i0 = on.front(), i1 = on.front(), i2 = on.front();
+      double best = -1.0;
+      for (Index j : on)
+        if ((L.col(j) - L.col(i0)).squaredNorm() > best)
+        {
+          best = (L.col(j) - L.col(i0)).squaredNorm();
+          i1 = j;
+        }
+      const Eigen::Vector3d u = (L.col(i1) - L.col(i0)).normalized();
+      best = -1.0;
+      for (Index j : on)
+      {
+        const Eigen::Vector3d w = L.col(j) - L.col(i0);
+        const double dist2 = (w - w.dot(u) * u).squaredNorm();
+        if (dist2 > best)
+        {
+          best = dist2;
+          i2 = j;
+        }
+      }
+      if (best <= tol * tol)
+        continue; // a sliver of nearly collinear controls: its neighbours bound the hull there
+      const Eigen::Vector3d p0 = L.col(i0), p1 = L.col(i1), p2 = L.col(i2);
+      Eigen::Vector3d nf = (p1 - p0).cross(p2 - p0).normalized();
+      if (nf.dot(centroid - p0) > 0.0)
+        nf = -nf;
+      const double o = nf.dot(p0);
+      add_plane(Eigen::VectorXd(nf), o, on_plane(nf, o));
+    }
+  }
+
+  // Faces: one node each, coordinates orthonormal within the plane.
+  std::vector<int> children;
+  for (std::size_t f = 0; f < normals.size(); ++f)
+  {
+    std::vector<Index> child_ids;
+    for (Index j : face_ids[f])
+      child_ids.push_back(ids[static_cast<std::size_t>(j)]);
+    const Eigen::VectorXd x0 = L.col(face_ids[f].front());
+    const Eigen::VectorXd child_origin = origin + basis * x0;
+    Eigen::MatrixXd local_basis(k, k - 1); // within this node's coordinates
+    if (k == 2)
+      local_basis << -normals[f][1], normals[f][0];
+    else if (k == 3)
+      local_basis = complement_basis(Eigen::Vector3d(normals[f]));
+    children.push_back(add_node(k - 1, std::move(child_ids), child_origin, basis * local_basis));
+  }
+  HullNode& node = nodes[static_cast<std::size_t>(index)];
+  node.normals.resize(k, static_cast<Index>(normals.size()));
+  node.offsets.resize(static_cast<Index>(normals.size()));
+  for (std::size_t f = 0; f < normals.size(); ++f)
+  {
+    node.normals.col(static_cast<Index>(f)) = normals[f];
+    node.offsets[static_cast<Index>(f)] = offsets[f];
+  }
+  node.children = std::move(children);
+}
+
+void CelestialCoordinates::Impl::validate()
+{
+  const CelestialOptions& o = options;
+  auto bad = [](const std::string& what) { throw Error(ErrorCode::InvalidArgument, what); };
+  if (!(o.lambda > 1.0 && o.lambda <= 1e6))
+    bad("lambda must lie in (1, 1e6] (the wrapping sphere must contain the unit sphere, "
+        "Sect. 5), got " +
+      detail::format_number(o.lambda, 3));
+  if (!(o.tolerance >= 1e-15 && o.tolerance <= 1e-3))
+    bad("tolerance must lie in [1e-15, 1e-3], got " + detail::format_number(o.tolerance, 3));
+  if (o.max_iterations < 1 || o.max_iterations > 10000)
+    bad("max_iterations must lie in [1, 10000], got " + std::to_string(o.max_iterations));
+  if (!(o.boundary_tolerance >= 1e-15 && o.boundary_tolerance <= 1e-6))
+    bad("boundary_tolerance must lie in [1e-15, 1e-6], got " + detail::format_number(o.boundary_tolerance, 3));
+  if (o.threads < 0)
+    bad("threads must be >= 0 (0 = OpenMP's default), got " + std::to_string(o.threads));
+
+  const Index n = V.rows();
+  if (n == 0)
+    throw Error(ErrorCode::EmptyInput, "there are no control points");
+  if (V.cols() != 2 && V.cols() != 3)
+    throw Error(ErrorCode::SizeMismatch,
+      "control points must have 2 or 3 coordinates, got " + std::to_string(V.cols()));
+  dim = static_cast<int>(V.cols());
+  for (Index i = 0; i < n; ++i)
+    if (!V.row(i).allFinite())
+      throw Error(ErrorCode::NonFinite,
+        "control point " + std::to_string(i) + " has a non-finite coordinate " + detail::format_row(V, i));
+
+  if (o.user_weights.size() != 0)
+  {
+    if (o.scheme != CelestialScheme::T)
+      bad("user_weights are the s_i of the T scheme (Eq. 8); the S scheme has none: leave "
+          "user_weights empty or choose CelestialScheme::T");
+    if (o.user_weights.size() != n)
+      throw Error(ErrorCode::SizeMismatch,
+        "user_weights has " + std::to_string(o.user_weights.size()) + " entries but there are " +
+          std::to_string(n) + " control points (one each)");
+    for (Index i = 0; i < n; ++i)
+      if (!std::isfinite(o.user_weights[i]))
+        throw Error(ErrorCode::NonFinite, "user weight " + std::to_string(i) + " is not finite");
+      else if (o.user_weights[i] < 0.0)
+        bad("user weight " + std::to_string(i) + " is " + detail::format_number(o.user_weights[i], 3) +
+          "; the s_i of Eq. (8) must be >= 0");
+    if (o.user_weights.cwiseAbs().maxCoeff() > 0.0)
+      s.assign(o.user_weights.data(), o.user_weights.data() + n);
+  }
+
+  if (n < dim + 1)
+    bad(std::to_string(dim) + "D celestial coordinates need at least " + std::to_string(dim + 1) +
+      " control points, got " + std::to_string(n) + " (their convex hull must have an interior)");
+
+  diameter = (V.colwise().maxCoeff() - V.colwise().minCoeff()).norm();
+  tol = o.boundary_tolerance * diameter;
+
+  // Coincident controls: sweep in x, report the lexicographically smallest pair.
+  {
+    std::vector<Index> by_x(static_cast<std::size_t>(n));
+    std::iota(by_x.begin(), by_x.end(), Index(0));
+    std::sort(by_x.begin(), by_x.end(),
+      [&](Index a, Index b) { return V(a, 0) < V(b, 0) || (V(a, 0) == V(b, 0) && a < b); });
+    std::pair<Index, Index> first{ -1, -1 };
+    for (std::size_t a = 0; a < by_x.size(); ++a)
+      for (std::size_t b = a + 1; b < by_x.size() && V(by_x[b], 0) - V(by_x[a], 0) <= tol; ++b)
+        if ((V.row(by_x[a]) - V.row(by_x[b])).norm() <= tol)
+        {
+          const std::pair<Index, Index> pr{ std::min(by_x[a], by_x[b]),
+            std::max(by_x[a], by_x[b]) };
+          if (first.first < 0 || pr < first)
+            first = pr;
+        }
+    if (first.first >= 0)
+      bad("control points " + std::to_string(first.first) + " and " + std::to_string(first.second) +
+        " coincide at " + detail::format_row(V, first.first) + " (distance " +
+        detail::format_number((V.row(first.first) - V.row(first.second)).norm(), 3) +
+        " <= boundary_tolerance * diagonal = " + detail::format_number(tol, 3) + "); remove one of them");
+  }
+
+  // Affine rank: control 0, the farthest from it, the farthest from their line (and from
+  // their plane in 3D).
+  {
+    Index i1 = 0;
+    (V.rowwise() - V.row(0)).rowwise().squaredNorm().maxCoeff(&i1);
+    const Eigen::VectorXd u = (V.row(i1) - V.row(0)).transpose().normalized();
+    Index i2 = 0;
+    double d2 = -1.0;
+    for (Index i = 0; i < n; ++i)
+    {
+      const Eigen::VectorXd w = (V.row(i) - V.row(0)).transpose();
+      const double d = (w - w.dot(u) * u).norm();
+      if (d > d2)
+      {
+        d2 = d;
+        i2 = i;
+      }
+    }
+    if (d2 <= tol)
+      bad("the control points are collinear (all within " + detail::format_number(d2, 3) +
+        " of the line through control points 0 and " + std::to_string(i1) +
+        "): their convex hull has no interior; add a control point off that line");
+    if (dim == 3)
+    {
+      const Eigen::Vector3d a = V.row(0), b = V.row(i1), c = V.row(i2);
+      const Eigen::Vector3d nrm = (b - a).cross(c - a).normalized();
+      double d3 = 0.0;
+      for (Index i = 0; i < n; ++i)
+        d3 = std::max(d3, std::abs(nrm.dot(Eigen::Vector3d(V.row(i)) - a)));
+      if (d3 <= tol)
+        bad("the control points are coplanar (all within " + detail::format_number(d3, 3) +
+          " of the plane through control points 0, " + std::to_string(i1) + " and " +
+          std::to_string(i2) +
+          "): their convex hull has no interior; add a control point off "
+          "that plane");
+    }
+  }
+}
+
+void CelestialCoordinates::Impl::build_hull()
+{
+  std::vector<Index> ids(static_cast<std::size_t>(V.rows()));
+  std::iota(ids.begin(), ids.end(), Index(0));
+  // local origin at the bounding-box centre: plane offsets stay small, distances accurate
+  const Eigen::VectorXd centre =
+    0.5 * (V.colwise().maxCoeff() + V.colwise().minCoeff()).transpose();
+  add_node(dim, std::move(ids), centre, Eigen::MatrixXd::Identity(dim, dim));
+}
+
+CelestialLocation CelestialCoordinates::Impl::classify(const double* p) const
+{
+  const Index n = V.rows();
+  const double tol2 = tol * tol;
+  for (Index i = 0; i < n; ++i)
+  {
+    double d2 = 0.0;
+    for (int k = 0; k < dim; ++k)
+    {
+      const double e = V(i, k) - p[k];
+      d2 += e * e;
+    }
+    if (d2 <= tol2)
+      return CelestialLocation::AtControl;
+  }
+  // the root's basis is the identity: local coordinates are p - origin
+  const HullNode& root = nodes.front();
+  double x[3] = { 0.0, 0.0, 0.0 };
+  for (int k = 0; k < dim; ++k)
+    x[k] = p[k] - root.origin[k];
+  double s = -std::numeric_limits<double>::infinity();
+  const double* nrm = root.normals.data();
+  for (Index f = 0, nf = root.normals.cols(); f < nf; ++f, nrm += dim)
+  {
+    double d = -root.offsets[f];
+    for (int k = 0; k < dim; ++k)
+      d += nrm[k] * x[k];
+    s = std::max(s, d);
+  }
+  if (s > tol)
+    return CelestialLocation::Outside;
+  return s >= -tol ? CelestialLocation::Boundary : CelestialLocation::Inside;
+}
+
+// The coordinates of a point within tol of the boundary of node `index`'s face, or in it:
+// descend to the face p lies on (preferring one whose own bounds contain p's projection), then
+// solve the same scheme with that face's controls in its own coordinates. Writes the weights
+// of the face's controls into w (the others are left untouched: the caller zeroes the row).
+SolveStats CelestialCoordinates::Impl::solve_on_face(int index, const double* p, double* w) const
+{
+  const HullNode* node = &nodes[static_cast<std::size_t>(index)];
+  Eigen::VectorXd x = to_local(*node, p);
+  for (;;)
+  {
+    if (node->dim == 0)
+    {
+      w[node->ids.front()] = 1.0;
+      return { 0, 0.0, true };
+    }
+    for (std::size_t j = 0; j < node->ids.size(); ++j)
+      if ((node->local.col(static_cast<Index>(j)) - x).norm() <= tol)
+      {
+        w[node->ids[j]] = 1.0;
+        return { 0, 0.0, true };
+      }
+    int arg;
+    const double smax = max_plane_distance(*node, x, &arg);
+    if (smax < -tol)
+      break; // interior of this face
+    int next = node->children[static_cast<std::size_t>(arg)];
+    for (Index k = 0; k < node->normals.cols(); ++k)
+    {
+      if (node->normals.col(k).dot(x) - node->offsets[k] < -tol)
+        continue;
+      const HullNode& child =
+        nodes[static_cast<std::size_t>(node->children[static_cast<std::size_t>(k)])];
+      int a2;
+      if (child.dim == 0 || max_plane_distance(child, to_local(child, p), &a2) <= tol)
+      {
+        next = node->children[static_cast<std::size_t>(k)];
+        break;
+      }
+    }
+    node = &nodes[static_cast<std::size_t>(next)];
+    x = to_local(*node, p);
+  }
+
+  // Solve in the face.
+  const int k = node->dim;
+  const Index m = static_cast<Index>(node->ids.size());
+  std::vector<double> q(static_cast<std::size_t>(k * m)), inv_d(static_cast<std::size_t>(m)), sf,
+    beta(static_cast<std::size_t>(m)), scratch(static_cast<std::size_t>(6 * m));
+  for (Index j = 0; j < m; ++j)
+  {
+    const Eigen::VectorXd e = node->local.col(j) - x;
+    const double d = e.norm();
+    inv_d[static_cast<std::size_t>(j)] = 1.0 / d;
+    for (int c = 0; c < k; ++c)
+      q[static_cast<std::size_t>(c * m + j)] = e[c] / d;
+  }
+  if (!s.empty())
+    for (Index id : node->ids)
+      sf.push_back(s[static_cast<std::size_t>(id)]);
+  const double* sp = sf.empty() ? nullptr : sf.data();
+  SolveStats stats;
+  auto run = [&](auto tag) {
+    constexpr int K = decltype(tag)::value;
+    Newton<K> newton(options.scheme, q.data(), sp, m, scratch.data());
+    typename Newton<K>::Vec y = newton.cold_start(options.lambda);
+    stats = newton.solve(y, options.tolerance, options.max_iterations);
+    std::copy(newton.beta(), newton.beta() + m, beta.begin());
+  };
+  if (k == 1)
+    run(std::integral_constant<int, 1>{});
+  else if (k == 2)
+    run(std::integral_constant<int, 2>{});
+  else
+    run(std::integral_constant<int, 3>{});
+  double sum = 0.0;
+  for (Index j = 0; j < m; ++j)
+    sum += beta[static_cast<std::size_t>(j)] * inv_d[static_cast<std::size_t>(j)];
+  for (Index j = 0; j < m; ++j)
+    w[node->ids[static_cast<std::size_t>(j)]] =
+      beta[static_cast<std::size_t>(j)] * inv_d[static_cast<std::size_t>(j)] / sum;
+  return stats;
+}
+
+// ------------------------------------------------------------------------------------------
+
+CelestialCoordinates::CelestialCoordinates(Points controls, const CelestialOptions& options)
+  : impl_(std::make_unique<Impl>())
+{
+  impl_->V = std::move(controls);
+  impl_->options = options;
+  impl_->validate();
+  impl_->build_hull();
+}
+
+CelestialCoordinates::~CelestialCoordinates() = default;
+CelestialCoordinates::CelestialCoordinates(CelestialCoordinates&&) noexcept = default;
+CelestialCoordinates& CelestialCoordinates::operator=(CelestialCoordinates&&) noexcept = default;
+
+Index CelestialCoordinates::num_controls() const noexcept
+{
+  return impl_->V.rows();
+}
+int CelestialCoordinates::dimension() const noexcept
+{
+  return impl_->dim;
+}
+const Points& CelestialCoordinates::controls() const noexcept
+{
+  return impl_->V;
+}
+const CelestialOptions& CelestialCoordinates::options() const noexcept
+{
+  return impl_->options;
+}
+Index CelestialCoordinates::num_hull_facets() const noexcept
+{
+  return impl_->nodes.front().normals.cols();
+}
+
+namespace
+{
+
+/// The solve of the Inside points of one chunk, for a fixed dimension.
+template<int D>
+struct ChunkSolver
+{
+  using Vec = typename Newton<D>::Vec;
+  const Points& V;
+  const CelestialOptions& options;
+  const double* s; // user weights or nullptr
+  const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>& X;
+  std::vector<double> q, inv_d, scratch;
+
+  ChunkSolver(const Points& V_, const CelestialOptions& options_, const double* s_,
+    const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>& X_)
+    : V(V_)
+    , options(options_)
+    , s(s_)
+    , X(X_)
+    , q(static_cast<std::size_t>(D * V_.rows()))
+    , inv_d(static_cast<std::size_t>(V_.rows()))
+    , scratch(static_cast<std::size_t>(6 * V_.rows()))
+  {
+  }
+
+  /// Solves point p from *warm (or cold if null); writes W's row on success, and y (the
+  /// Newton unknown). Returns the stats of the last attempt; total counts every iteration.
+  SolveStats solve(Index p, const Vec* warm, Vec& y, double* w, long long& total, bool& restarted)
+  {
+    const Index n = V.rows();
+    const double* x = X.row(p).data();
+    double* qd = q.data();
+    double* id = inv_d.data();
+    const double* v[3] = { V.col(0).data(), V.col(D > 1 ? 1 : 0).data(),
+      V.col(D > 2 ? 2 : 0).data() };
+#pragma omp simd
+    for (Index i = 0; i < n; ++i)
+    {
+      double e[D], d2 = 0.0;
+      for (int k = 0; k < D; ++k)
+      {
+        e[k] = v[k][i] - x[k];
+        d2 += e[k] * e[k];
+      }
+      const double inv = 1.0 / std::sqrt(d2);
+      id[i] = inv;
+      for (int k = 0; k < D; ++k)
+        qd[k * n + i] = e[k] * inv;
+    }
+    Newton<D> newton(options.scheme, qd, s, n, scratch.data());
+    restarted = false;
+    SolveStats stats;
+    if (warm != nullptr)
+    {
+      y = *warm;
+      stats = newton.solve(y, options.tolerance, options.max_iterations);
+      total += stats.iterations;
+      restarted = !stats.converged;
+    }
+    if (warm == nullptr || restarted)
+    {
+      y = newton.cold_start(options.lambda);
+      stats = newton.solve(y, options.tolerance, options.max_iterations);
+      total += stats.iterations;
+    }
+    if (!stats.converged)
+      return stats;
+    const double* beta = newton.beta();
+    double sum = 0.0;
+    for (Index i = 0; i < n; ++i)
+      sum += beta[i] * id[i];
+    const double inv = 1.0 / sum;
+    for (Index i = 0; i < n; ++i)
+      w[i] = beta[i] * id[i] * inv;
+    return stats;
+  }
+};
+
+} // namespace
+
+namespace
+{
+/// Input checks of compute(): @p X is #P by @p dim and finite, @p edges #E by 2 within [0, #P).
+void check_query(const Points& X, const Eigen::MatrixXi& edges, int dim)
+{
+  const Index np = X.rows();
+  if (X.cols() != dim)
+    throw Error(ErrorCode::SizeMismatch,
+      "the points have " + std::to_string(X.cols()) +
+        " coordinates but the control points have " + std::to_string(dim));
+  for (Index p = 0; p < np; ++p)
+    if (!X.row(p).allFinite())
+      throw Error(ErrorCode::NonFinite,
+        "point " + std::to_string(p) + " has a non-finite coordinate " + detail::format_row(X, p));
+  if (edges.size() != 0)
+  {
+    if (edges.cols() != 2)
+      throw Error(ErrorCode::SizeMismatch,
+        "edges must be #E by 2 (vertex pairs), got " + std::to_string(edges.cols()) + " columns");
+    for (Index e = 0; e < edges.rows(); ++e)
+      for (int k = 0; k < 2; ++k)
+        if (edges(e, k) < 0 || edges(e, k) >= np)
+          throw Error(ErrorCode::InvalidArgument,
+            "edge " + std::to_string(e) + " refers to point " + std::to_string(edges(e, k)) +
+              " but there are " + std::to_string(np) + " points");
+  }
+}
+
+/// The points' neighbours from the mesh @p edges (self-loops dropped), compressed: the
+/// neighbours of p are adj[adj_start[p] .. adj_start[p + 1]).
+void point_graph(
+  const Eigen::MatrixXi& edges, Index np, std::vector<Index>& adj_start, std::vector<Index>& adj)
+{
+  adj_start.assign(static_cast<std::size_t>(np + 1), 0);
+  for (Index e = 0; e < edges.rows(); ++e)
+    if (edges(e, 0) != edges(e, 1))
+    {
+      ++adj_start[static_cast<std::size_t>(edges(e, 0)) + 1];
+      ++adj_start[static_cast<std::size_t>(edges(e, 1)) + 1];
+    }
+  std::partial_sum(adj_start.begin(), adj_start.end(), adj_start.begin());
+  adj.resize(static_cast<std::size_t>(adj_start.back()));
+  std::vector<Index> fill(adj_start.begin(), adj_start.end() - 1);
+  for (Index e = 0; e < edges.rows(); ++e)
+    if (edges(e, 0) != edges(e, 1))
+    {
+      adj[static_cast<std::size_t>(fill[static_cast<std::size_t>(edges(e, 0))]++)] = edges(e, 1);
+      adj[static_cast<std::size_t>(fill[static_cast<std::size_t>(edges(e, 1))]++)] = edges(e, 0);
+    }
+}
+
+/// Breadth-first order over the graph (adj_start, adj), the neighbours of a point nearest first
+/// (Sect. 4.2), a new search started from each not yet visited point of @p seeds in turn.
+std::vector<Index> breadth_first_order(const std::vector<Index>& seeds,
+  const std::vector<Index>& adj_start, const std::vector<Index>& adj,
+  const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>& X)
+{
+  const Index np = X.rows();
+  std::vector<char> seen(static_cast<std::size_t>(np), 0);
+  std::vector<Index> bfs;
+  bfs.reserve(static_cast<std::size_t>(np));
+  std::vector<std::pair<double, Index>> next;
+  for (Index seed : seeds)
+  {
+    if (seen[static_cast<std::size_t>(seed)])
+      continue;
+    seen[static_cast<std::size_t>(seed)] = 1;
+    std::size_t head = bfs.size();
+    bfs.push_back(seed);
+    while (head < bfs.size())
+    {
+      const Index u = bfs[head++];
+      next.clear();
+      for (Index a = adj_start[static_cast<std::size_t>(u)];
+           a < adj_start[static_cast<std::size_t>(u) + 1]; ++a)
+      {
+        const Index v = adj[static_cast<std::size_t>(a)];
+        if (!seen[static_cast<std::size_t>(v)])
+        {
+          seen[static_cast<std::size_t>(v)] = 1;
+          next.emplace_back((X.row(v) - X.row(u)).squaredNorm(), v);
+        }
+      }
+      std::sort(next.begin(), next.end());
+      for (const auto& [dist, v] : next)
+        bfs.push_back(v);
+    }
+  }
+  return bfs;
+}
+
+/// The fields CelestialResult shares with every method (see its comment), from its own.
+void fill_weights_result(CelestialResult& result, Index hull_facets)
+{
+  const std::size_t np = result.hull_location.size();
+  result.location.resize(np);
+  for (std::size_t p = 0; p < np; ++p)
+  {
+    const CelestialLocation where = result.hull_location[p];
+    result.location[p] = where == CelestialLocation::Inside ? PointLocation::Inside
+      : where == CelestialLocation::Outside                 ? PointLocation::Outside
+                                                            : PointLocation::Boundary;
+  }
+  result.undefined = result.outside;
+  result.undefined.insert(
+    result.undefined.end(), result.not_converged.begin(), result.not_converged.end());
+  std::sort(result.undefined.begin(), result.undefined.end());
+  result.converged = result.not_converged.empty();
+  double max_residual = 0.0;
+  for (Index p = 0; p < result.residual.size(); ++p)
+    if (std::isfinite(result.residual(p)))
+      max_residual = std::max(max_residual, result.residual(p));
+  Statistics& st = result.statistics;
+  st.clear();
+  st.emplace_back("hull_facets", static_cast<double>(hull_facets));
+  st.emplace_back("newton_iterations", static_cast<double>(result.total_iterations));
+  st.emplace_back("mean_newton_iterations",
+    np > 0 ? static_cast<double>(result.total_iterations) / static_cast<double>(np) : 0.0);
+  st.emplace_back(
+    "max_newton_iterations", result.iterations.size() > 0 ? result.iterations.maxCoeff() : 0);
+  st.emplace_back("warm_starts", static_cast<double>(result.warm_starts));
+  st.emplace_back("cold_restarts", static_cast<double>(result.cold_restarts));
+  st.emplace_back("max_residual", max_residual);
+  st.emplace_back("at_control", static_cast<double>(result.at_control));
+  st.emplace_back("not_converged", static_cast<double>(result.not_converged.size()));
+  st.emplace_back("solve_seconds", result.seconds);
+}
+} // namespace
+
+CelestialResult CelestialCoordinates::compute(
+  const Points& X, const ProgressCallback& progress) const
+{
+  return compute(X, Eigen::MatrixXi(0, 2), progress);
+}
+
+CelestialResult CelestialCoordinates::compute(
+  const Points& Xin, const Eigen::MatrixXi& edges, const ProgressCallback& progress) const
+{
+  const auto start = std::chrono::steady_clock::now();
+  const Impl& im = *impl_;
+  const CelestialOptions& opt = im.options;
+  const int dim = im.dim;
+  const Index np = Xin.rows(), nc = im.V.rows();
+  check_query(Xin, edges, dim);
+
+  CelestialResult result;
+  result.W.resize(np, nc); // every row is written below (a zero fill is a pass over #P x #C)
+  result.hull_location.assign(static_cast<std::size_t>(np), CelestialLocation::Inside);
+  result.iterations.setZero(np);
+  result.residual.setConstant(np, kNaN);
+  result.solution.setConstant(np, dim, kNaN);
+  if (np == 0)
+  {
+    result.seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    fill_weights_result(result, num_hull_facets());
+    return result;
+  }
+  const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> X = Xin;
+
+  const int threads = detail::thread_count(opt.threads);
+
+  // 1. Where each point lies (cheap; before any solve so that an outside point fails fast).
+#pragma omp parallel for schedule(static) num_threads(threads) if (np >= 4096)
+  for (Index p = 0; p < np; ++p)
+    result.hull_location[static_cast<std::size_t>(p)] = im.classify(X.row(p).data());
+  for (Index p = 0; p < np; ++p)
+    if (result.hull_location[static_cast<std::size_t>(p)] == CelestialLocation::Outside)
+      result.outside.push_back(p);
+  if (!result.outside.empty() && opt.outside == CelestialOutsidePolicy::Error)
+  {
+    std::string ids;
+    for (std::size_t k = 0; k < std::min<std::size_t>(10, result.outside.size()); ++k)
+      ids += (k ? ", " : "") + std::to_string(result.outside[k]);
+    if (result.outside.size() > 10)
+      ids += " and " + std::to_string(result.outside.size() - 10) + " more";
+    int arg;
+    const double dist = Impl::max_plane_distance(
+      im.nodes.front(), im.to_local(im.nodes.front(), X.row(result.outside.front()).data()), &arg);
+    throw Error(ErrorCode::InvalidArgument,
+      std::to_string(result.outside.size()) + " of " + std::to_string(np) +
+        " points lie outside the convex hull of the " + std::to_string(nc) +
+        " control points (points " + ids + "; point " + std::to_string(result.outside.front()) +
+        " is at least " + detail::format_number(dist, 3) +
+        " from the hull): celestial coordinates are defined only inside the "
+        "hull. Add control points around the model (the paper adds the corners of a box), or "
+        "set outside = CelestialOutsidePolicy::Flag to get NaN rows for them");
+  }
+
+  // 2. The order of the warm starts.
+  std::vector<Index> order;
+  std::vector<Index> position; // position[p] = place of p in order (edges only)
+  std::vector<Index> adj_start, adj;
+  const bool use_edges = opt.warm_start && edges.rows() > 0;
+  if (opt.warm_start)
+    order = hilbert_order(Xin, threads);
+  else
+  {
+    order.resize(static_cast<std::size_t>(np));
+    std::iota(order.begin(), order.end(), Index(0));
+  }
+  if (use_edges)
+  {
+    point_graph(edges, np, adj_start, adj);
+    order = breadth_first_order(order, adj_start, adj, X);
+    position.resize(static_cast<std::size_t>(np));
+    for (Index k = 0; k < np; ++k)
+      position[static_cast<std::size_t>(order[static_cast<std::size_t>(k)])] = k;
+  }
+
+  // 3. Solve, chunk by chunk. Within a chunk the points are solved in order, each Inside point
+  // warm-started from the nearest solved neighbour (edges) or the last solved point (Hilbert)
+  // of the same chunk; chunks are independent, so nothing depends on the threads.
+  const Index chunks = (np + kChunk - 1) / kChunk;
+  ProgressReporter reporter(progress, np);
+  long long total_iterations = 0;
+  Index warm_starts = 0, cold_restarts = 0;
+  const double* s = im.s.empty() ? nullptr : im.s.data();
+
+  auto run = [&](auto tag) {
+    constexpr int D = decltype(tag)::value;
+    using Vec = typename Newton<D>::Vec;
+    // Per thread: its solver, the chunk's solutions (warm starts) and its counts.
+    struct ThreadState
+    {
+      ChunkSolver<D> solver;
+      std::vector<Vec> ys;
+      std::vector<char> solved;
+      long long iterations = 0;
+      Index warm = 0, restarts = 0;
+    };
+    detail::parallel_for(
+      np, kChunk, static_cast<int>(std::min<Index>(threads, chunks)), reporter,
+      "celestial coordinates",
+      [&] {
+        return ThreadState{ ChunkSolver<D>(im.V, opt, s, X),
+          std::vector<Vec>(static_cast<std::size_t>(kChunk)),
+          std::vector<char>(static_cast<std::size_t>(kChunk)) };
+      },
+      [&](ThreadState& t, Index begin, Index end) {
+        std::fill(t.solved.begin(), t.solved.end(), 0);
+        Index last = -1; // last solved position in this chunk
+        for (Index k = begin; k < end; ++k)
+        {
+          const Index p = order[static_cast<std::size_t>(k)];
+          double* w = result.W.row(p).data();
+          const CelestialLocation loc = result.hull_location[static_cast<std::size_t>(p)];
+          if (loc == CelestialLocation::Outside)
+          {
+            std::fill(w, w + nc, kNaN);
+            continue;
+          }
+          if (loc != CelestialLocation::Inside)
+          {
+            std::fill(w, w + nc, 0.0);
+            const SolveStats st = im.solve_on_face(0, X.row(p).data(), w);
+            t.iterations += st.iterations;
+            result.iterations[p] = st.iterations;
+            result.residual[p] = st.residual;
+            if (!st.converged)
+              std::fill(w, w + nc, kNaN);
+            continue;
+          }
+          const Vec* warm = nullptr;
+          if (opt.warm_start)
+          {
+            Index from = last;
+            if (use_edges)
+            {
+              double best = std::numeric_limits<double>::infinity();
+              for (Index a = adj_start[static_cast<std::size_t>(p)];
+                   a < adj_start[static_cast<std::size_t>(p) + 1]; ++a)
+              {
+                const Index v = adj[static_cast<std::size_t>(a)];
+                const Index pos = position[static_cast<std::size_t>(v)];
+                if (pos < begin || pos >= k || !t.solved[static_cast<std::size_t>(pos - begin)])
+                  continue;
+                const double d2 = (X.row(v) - X.row(p)).squaredNorm();
+                if (d2 < best || (d2 == best && pos < from))
+                {
+                  best = d2;
+                  from = pos;
+                }
+              }
+            }
+            if (from >= 0)
+            {
+              warm = &t.ys[static_cast<std::size_t>(from - begin)];
+              ++t.warm;
+            }
+          }
+          Vec& y = t.ys[static_cast<std::size_t>(k - begin)];
+          bool restarted = false;
+          const SolveStats st = t.solver.solve(p, warm, y, w, t.iterations, restarted);
+          t.restarts += restarted ? 1 : 0;
+          result.iterations[p] = st.iterations;
+          result.residual[p] = st.residual;
+          if (!st.converged)
+          {
+            std::fill(w, w + nc, kNaN);
+            continue;
+          }
+          t.solved[static_cast<std::size_t>(k - begin)] = 1;
+          last = k;
+          if (opt.scheme == CelestialScheme::T)
+            for (int d = 0; d < D; ++d)
+              result.solution(p, d) = y[d];
+          else
+          {
+            // c = lambda m(|y|) y
+            const double ny = y.norm();
+            const double f = opt.lambda * m_of(ny, std::sqrt(ny * ny + 1.0));
+            for (int d = 0; d < D; ++d)
+              result.solution(p, d) = f * y[d];
+          }
+        }
+      },
+      [&](ThreadState& t) {
+        total_iterations += t.iterations;
+        warm_starts += t.warm;
+        cold_restarts += t.restarts;
+      });
+  };
+  if (dim == 2)
+    run(std::integral_constant<int, 2>{});
+  else
+    run(std::integral_constant<int, 3>{});
+
+  for (Index p = 0; p < np; ++p)
+  {
+    const CelestialLocation loc = result.hull_location[static_cast<std::size_t>(p)];
+    switch (loc)
+    {
+      case CelestialLocation::Inside: ++result.inside; break;
+      case CelestialLocation::Boundary: ++result.boundary; break;
+      case CelestialLocation::AtControl:
+        ++result.at_control;
+        result.residual[p] = 0.0;
+        break;
+      case CelestialLocation::Outside: break;
+    }
+    if (loc != CelestialLocation::Outside && std::isnan(result.W(p, 0)))
+      result.not_converged.push_back(p);
+  }
+  result.total_iterations = total_iterations;
+  result.warm_starts = warm_starts;
+  result.cold_restarts = cold_restarts;
+
+  if (!result.not_converged.empty() && opt.require_convergence)
+  {
+    std::string list;
+    for (std::size_t k = 0; k < std::min<std::size_t>(10, result.not_converged.size()); ++k)
+    {
+      const Index p = result.not_converged[k];
+      list += (k ? ", " : "") + std::to_string(p) + " (residual " + detail::format_number(result.residual[p], 3) + ")";
+    }
+    if (result.not_converged.size() > 10)
+      list += " and " + std::to_string(result.not_converged.size() - 10) + " more";
+    throw Error(ErrorCode::NotConverged,
+      std::to_string(result.not_converged.size()) + " of " + std::to_string(np) +
+        " points did not converge in " + std::to_string(opt.max_iterations) +
+        " Newton iterations to the tolerance " + detail::format_number(opt.tolerance, 3) + ": points " + list +
+        ". Raise max_iterations or tolerance, or set require_convergence = false to get NaN "
+        "rows and the list in CelestialResult::not_converged");
+  }
+  result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  fill_weights_result(result, num_hull_facets());
+  return result;
+}
+
+CelestialResult celestial_coordinates(const Points& controls, const Points& X,
+  const CelestialOptions& options, const ProgressCallback& progress)
+{
+  return CelestialCoordinates(controls, options).compute(X, progress);
+}
+
+} // namespace bary

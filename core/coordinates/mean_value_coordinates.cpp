@@ -1,0 +1,389 @@
+#include "core/coordinates/mean_value_coordinates.h"
+
+#include "core/detail/parallel_for.h"
+#include "core/common/error.h"
+
+#include <Eigen/Geometry>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <string>
+#include <vector>
+
+namespace bary
+{
+namespace
+{
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+/// Scratch space reused by the per-point kernels of one thread.
+std::vector<double>& scratch(std::size_t size)
+{
+  thread_local std::vector<double> buffer;
+  if (buffer.size() < size)
+    buffer.resize(size);
+  return buffer;
+}
+
+/// Normalises raw weights; returns false (and fills NaN) if their sum is too small to divide by.
+bool normalize(double* w, Index n)
+{
+  double sum = 0.0, abs_sum = 0.0;
+  for (Index i = 0; i < n; ++i)
+  {
+    sum += w[i];
+    abs_sum += std::abs(w[i]);
+  }
+  if (!(std::abs(sum) > 1e-14 * abs_sum) || !std::isfinite(sum))
+  {
+    std::fill(w, w + n, kNaN);
+    return false;
+  }
+  const double inv = 1.0 / sum;
+  for (Index i = 0; i < n; ++i)
+    w[i] *= inv;
+  return true;
+}
+
+/// Closest point to p on triangle (a, b, c), returned as barycentric coordinates (Ericson,
+/// Real-Time Collision Detection, Sect. 5.1.5). Also returns the squared distance.
+double closest_on_triangle(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
+  const Eigen::Vector3d& b, const Eigen::Vector3d& c, double bary[3])
+{
+  auto finish = [&](double u, double v, double w) {
+    bary[0] = u;
+    bary[1] = v;
+    bary[2] = w;
+    return (u * a + v * b + w * c - p).squaredNorm();
+  };
+  const Eigen::Vector3d ab = b - a, ac = c - a, ap = p - a;
+  const double d1 = ab.dot(ap), d2 = ac.dot(ap);
+  if (d1 <= 0 && d2 <= 0)
+    return finish(1, 0, 0);
+  const Eigen::Vector3d bp = p - b;
+  const double d3 = ab.dot(bp), d4 = ac.dot(bp);
+  if (d3 >= 0 && d4 <= d3)
+    return finish(0, 1, 0);
+  const double vc = d1 * d4 - d3 * d2;
+  if (vc <= 0 && d1 >= 0 && d3 <= 0)
+  {
+    const double v = d1 / (d1 - d3);
+    return finish(1 - v, v, 0);
+  }
+  const Eigen::Vector3d cp = p - c;
+  const double d5 = ab.dot(cp), d6 = ac.dot(cp);
+  if (d6 >= 0 && d5 <= d6)
+    return finish(0, 0, 1);
+  const double vb = d5 * d2 - d1 * d6;
+  if (vb <= 0 && d2 >= 0 && d6 <= 0)
+  {
+    const double w = d2 / (d2 - d6);
+    return finish(1 - w, 0, w);
+  }
+  const double va = d3 * d6 - d5 * d4;
+  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0)
+  {
+    const double w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
+    return finish(0, 1 - w, w);
+  }
+  const double denom = 1.0 / (va + vb + vc);
+  const double v = vb * denom, w = vc * denom;
+  return finish(1 - v - w, v, w);
+}
+
+} // namespace
+
+MeanValueCoordinates::MeanValueCoordinates(Cage cage, const MeanValueOptions& options)
+  : cage_(std::move(cage))
+  , options_(options)
+{
+  if (!(options.boundary_tolerance >= 0.0 && options.boundary_tolerance <= 1e-3))
+    throw Error(ErrorCode::InvalidArgument,
+      "boundary_tolerance must lie in [0, 1e-3], got " + std::to_string(options.boundary_tolerance));
+  if (options.threads < 0)
+    throw Error(ErrorCode::InvalidArgument, "threads must be >= 0 (0 = default)");
+  if (options.validate)
+    validate_cage(cage_, options.validation);
+  else if (cage_.V.rows() == 0)
+    throw Error(ErrorCode::EmptyInput, "the cage has no vertices");
+  else if (cage_.dimension() != 2 && cage_.dimension() != 3)
+    throw Error(ErrorCode::SizeMismatch, "cage vertices must have 2 or 3 coordinates");
+  tolerance_ = options.boundary_tolerance * cage_.diameter();
+  if (cage_.dimension() == 3)
+  {
+    const Index nf = cage_.F.rows();
+    inv_twice_area_.resize(static_cast<std::size_t>(nf));
+    face_edges_.resize(static_cast<std::size_t>(3 * nf));
+    std::map<std::pair<int, int>, unsigned> index;
+    for (Index f = 0; f < nf; ++f)
+    {
+      const Eigen::Vector3d a = cage_.V.row(cage_.F(f, 0)), b = cage_.V.row(cage_.F(f, 1)),
+                            c = cage_.V.row(cage_.F(f, 2));
+      const double twice_area = (b - a).cross(c - a).norm();
+      inv_twice_area_[static_cast<std::size_t>(f)] =
+        twice_area > 0.0 ? 1.0 / twice_area : std::numeric_limits<double>::infinity();
+      for (int k = 0; k < 3; ++k)
+      {
+        const int i = cage_.F(f, k), j = cage_.F(f, (k + 1) % 3);
+        const auto key = std::make_pair(std::min(i, j), std::max(i, j));
+        auto [it, added] = index.emplace(key, static_cast<unsigned>(edges_.size()));
+        if (added)
+          edges_.push_back({ key.first, key.second });
+        // bit 0: the face walks the edge against its stored direction (cross product negated)
+        face_edges_[static_cast<std::size_t>(3 * f + k)] = (it->second << 1) | (i > j ? 1u : 0u);
+      }
+    }
+  }
+}
+
+PointLocation MeanValueCoordinates::evaluate(const double* x, double* w) const
+{
+  return dimension() == 2 ? evaluate_2d(x, w) : evaluate_3d(x, w);
+}
+
+// Hormann & Floater 2006, Eq. (7) with Sect. 4's treatment of the boundary.
+PointLocation MeanValueCoordinates::evaluate_2d(const double* x, double* w) const
+{
+  const Eigen::MatrixXd& V = cage_.V;
+  const Index n = V.rows();
+  std::vector<double>& buf = scratch(static_cast<std::size_t>(5 * n));
+  double* sx = buf.data();
+  double* sy = sx + n;
+  double* r = sy + n;
+  double* t = r + n; // tan(alpha_i / 2) of the angle at x spanned by edge i
+
+  for (Index i = 0; i < n; ++i)
+  {
+    sx[i] = V(i, 0) - x[0];
+    sy[i] = V(i, 1) - x[1];
+    r[i] = std::hypot(sx[i], sy[i]);
+    if (r[i] <= tolerance_)
+    { // at a vertex: Lagrange property
+      std::fill(w, w + n, 0.0);
+      w[i] = 1.0;
+      return PointLocation::Boundary;
+    }
+  }
+  double winding = 0.0;
+  for (Index i = 0; i < n; ++i)
+  {
+    const Index j = (i + 1 == n) ? 0 : i + 1;
+    const double det = sx[i] * sy[j] - sy[i] * sx[j]; // 2 A_i
+    const double dot = sx[i] * sx[j] + sy[i] * sy[j]; // D_i
+    const double edge = std::hypot(V(j, 0) - V(i, 0), V(j, 1) - V(i, 1));
+    if (dot < 0.0 && std::abs(det) <= tolerance_ * edge)
+    { // on edge i: the coordinates are linear along the edge
+      std::fill(w, w + n, 0.0);
+      w[i] = r[j] / (r[i] + r[j]);
+      w[j] = r[i] / (r[i] + r[j]);
+      return PointLocation::Boundary;
+    }
+    // tan(a/2) = sin(a) / (1 + cos(a)) = (1 - cos(a)) / sin(a): the first form cancels when
+    // a ~ pi (x just off the edge, beyond the tolerance), the second when a ~ 0; pick by sign.
+    t[i] = dot >= 0.0 ? det / (r[i] * r[j] + dot) : (r[i] * r[j] - dot) / det;
+    winding += std::atan(t[i]);
+  }
+  for (Index i = 0; i < n; ++i)
+  {
+    const Index h = (i == 0) ? n - 1 : i - 1;
+    w[i] = (t[h] + t[i]) / r[i];
+  }
+  normalize(w, n);
+  // sum of the angles a_i = 2 atan(t_i) is 2 pi times the winding number
+  return std::abs(winding) > 0.5 * kPi ? PointLocation::Inside : PointLocation::Outside;
+}
+
+// Ju, Schaefer & Warren 2005, Sect. 3.2 / Fig. 4, rearranged for accuracy and speed.
+//
+// Accuracy — the paper's pseudo-code cancels near the cage; here nothing does:
+//  - for the arc between u_a and u_b (a cage edge seen from x): e = u_a x u_b, sin(theta) = |e|,
+//    and theta = 2 asin(|u_a - u_b| / 2) or pi - 2 asin(|u_a + u_b| / 2), whichever argument is
+//    smaller, accurate for every angle;
+//  - the spherical angle at u_k of a face, c_k = cos(A_k) = -(e_k . e_{k-1}) / (|e_k| |e_{k-1}|),
+//    from the normals of the two arcs through u_k (equal to the paper's half-angle expression);
+//  - sin(A_k) = |det| / (sin(theta_{k+1}) sin(theta_{k-1})), so the paper's denominator
+//    d_i sin(theta_{i+1}) s_{i-1}, with s = sign(det) sqrt(1 - c^2), equals d_i det / sin(theta_i).
+//    The square root loses all accuracy as c -> -1, i.e. as x approaches a face (error
+//    ~1e-16 / dist^2); det keeps its relative accuracy (error ~1e-16 / dist).
+//  Hence, per face: w_i += sin(theta_i) (theta_i - c_{i+1} theta_{i-1} - c_{i-1} theta_{i+1})
+//  / (d_i det), with theta_k the arc opposite vertex k.
+// Speed — arc quantities depend on the edge only, and each edge has two faces: they are
+// computed once per edge (1.5 #F asin per point instead of 3 #F asin plus trig per face). Inside/outside comes from a
+// signed count of the faces crossed by a ray from x in a fixed generic direction r; the ray meets
+// face (u0, u1, u2) iff r lies in the cone of the u's, i.e. r . e_k has the sign of det for all
+// three edges. The two faces of an edge see r . e with opposite signs, so a ray grazing an edge
+// is counted exactly once.
+PointLocation MeanValueCoordinates::evaluate_3d(const double* x, double* w) const
+{
+  const Eigen::MatrixXd& V = cage_.V;
+  const Eigen::MatrixXi& F = cage_.F;
+  const Index n = V.rows();
+  const std::size_t ne = edges_.size();
+  std::vector<double>& buf = scratch(static_cast<std::size_t>(5 * n) + 7 * ne);
+  double* d = buf.data();
+  double* inv_d = d + n;
+  double* u = inv_d + n;           // unit vectors, 3 per vertex
+  double* ecross = u + 3 * n;      // u_a x u_b, 3 per edge
+  double* elen = ecross + 3 * ne;  // |u_a x u_b| = sin(theta)
+  double* einv = elen + ne;        // 1 / |u_a x u_b|
+  double* etheta = einv + ne;      // theta
+  double* eray = etheta + ne;      // r . (u_a x u_b)
+
+  for (Index i = 0; i < n; ++i)
+  {
+    const double ux = V(i, 0) - x[0], uy = V(i, 1) - x[1], uz = V(i, 2) - x[2];
+    d[i] = std::sqrt(ux * ux + uy * uy + uz * uz);
+    if (d[i] <= tolerance_)
+    { // at a vertex: Lagrange property
+      std::fill(w, w + n, 0.0);
+      w[i] = 1.0;
+      return PointLocation::Boundary;
+    }
+    inv_d[i] = 1.0 / d[i];
+    u[3 * i] = ux * inv_d[i];
+    u[3 * i + 1] = uy * inv_d[i];
+    u[3 * i + 2] = uz * inv_d[i];
+  }
+  // a fixed direction in no special position w.r.t. axis-aligned or symmetric cages
+  constexpr double r[3] = { 0.5373804163292384, 0.8116219853018327, 0.2290948120937462 };
+  for (std::size_t e = 0; e < ne; ++e)
+  {
+    const double* a = u + 3 * edges_[e][0];
+    const double* b = u + 3 * edges_[e][1];
+    double* c = ecross + 3 * e;
+    c[0] = a[1] * b[2] - a[2] * b[1];
+    c[1] = a[2] * b[0] - a[0] * b[2];
+    c[2] = a[0] * b[1] - a[1] * b[0];
+    elen[e] = std::sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
+    einv[e] = elen[e] > 0.0 ? 1.0 / elen[e] : 0.0;
+    // theta from the half chords |u_a - u_b| / 2 = sin(theta/2) and |u_a + u_b| / 2 =
+    // cos(theta/2), whichever is smaller: asin of at most sqrt(1/2), accurate for every angle
+    // (atan2(|e|, u_a . u_b) is too, at twice the cost).
+    const double dx = a[0] - b[0], dy = a[1] - b[1], dz = a[2] - b[2];
+    const double sx = a[0] + b[0], sy = a[1] + b[1], sz = a[2] + b[2];
+    const double l = std::sqrt(dx * dx + dy * dy + dz * dz);
+    const double m = std::sqrt(sx * sx + sy * sy + sz * sz);
+    etheta[e] = l <= m ? 2.0 * std::asin(0.5 * l) : kPi - 2.0 * std::asin(0.5 * m);
+    eray[e] = r[0] * c[0] + r[1] * c[1] + r[2] * c[2];
+  }
+
+  std::fill(w, w + n, 0.0);
+  int winding = 0;
+  for (Index f = 0, nf = F.rows(); f < nf; ++f)
+  {
+    const int p[3] = { F(f, 0), F(f, 1), F(f, 2) };
+    // edge k of the face joins p[k] and p[k+1]; its arc cross product is s[k] * ecross[E[k]]
+    std::size_t E[3];
+    double s[3];
+    for (int k = 0; k < 3; ++k)
+    {
+      const unsigned code = face_edges_[static_cast<std::size_t>(3 * f + k)];
+      E[k] = code >> 1;
+      s[k] = (code & 1u) ? -1.0 : 1.0;
+    }
+    // det[u0, u1, u2] = u0 . (u1 x u2): its sign tells which side of the face x is on
+    const double* u0 = u + 3 * p[0];
+    const double* c1 = ecross + 3 * E[1];
+    const double det = s[1] * (u0[0] * c1[0] + u0[1] * c1[1] + u0[2] * c1[2]);
+
+    // Distance from x to the face's plane is d0 d1 d2 |det| / (2 area).
+    const double plane_distance = d[p[0]] * d[p[1]] * d[p[2]] * std::abs(det) *
+      inv_twice_area_[static_cast<std::size_t>(f)];
+    if (plane_distance <= tolerance_)
+    {
+      const Eigen::Vector3d a = V.row(p[0]), b = V.row(p[1]), c = V.row(p[2]);
+      double lambda[3];
+      const double dist2 = closest_on_triangle(Eigen::Vector3d(x[0], x[1], x[2]), a, b, c, lambda);
+      if (dist2 <= tolerance_ * tolerance_)
+      { // on this face (or its edges): barycentric interpolation
+        std::fill(w, w + n, 0.0);
+        for (int k = 0; k < 3; ++k)
+          w[p[k]] = lambda[k];
+        return PointLocation::Boundary;
+      }
+      continue; // in the face's plane but outside it: the face contributes nothing
+    }
+    if (elen[E[0]] == 0.0 || elen[E[1]] == 0.0 || elen[E[2]] == 0.0 || det == 0.0)
+      continue; // x on the line of an edge, outside it: the face is seen edge-on
+
+    const double q0 = s[0] * eray[E[0]], q1 = s[1] * eray[E[1]], q2 = s[2] * eray[E[2]];
+    if (det > 0.0 ? (q0 > 0.0 && q1 > 0.0 && q2 > 0.0) : (q0 < 0.0 && q1 < 0.0 && q2 < 0.0))
+      winding += det > 0.0 ? 1 : -1;
+
+    double theta[3], sin_t[3], cosA[3];
+    for (int k = 0; k < 3; ++k)
+    {
+      const int k1 = (k + 1) % 3, k2 = (k + 2) % 3;
+      theta[k] = etheta[E[k1]]; // arc opposite vertex k: edge k+1
+      sin_t[k] = elen[E[k1]];
+      const double* ca = ecross + 3 * E[k];
+      const double* cb = ecross + 3 * E[k2];
+      cosA[k] = -s[k] * s[k2] * (ca[0] * cb[0] + ca[1] * cb[1] + ca[2] * cb[2]) * einv[E[k]] *
+        einv[E[k2]];
+    }
+    const double inv_det = 1.0 / det;
+    for (int k = 0; k < 3; ++k)
+    {
+      const int k1 = (k + 1) % 3, k2 = (k + 2) % 3;
+      w[p[k]] += sin_t[k] * (theta[k] - cosA[k1] * theta[k2] - cosA[k2] * theta[k1]) * inv_det *
+        inv_d[p[k]];
+    }
+  }
+  normalize(w, n);
+  return winding != 0 ? PointLocation::Inside : PointLocation::Outside;
+}
+
+MeanValueResult MeanValueCoordinates::evaluate(const Points& P, const ProgressCallback& progress) const
+{
+  const Index dim = dimension();
+  if (P.cols() != dim)
+    throw Error(ErrorCode::SizeMismatch,
+      "the points have " + std::to_string(P.cols()) + " coordinates but the cage is " +
+        std::to_string(dim) + "D");
+  for (Index p = 0; p < P.rows(); ++p)
+    if (!P.row(p).allFinite())
+      throw Error(ErrorCode::NonFinite,
+        "point " + std::to_string(p) + " has a non-finite coordinate");
+
+  const Index np = P.rows(), nc = num_controls();
+  MeanValueResult result;
+  result.W.resize(np, nc);
+  result.location.assign(static_cast<std::size_t>(np), PointLocation::Inside);
+
+  // Points are handed out in small chunks (load balance: a per-block region with coarse chunks
+  // left one of two threads idle a third of the time); every point is computed independently
+  // into its own row, so the result does not depend on the threads.
+  ProgressReporter reporter(progress, np);
+  const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> X = P;
+  constexpr Index chunk = 8;
+  detail::parallel_for(np, chunk, options_.threads, reporter, "mean value coordinates",
+    [&](Index begin, Index end) {
+      for (Index p = begin; p < end; ++p)
+        result.location[static_cast<std::size_t>(p)] =
+          evaluate(X.row(p).data(), result.W.row(p).data());
+    });
+
+  for (Index p = 0; p < np; ++p)
+  {
+    switch (result.location[static_cast<std::size_t>(p)])
+    {
+      case PointLocation::Inside: ++result.inside; break;
+      case PointLocation::Outside: ++result.outside; break;
+      case PointLocation::Boundary: ++result.boundary; break;
+    }
+    if (std::isnan(result.W(p, 0)))
+      result.undefined.push_back(p);
+  }
+  return result;
+}
+
+DenseWeights mean_value_coordinates(const Cage& cage, const Points& P, const MeanValueOptions& options)
+{
+  return MeanValueCoordinates(cage, options).evaluate(P).W;
+}
+
+} // namespace bary
