@@ -113,12 +113,12 @@ void AddWeightsCommand(Subcommands& subcommands)
   command->add_option("--handles", a->handles,
     "bbw: skeleton (.tgf, or .vtp points + lines): bones and point handles");
   command->add_option("--mesh", a->mesh,
-    "bbw: domain: tet/triangle mesh (.vtu, .mesh) or a closed surface / polygon to mesh; lbc: a "
-    "tet/triangle mesh of the cage's interior, used as is (its boundary vertices include the "
-    "cage's)");
+    "bbw with --handles: domain: tet/triangle mesh (.vtu, .mesh) or a closed surface / polygon "
+    "to mesh; harmonic, lbc, bbw with --cage: a tet/triangle mesh of the cage's interior, used as "
+    "is (its boundary vertices include the cage's)");
   command->add_option("--points,-p", a->points,
-    "points/mesh to evaluate at (default: bbw, lbc: the --mesh itself; harmonic, lbc, bbw with "
-    "--cage: the domain mesh made of the cage, written with its weights)");
+    "points/mesh to evaluate at (default: the --mesh itself; without --mesh, for harmonic, lbc, "
+    "bbw with --cage: the domain mesh made of the cage, written with its weights)");
   command->add_option("--output,-o", a->output, "output file (.vtp/.vtu/.vtk keep the weights)")
     ->required();
   command->add_option("--json", a->json_path, "write a JSON summary (counts, timings, statistics)");
