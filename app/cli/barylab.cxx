@@ -29,6 +29,8 @@
 
 #include "core/common/error.h"
 
+#include "vtkLogger.h"
+
 #include <CLI/CLI.hpp>
 
 #include <exception>
@@ -36,6 +38,10 @@
 
 int main(int argc, char** argv)
 {
+  // Problems reach the user as one "barylab: error:" line each (the readers and filters report
+  // them as exceptions); VTK's own log lines on stderr would come before it, coloured.
+  vtkLogger::SetStderrVerbosity(vtkLogger::VERBOSITY_OFF);
+
   CLI::App app{ "BaryLab: generalized barycentric coordinates and cage deformation.\n"
                 "Weights are written as a point-data array 'Weights' with one component per "
                 "control point (component i = cage point i, in the cage file's order).",

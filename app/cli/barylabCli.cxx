@@ -85,8 +85,35 @@ RunCallbacks callbacks(ProgressBar& bar, bool quiet)
   return c;
 }
 
-void check_output(const std::string& path, OutputKind kind)
+CLI::Validator FiniteRange(double lo, double hi, std::string description)
 {
+  if (description.empty())
+  {
+    std::ostringstream text;
+    text << "[" << lo << ", " << hi << "]";
+    description = text.str();
+  }
+  return CLI::Validator(
+    [lo, hi, description](std::string& text) -> std::string {
+      double value = 0.0;
+      if (!CLI::detail::lexical_cast(text, value) || !std::isfinite(value) || value < lo ||
+        value > hi)
+        return "'" + text + "' is not a number in " + description;
+      return {};
+    },
+    description, "");
+}
+
+void check_output(const std::string& path, OutputKind kind, const std::vector<std::string>& inputs)
+{
+  std::error_code ec;
+  if (fs::is_directory(path, ec))
+    throw bary::Error(bary::ErrorCode::Io, "cannot write '" + path + "': it is a folder");
+  for (const std::string& input : inputs)
+    if (!input.empty() && fs::exists(path, ec) && fs::equivalent(path, input, ec))
+      throw bary::Error(bary::ErrorCode::Io,
+        "cannot write '" + path + "': it is the input '" + input +
+          "' (an output never overwrites an input: choose another name)");
   const std::string ext = vtkBaryDataIO::Extension(path);
   const bool ok = kind == OutputKind::Data ? vtkBaryDataIO::CanWrite(path)
     : kind == OutputKind::Json             ? ext == ".json"

@@ -17,6 +17,8 @@
 #include <functional>
 #include <memory>
 #include <stdexcept>
+#include <CLI/CLI.hpp>
+
 #include <string>
 #include <utility>
 #include <vector>
@@ -119,9 +121,15 @@ enum class OutputKind
   Png
 };
 
+/// A CLI11 check for a number in [@p lo, @p hi] that is finite (CLI11's Range lets NaN through);
+/// @p description is what --help shows (default "[lo, hi]").
+CLI::Validator FiniteRange(double lo, double hi, std::string description = {});
+
 /// Fails early (before any computation) on an output path that cannot be written: unknown or
-/// wrong extension for what is written there, or a folder that does not exist.
-void check_output(const std::string& path, OutputKind kind);
+/// wrong extension for what is written there, a folder that does not exist, a folder, or one
+/// of @p inputs (outputs never overwrite inputs).
+void check_output(const std::string& path, OutputKind kind,
+  const std::vector<std::string>& inputs = {});
 
 /// Counts and statistics printed after a weights computation.
 void print_summary(const nlohmann::json& s);

@@ -91,10 +91,20 @@ void AddAnimateCommand(Subcommands& subcommands)
   command->add_option("--points,-p", a->points, "model to deform")->required();
   command->add_option("--output-dir", a->output_dir, "folder for the frames and the .pvd")
     ->required();
-  command->add_option("--prefix", a->prefix, "file name prefix")->default_val(a->prefix);
+  command->add_option("--prefix", a->prefix, "file name prefix (a name, not a path)")
+    ->default_val(a->prefix)
+    ->check(CLI::Validator(
+      [](std::string& prefix) -> std::string {
+        if (prefix.empty() || prefix.find_first_of("/\\") != std::string::npos ||
+          prefix == "." || prefix == "..")
+          return "the prefix must be a file name without '/' (the frames are written inside "
+                 "--output-dir)";
+        return {};
+      },
+      "NAME", ""));
   command->add_option("--period", a->period, "time of the whole sequence (the .pvd's time steps)")
     ->default_val(1.0)
-    ->check(CLI::PositiveNumber);
+    ->check(FiniteRange(1e-300, 1e300, "> 0"));
   command->add_option("--user-weights", a->user_weights, "tcc: s_i of Eq. 8 (text or .dmat)");
   command->add_option("--json", a->json_path, "write a JSON summary");
   command->add_flag("--quiet,-q", a->quiet, "no progress bar or summary");

@@ -142,9 +142,11 @@ int run_deform_bbw(const DeformArgs& a)
     throw UsageError("give --points MODEL or --weights FILE");
   if (a.mesh.empty() && a.weights.empty())
     throw UsageError("--method bbw needs --mesh DOMAIN to compute the weights (or --weights FILE)");
-  check_output(a.output, OutputKind::Data);
+  const std::vector<std::string> inputs = { a.cage, a.posed, a.controls, a.posed_controls,
+    a.handles, a.mesh, a.transforms, a.posed_handles, a.pseudo_edges, a.points, a.weights };
+  check_output(a.output, OutputKind::Data, inputs);
   if (!a.json_path.empty())
-    check_output(a.json_path, OutputKind::Json);
+    check_output(a.json_path, OutputKind::Json, inputs);
   auto handles = vtkBaryDataIO::ReadPolyData(a.handles);
   vtkSmartPointer<vtkDataSet> domain = a.mesh.empty() ? nullptr : vtkBaryDataIO::Read(a.mesh);
   int dim = 3;
@@ -238,9 +240,11 @@ int run_deform(DeformArgs a)
                      "--transforms / --deformed-handles)");
   if (!a.transforms.empty() || !a.posed_handles.empty())
     throw UsageError("--transforms and --deformed-handles go with --method bbw --handles");
-  check_output(a.output, OutputKind::Data);
+  const std::vector<std::string> inputs = { a.cage, a.posed, a.controls, a.posed_controls,
+    a.handles, a.mesh, a.transforms, a.posed_handles, a.pseudo_edges, a.points, a.weights };
+  check_output(a.output, OutputKind::Data, inputs);
   if (!a.json_path.empty())
-    check_output(a.json_path, OutputKind::Json);
+    check_output(a.json_path, OutputKind::Json, inputs);
   if (a.points.empty() && a.weights.empty())
     throw UsageError("give --points MODEL or --weights FILE");
   auto cage = vtkBaryDataIO::ReadPolyData(a.cage);

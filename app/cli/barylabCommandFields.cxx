@@ -41,7 +41,7 @@ int run_fields(const FieldsArgs& a)
     throw UsageError("give --output (gradient norms) and/or --level-sets (contours)");
   if (!a.output.empty())
   {
-    check_output(a.output, OutputKind::Data);
+    check_output(a.output, OutputKind::Data, { a.input });
     const std::string ext = vtkBaryDataIO::Extension(a.output);
     if (ext != ".vtp" && ext != ".vtu" && ext != ".vtk")
       throw bary::Error(bary::ErrorCode::Io,
@@ -49,7 +49,7 @@ int run_fields(const FieldsArgs& a)
         ".vtp, .vtu or .vtk");
   }
   if (!a.level_sets.empty())
-    check_output(a.level_sets, OutputKind::Data);
+    check_output(a.level_sets, OutputKind::Data, { a.input, a.output });
   auto data = vtkBaryDataIO::Read(a.input);
   json summary;
   summary["input"] = a.input;

@@ -33,9 +33,9 @@ struct MeshArgs
 
 int run_mesh(const MeshArgs& a)
 {
-  check_output(a.output, OutputKind::Data);
+  check_output(a.output, OutputKind::Data, { a.cage, a.points });
   if (!a.json_path.empty())
-    check_output(a.json_path, OutputKind::Json);
+    check_output(a.json_path, OutputKind::Json, { a.cage, a.points });
   auto cage = vtkBaryDataIO::ReadPolyData(a.cage);
   vtkSmartPointer<vtkDataSet> pointsData = a.points.empty() ? nullptr : vtkBaryDataIO::Read(a.points);
   vtkPointSet* points = vtkPointSet::SafeDownCast(pointsData);
@@ -72,14 +72,22 @@ void AddMeshCommand(Subcommands& subcommands)
   command->add_option("--max-volume,--max-area", a->parameters.max_cell_size,
        "maximum tetrahedron volume / triangle area (overrides --cells)")
     ->default_val(0.0)
-    ->check(CLI::NonNegativeNumber);
+    ->check(FiniteRange(0.0, 1e300, ">= 0"));
   command->add_option("--min-angle", a->parameters.min_angle, "2D: minimum angle, degrees")
     ->default_val(a->parameters.min_angle)
-    ->check(CLI::Range(0.0, 20.7));
+    ->check(FiniteRange(0.0, 20.7));
   command->add_option("--radius-edge-ratio", a->parameters.radius_edge_ratio,
        "3D: TetGen quality bound (0 = no quality refinement)")
     ->default_val(a->parameters.radius_edge_ratio)
-    ->check(CLI::Range(0.0, 100.0));
+    ->check(CLI::Validator(
+      [](std::string& text) -> std::string {
+        double value = 0.0;
+        if (!CLI::detail::lexical_cast(text, value) ||
+          !(value == 0.0 || (value >= 1.0 && value <= 10.0)))
+          return "'" + text + "' is not 0 or a number in [1, 10]";
+        return {};
+      },
+      "0 or [1, 10]", ""));
   command->add_flag("--preserve-boundary", a->parameters.preserve_boundary,
     "3D: no extra vertices on the cage faces");
   command->add_option("--cage-dimension", a->parameters.cage_dimension, "0 automatic, 2, 3")

@@ -31,7 +31,7 @@ struct ReduceArgs
 
 int run_reduce(const ReduceArgs& a)
 {
-  check_output(a.output, OutputKind::Data);
+  check_output(a.output, OutputKind::Data, { a.input, a.cage });
   const std::string ext = vtkBaryDataIO::Extension(a.output);
   if (ext != ".vtp" && ext != ".vtu" && ext != ".vtk")
     throw bary::Error(bary::ErrorCode::Io,

@@ -57,7 +57,9 @@ void AddRenderCommand(Subcommands& subcommands)
   command->add_option("--control", a->options.component,
        "control point / handle whose weight is shown")
     ->default_val(0);
-  command->add_option("--size", a->options.width, "image width")->default_val(900);
+  command->add_option("--size", a->options.width, "image width in pixels")
+    ->default_val(900)
+    ->check(CLI::Range(16, 8192));
   command->add_option("--title", a->title, "title text");
   command->add_option("--array", a->options.weights_name, "weights array name")
     ->default_val("Weights");

@@ -47,9 +47,10 @@ int run_weights(WeightsArgs a)
   const bool mesh_based = method.domain_mesh && a.handles.empty();
   if (a.points.empty() && a.mesh.empty() && !mesh_based)
     throw UsageError("--points is required (the points to compute weights at)");
-  check_output(a.output, OutputKind::Data);
+  const std::vector<std::string> inputs = { a.cage, a.controls, a.handles, a.mesh, a.points };
+  check_output(a.output, OutputKind::Data, inputs);
   if (!a.json_path.empty())
-    check_output(a.json_path, OutputKind::Json);
+    check_output(a.json_path, OutputKind::Json, inputs);
   const bool skeleton = !a.handles.empty();
   auto cage = vtkBaryDataIO::ReadPolyData(skeleton ? a.handles : a.cage);
   vtkSmartPointer<vtkDataSet> domain = a.mesh.empty() ? nullptr : vtkBaryDataIO::Read(a.mesh);

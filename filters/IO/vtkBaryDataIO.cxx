@@ -20,8 +20,14 @@
 #include "vtkOBJReader.h"
 #include "vtkOBJWriter.h"
 #include "vtkObjectFactory.h"
+#include "vtkOutputWindow.h"
+#include "vtkCellData.h"
+#include "vtkDataArray.h"
+#include "vtkIdList.h"
+#include "vtkPointData.h"
 #include "vtkPLYReader.h"
 #include "vtkPLYWriter.h"
+#include "vtkPointSet.h"
 #include "vtkPolyData.h"
 #include "vtkSTLReader.h"
 #include "vtkSTLWriter.h"
@@ -41,7 +47,9 @@
 #include <cstdio>
 #include <fstream>
 #include <random>
+#include <string>
 #include <sys/stat.h>
+#include <vector>
 
 vtkStandardNewMacro(vtkBaryDataIO);
 
@@ -49,6 +57,119 @@ namespace
 {
 using bary::Error;
 using bary::ErrorCode;
+
+/// Takes the place of VTK's output window while a file is read: VTK's readers report part of
+/// their problems (a data size that does not match its declaration, an unknown attribute type)
+/// through the global output window rather than through the reader's error events. Each
+/// message is kept, not printed, and the read then fails with it.
+class CaptureOutputWindow : public vtkOutputWindow
+{
+public:
+  static CaptureOutputWindow* New();
+  vtkTypeMacro(CaptureOutputWindow, vtkOutputWindow);
+  void DisplayText(const char* text) override { this->Keep(text); }
+  void DisplayErrorText(const char* text) override { this->Keep(text); }
+  void DisplayWarningText(const char* text) override { this->Keep(text); }
+  void DisplayGenericWarningText(const char* text) override { this->Keep(text); }
+  void DisplayDebugText(const char*) override {}
+  /// The first message, as one line without VTK's "In file, line" and "vtkClass (0x..): ".
+  std::string First() const { return this->Messages.empty() ? std::string() : this->Messages.front(); }
+
+private:
+  void Keep(const char* text)
+  {
+    std::string line;
+    std::string all = text ? text : "";
+    // the last non-empty line holds the message; strip a "vtkClass (0x...): " prefix
+    std::size_t end = all.find_last_not_of(" \n\r");
+    if (end == std::string::npos)
+      return;
+    all.erase(end + 1);
+    const std::size_t start = all.find_last_of('\n');
+    line = start == std::string::npos ? all : all.substr(start + 1);
+    const std::size_t object = line.find("): ");
+    if (line.rfind("vtk", 0) == 0 && object != std::string::npos)
+      line = line.substr(object + 3);
+    this->Messages.push_back(line);
+  }
+  std::vector<std::string> Messages;
+};
+vtkStandardNewMacro(CaptureOutputWindow);
+
+/// Installs a CaptureOutputWindow for its lifetime.
+class ScopedCapture
+{
+public:
+  ScopedCapture()
+    : Previous(vtkOutputWindow::GetInstance())
+  {
+    this->Previous->Register(nullptr);
+    vtkOutputWindow::SetInstance(this->Window);
+  }
+  ~ScopedCapture()
+  {
+    vtkOutputWindow::SetInstance(this->Previous);
+    this->Previous->UnRegister(nullptr);
+  }
+  ScopedCapture(const ScopedCapture&) = delete;
+  ScopedCapture& operator=(const ScopedCapture&) = delete;
+  const CaptureOutputWindow* operator->() const { return this->Window; }
+
+private:
+  vtkOutputWindow* Previous;
+  vtkNew<CaptureOutputWindow> Window;
+};
+
+/// What a reader gave must be safe to use: finite points, cells naming existing points, one
+/// tuple per point in every point-data array (cell arrays that do not fit are dropped).
+/// @throws Error naming the file and the first problem.
+void validate_read(vtkDataSet* data, const std::string& path)
+{
+  const vtkIdType np = data->GetNumberOfPoints();
+  for (vtkIdType p = 0; p < np; ++p)
+  {
+    double x[3];
+    data->GetPoint(p, x);
+    if (!std::isfinite(x[0]) || !std::isfinite(x[1]) || !std::isfinite(x[2]))
+      throw Error(ErrorCode::NonFinite,
+        "cannot read '" + path + "': point " + std::to_string(p) +
+          " has a non-finite coordinate (NaN or infinity)");
+  }
+  if (vtkPointSet::SafeDownCast(data) || vtkPolyData::SafeDownCast(data))
+  {
+    vtkNew<vtkIdList> ids;
+    const vtkIdType nc = data->GetNumberOfCells();
+    for (vtkIdType c = 0; c < nc; ++c)
+    {
+      data->GetCellPoints(c, ids);
+      for (vtkIdType k = 0; k < ids->GetNumberOfIds(); ++k)
+        if (ids->GetId(k) < 0 || ids->GetId(k) >= np)
+          throw Error(ErrorCode::InvalidArgument,
+            "cannot read '" + path + "': cell " + std::to_string(c) + " names point " +
+              std::to_string(ids->GetId(k)) + ", but the file has " + std::to_string(np) +
+              " points (0 to " + std::to_string(np - 1) + ")");
+    }
+  }
+  const auto check_arrays = [&path](vtkFieldData* fields, vtkIdType count, const char* what) {
+    for (int i = 0; fields && i < fields->GetNumberOfArrays(); ++i)
+    {
+      vtkAbstractArray* array = fields->GetAbstractArray(i);
+      if (array && array->GetNumberOfTuples() != count)
+        throw Error(ErrorCode::SizeMismatch,
+          "cannot read '" + path + "': the " + what + "-data array '" +
+            (array->GetName() ? array->GetName() : "(unnamed)") + "' has " +
+            std::to_string(array->GetNumberOfTuples()) + " tuples for " + std::to_string(count) +
+            " " + what + "s");
+    }
+  };
+  check_arrays(data->GetPointData(), np, "point");
+  // VTK's OBJ reader itself leaves a cell array ("GroupIds") without tuples for polylines:
+  // cell arrays that do not fit are dropped (BaryLab reads no cell data), not refused
+  vtkCellData* cells = data->GetCellData();
+  for (int i = cells->GetNumberOfArrays() - 1; i >= 0; --i)
+    if (cells->GetAbstractArray(i)->GetNumberOfTuples() != data->GetNumberOfCells())
+      cells->RemoveArray(i);
+}
 
 vtkSmartPointer<vtkAlgorithm> make_reader(const std::string& ext, const std::string& path)
 {
@@ -199,9 +320,16 @@ vtkSmartPointer<vtkDataSet> vtkBaryDataIO::Read(const std::string& path)
     check_obj_vertices(path);
   vtkNew<vtkBaryErrorObserver> collector;
   collector->Observe(reader);
-  reader->Update();
+  std::string vtkMessage;
+  {
+    ScopedCapture capture;
+    reader->Update();
+    vtkMessage = capture->First();
+  }
   collector->Release();
   vtkDataSet* data = vtkDataSet::SafeDownCast(reader->GetOutputDataObject(0));
+  if (!collector->HasError() && !vtkMessage.empty())
+    throw Error(ErrorCode::Io, "cannot read '" + path + "': " + vtkMessage);
   if (collector->HasError())
   {
     // readers that name the file themselves ("'x.off' line 3: ...") need no second prefix
@@ -216,6 +344,7 @@ vtkSmartPointer<vtkDataSet> vtkBaryDataIO::Read(const std::string& path)
   if (data->GetNumberOfPoints() == 0)
     throw Error(ErrorCode::EmptyInput,
       "'" + path + "' contains no points (empty or not a valid " + ext + " file)");
+  validate_read(data, path);
   vtkSmartPointer<vtkDataSet> result;
   result.TakeReference(data->NewInstance());
   result->ShallowCopy(data);

@@ -12,6 +12,7 @@
 #include <cctype>
 #include <charconv>
 #include <cmath>
+#include <sstream>
 #include <fstream>
 #include <vector>
 
@@ -164,10 +165,15 @@ int vtkBaryMEDITReader::RequestData(
               std::to_string(n) + " is truncated");
           if (k < corners)
           {
-            if (value < 1 || value > points->GetNumberOfPoints())
-              return error(section + " entry " + std::to_string(e + 1) + " refers to vertex " +
-                std::to_string(static_cast<long long>(value)) + " but there are " +
-                std::to_string(points->GetNumberOfPoints()) + " vertices (indices are 1-based)");
+            // written so that NaN fails too (every comparison with NaN is false)
+            if (!(value >= 1 && value <= points->GetNumberOfPoints() && value == std::floor(value)))
+            {
+              std::ostringstream text;
+              text << section << " entry " << e + 1 << " refers to vertex " << value
+                   << " but there are " << points->GetNumberOfPoints()
+                   << " vertices (indices are whole numbers from 1)";
+              return error(text.str());
+            }
             ids[k] = static_cast<vtkIdType>(value) - 1;
           }
         }

@@ -90,10 +90,15 @@ int vtkBaryTGFReader::RequestData(
       if (v.size() < 2)
         return error("an edge line needs two vertex indices");
       const vtkIdType n = points->GetNumberOfPoints();
-      if (v[0] < 1 || v[0] > n || v[1] < 1 || v[1] > n || v[0] == v[1])
-        return error("edge (" + std::to_string(static_cast<long long>(v[0])) + ", " +
-          std::to_string(static_cast<long long>(v[1])) + ") does not join two of the " +
-          std::to_string(n) + " vertices (indices are 1-based)");
+      // written so that NaN fails too (every comparison with NaN is false)
+      const auto vertex = [n](double i) { return i >= 1 && i <= n && i == std::floor(i); };
+      if (!vertex(v[0]) || !vertex(v[1]) || v[0] == v[1])
+      {
+        std::ostringstream edge;
+        edge << "edge (" << v[0] << ", " << v[1] << ") does not join two of the " << n
+             << " vertices (indices are whole numbers from 1)";
+        return error(edge.str());
+      }
       bones.emplace_back(static_cast<vtkIdType>(v[0]) - 1, static_cast<vtkIdType>(v[1]) - 1);
     }
   }

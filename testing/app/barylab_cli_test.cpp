@@ -1361,3 +1361,74 @@ TEST_F(CLI, FieldsOfComputedWeightsAndErrors)
     "the weights of point 5 hold NaN");
   EXPECT_FALSE(fs::exists(out("x.vtp")));
 }
+
+// ---- hostile input (issue 17): refused with one line, nothing written, inputs untouched ----
+
+TEST_F(CLI, UnsafeFilesAreRefusedInOneLine)
+{
+  // a short array in a legacy file (heap corruption in 'fields' before), a cell naming a point
+  // that does not exist (SIGSEGV in stats --locality, fields, render before)
+  const std::string head = "# vtk DataFile Version 3.0\nbad\nASCII\nDATASET POLYDATA\n";
+  {
+    std::ofstream f(out("short.vtk"));
+    f << head << "POINTS 3 double\n0.2 0.2 0\n0.3 0.3 0\n0.4 0.2 0\nPOINT_DATA 3\n"
+      << "SCALARS Weights double 2\nLOOKUP_TABLE default\n0.5 0.5\n0.5 0.5\n";
+  }
+  {
+    std::ofstream f(out("cell.vtk"));
+    f << head << "POINTS 3 double\n0 0 0\n1 0 0\n0 1 0\nPOLYGONS 1 4\n3 0 1 7\n";
+  }
+  for (const std::string& command :
+    { "stats --input " + out("short.vtk"), "fields --input " + out("short.vtk") + " --output " +
+        out("g.vtp"), "stats --locality --input " + out("cell.vtk") })
+  {
+    const CommandResult r = run(command);
+    ExpectError(r, "cannot read '");
+    EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
+  }
+  EXPECT_FALSE(fs::exists(out("g.vtp")));
+  ExpectError(run("stats --locality --input " + out("cell.vtk")), "cell 0 names point 7");
+}
+
+TEST_F(CLI, OptionsOutOfRangeOrNotFiniteAreUsageErrors)
+{
+  const std::string w = "weights --cage " + data("cage2d.obj") + " --points " +
+    data("model2d.obj") + " --output " + out("w.vtp");
+  EXPECT_EQ(run(w + " --boundary-tolerance nan").code, 2);
+  EXPECT_EQ(run(w + " --threads inf").code, 2);
+  EXPECT_EQ(run(w + " --method lbc --relaxed-epsilon nan").code, 2);
+  EXPECT_EQ(run(w + " --method harmonic --cells 1.5").code, 2);
+  const std::string r = "render --input " + data("model2d.obj") + " --output " + out("r.png");
+  EXPECT_EQ(run(r + " --size 100000").code, 2); // killed for memory before
+  EXPECT_EQ(run(r + " --size -5").code, 2);      // silently 300 x 300 before
+  const std::string a = "animate --method scc --control-points " + data("heart_controls.obj") +
+    " --points " + data("heart.off") + " --frames " + data("heartbeat/frame_00.obj") +
+    " --output-dir " + out("anim");
+  EXPECT_EQ(run(a + " --period nan").code, 2);
+  EXPECT_EQ(run(a + " --prefix ../../x").code, 2); // wrote outside --output-dir before
+  EXPECT_EQ(run("mesh --cage " + data("cage3d.obj") + " --output " + out("m.vtu") +
+              " --radius-edge-ratio nan").code, 2);
+  ExpectEmptyFolder();
+  // the same command lines with sensible values are not usage errors (so the 2s above come
+  // from the values)
+  EXPECT_NE(run(w + " --boundary-tolerance 1e-9 -q").code, 2);
+  EXPECT_NE(run(r + " --size 200").code, 2);
+  EXPECT_EQ(run(a + " --period 2 --prefix beat -q").code, 0);
+  EXPECT_TRUE(fs::exists(out("anim/beat.pvd")));
+}
+
+TEST_F(CLI, OutputsNeverOverwriteInputsOrFolders)
+{
+  fs::copy_file(data("model2d.obj"), out("model.obj"));
+  const auto before = fs::file_size(out("model.obj"));
+  ExpectError(run("weights --cage " + data("cage2d.obj") + " --points " + out("model.obj") +
+                " --output " + out("model.obj")),
+    "is the input");
+  EXPECT_EQ(fs::file_size(out("model.obj")), before);
+  // a folder as the summary: refused before anything is computed, no data file left
+  fs::create_directories(out("summary.json"));
+  ExpectError(run("weights --cage " + data("cage2d.obj") + " --points " + out("model.obj") +
+                " --output " + out("w.vtp") + " --json " + out("summary.json")),
+    "it is a folder");
+  EXPECT_FALSE(fs::exists(out("w.vtp")));
+}

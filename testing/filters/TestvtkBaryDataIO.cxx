@@ -10,6 +10,7 @@
 
 #include "vtkCellArray.h"
 #include "vtkDoubleArray.h"
+#include "vtkXMLPolyDataWriter.h"
 #include "vtkImageData.h"
 #include "vtkUnstructuredGrid.h"
 
@@ -328,6 +329,55 @@ TEST(vtkBaryDataIO, ReadNaNObj)
 {
   // vtkOBJReader would read "nan" as a number; vtkBaryDataIO checks the v lines itself.
   ExpectReadThrows(DataPath("bad/nan_cage.obj"), { bary::ErrorCode::NonFinite }, "line 7");
+}
+
+TEST(vtkBaryDataIO, ReadRefusesWhatVTKReadsUnsafely)
+{
+  // Each of these crashed or silently gave garbage downstream (issue 17): they are refused at
+  // the read, naming the file and the problem in one line.
+  const fs::path dir = Scratch("unsafe");
+  const std::string head = "# vtk DataFile Version 3.0\nbad\nASCII\nDATASET POLYDATA\n";
+  // a cell naming a point that does not exist
+  ExpectReadThrows(WriteText(dir / "cell.vtk",
+                     head + "POINTS 3 double\n0 0 0\n1 0 0\n0 1 0\nPOLYGONS 1 4\n3 0 1 7\n"),
+    { bary::ErrorCode::InvalidArgument }, "cell 0 names point 7, but the file has 3 points");
+  // the same in a .vtp written by VTK itself, then edited
+  {
+    auto mesh = SmallMesh();
+    mesh->GetPolys()->ReplaceCellAtId(3, { 0, 1, 99 });
+    const std::string path = (dir / "cell.vtp").string();
+    vtkNew<vtkXMLPolyDataWriter> writer;
+    writer->SetInputData(mesh);
+    writer->SetFileName(path.c_str());
+    writer->SetDataModeToAscii();
+    ASSERT_EQ(writer->Write(), 1);
+    ExpectReadThrows(path, { bary::ErrorCode::InvalidArgument }, "cell 3 names point 99");
+  }
+  // an array shorter than the points (heap corruption in 'fields' before)
+  ExpectReadThrows(WriteText(dir / "short.vtk",
+                     head + "POINTS 3 double\n0 0 0\n1 0 0\n0 1 0\nPOINT_DATA 3\n"
+                            "SCALARS Weights double 2\nLOOKUP_TABLE default\n0.5 0.5\n0.5 0.5\n"),
+    { bary::ErrorCode::Io }, "mismatch of datasize");
+  // fewer points than declared (uninitialised coordinates before)
+  ExpectReadThrows(WriteText(dir / "few.vtk", head + "POINTS 6 double\n0 0 0\n1 0 0\n0 1 0\n"),
+    { bary::ErrorCode::Io }, "few.vtk");
+  // "nan" in an ASCII array (VTK warned and read zeros before)
+  ExpectReadThrows(WriteText(dir / "nan.vtk",
+                     head + "POINTS 2 double\n0 0 0\n1 0 0\nPOINT_DATA 2\n"
+                            "SCALARS Weights double 1\nLOOKUP_TABLE default\nnan\n0.5\n"),
+    { bary::ErrorCode::Io }, "nan.vtk");
+  // "nan" as an index: a .tgf bone (SIGSEGV before) and a MEDIT tetrahedron (vertex -1 before)
+  ExpectReadThrows(WriteText(dir / "nan.tgf", "1 0 0 0\n2 1 0 0\n#\n1 nan\n#\n"),
+    { bary::ErrorCode::Io }, "edge (1, nan) does not join two of the 2 vertices");
+  ExpectReadThrows(WriteText(dir / "half.tgf", "1 0 0 0\n2 1 0 0\n#\n1 1.5\n#\n"),
+    { bary::ErrorCode::Io }, "whole numbers");
+  ExpectReadThrows(WriteText(dir / "nan.mesh",
+                     "MeshVersionFormatted 1\nDimension 3\nVertices\n4\n0 0 0 1\n1 0 0 1\n"
+                     "0 1 0 1\n0 0 1 1\nTetrahedra\n1\n1 2 3 nan 1\nEnd\n"),
+    { bary::ErrorCode::Io }, "refers to vertex nan");
+  // a non-finite coordinate in a format whose reader accepts it
+  ExpectReadThrows(WriteText(dir / "inf.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 inf 0\n3 0 1 2\n"),
+    { bary::ErrorCode::NonFinite, bary::ErrorCode::Io }, "inf.off");
 }
 
 TEST(vtkBaryDataIO, ReadFileWithoutPoints)
