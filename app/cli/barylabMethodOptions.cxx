@@ -49,7 +49,7 @@ void add_method_options(CLI::App* cmd, WeightsParameters& p)
     ->default_str(MethodName(p));
   cmd->add_option("--weights-name", p.weights_name, "name of the weights point-data array")
     ->default_val(p.weights_name);
-  // Every other setting with a flag, from the one settings table (core/weight_methods.h): its
+  // Every other setting with a flag, from the one settings table (core/coordinates/weight_methods.h): its
   // help, range and default are the table's.
   std::map<std::string, CLI::Option_group*> groups;
   for (const bary::SettingField& field : bary::weights_setting_fields())

@@ -40,7 +40,7 @@ void RunAlgorithm(vtkAlgorithm* algorithm, const RunCallbacks& callbacks,
 
 /// The parameter object of a weights computation (what the CLI flags and the viewer's panel
 /// edit): the method and every setting of BaryLab's one settings table (bary::WeightsSettings,
-/// core/weight_methods.h: defaults, ranges and documentation), plus the name of the array.
+/// core/coordinates/weight_methods.h: defaults, ranges and documentation), plus the name of the array.
 struct WeightsParameters : bary::WeightsSettings
 {
   std::string weights_name = "Weights";

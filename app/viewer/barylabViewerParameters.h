@@ -1,7 +1,7 @@
 #pragma once
 /// @file barylabViewerParameters.h
 /// The viewer's view of BaryLab's one settings table (bary::weights_setting_fields, in
-/// core/weight_methods.h): the parameter panel, the session files and the "Run in terminal"
+/// core/coordinates/weight_methods.h): the parameter panel, the session files and the "Run in terminal"
 /// command line are generated from its rows. A new method or setting is a row there, not GUI
 /// code.
 

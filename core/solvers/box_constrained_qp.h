@@ -6,7 +6,7 @@
 ///
 /// A sparse symmetric positive definite (on the variables that are not fixed), l_i = u_i fixing
 /// x_i (eliminated), infinite bounds allowed. The inner solver of bounded biharmonic weights
-/// (core/bbw.h): Jacobson et al. 2011 solve Eq. (8) subject to Eq. (6) per handle with MOSEK;
+/// (core/coordinates/bbw.h): Jacobson et al. 2011 solve Eq. (8) subject to Eq. (6) per handle with MOSEK;
 /// this is the replacement.
 ///
 /// Method: the primal-dual active-set method of Hintermüller, Ito & Kunisch ("The primal-dual

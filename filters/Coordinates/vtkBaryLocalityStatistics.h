@@ -5,7 +5,7 @@
  * The locality statistics of Zhang et al., "Local barycentric coordinates", ACM TOG 33(6),
  * 2014, §5 (Eq. 19-21, Fig. 14-15), of the weights stored on any data set (one point-data
  * array, one component per control point, e.g. written by vtkBaryCoordinates), computed by
- * bary::locality_statistics (core/locality_statistics.h):
+ * bary::locality_statistics (core/analysis/locality_statistics.h):
  *
  * - P(t) (Eq. 19-20): the fraction of the domain where |w_i| <= t, averaged over the control
  *   points. Large P at small t: each control point influences a small region.

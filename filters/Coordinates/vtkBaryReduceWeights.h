@@ -5,7 +5,7 @@
  * The compact representation of Zhang et al., "Local barycentric coordinates", ACM TOG 33(6),
  * 2014, §5 and Table 1: at each point only the weights above a threshold of negligible
  * influence (10^-3 / #controls by default) are kept, computed by bary::reduce_weights
- * (core/locality_statistics.h). Useful for local weights (LBC, BBW, harmonic coordinates),
+ * (core/analysis/locality_statistics.h). Useful for local weights (LBC, BBW, harmonic coordinates),
  * useless for global ones (mean value coordinates keep every weight).
  *
  * Rows are renormalised after the drop (Renormalization):

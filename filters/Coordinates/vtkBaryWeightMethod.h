@@ -6,7 +6,7 @@
  *
  * Holds the method (MEAN_VALUE, HARMONIC, BBW, T_CELESTIAL, S_CELESTIAL, LBC) and every
  * setting of every method. The settings, their defaults, ranges and documentation are BaryLab's
- * one settings table (core/weight_methods.h, bary::weights_setting_fields()): each property
+ * one settings table (core/coordinates/weight_methods.h, bary::weights_setting_fields()): each property
  * below is a view of one row of it (the row's `property` name), so the command line's options,
  * the viewer's panel, this class and its PrintSelf agree by construction. Setters clamp to the
  * row's range as vtkSetClampMacro does (a non-finite value is refused with an error); the

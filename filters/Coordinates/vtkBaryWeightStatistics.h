@@ -3,7 +3,7 @@
  * @brief   The properties of a weight field as a table: partition of unity, reproduction,
  *          range, negative entries and significant weights per point.
  *
- * Computed by bary::weight_statistics (core/weight_statistics.h) from the point-data array
+ * Computed by bary::weight_statistics (core/analysis/weight_statistics.h) from the point-data array
  * WeightsArrayName (one component per control point) of input 0. With the cage (or free
  * control points) on the optional input 1, also the reproduction error
  * max_p |sum_i w_i(p) c_i - p| relative to the cage's bounding-box diagonal; the cage is read

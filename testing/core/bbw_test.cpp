@@ -1,4 +1,4 @@
-// Tests for core/bbw.h (bounded biharmonic weights, Jacobson et al. 2011) on structured meshes
+// Tests for core/coordinates/bbw.h (bounded biharmonic weights, Jacobson et al. 2011) on structured meshes
 // built here (unit-square grids, a cube of tetrahedra), plus the libigl authors' MATLAB
 // active-set weights for the decimated knight as an independent oracle (skipped when the shared
 // data folder is absent).

@@ -1,4 +1,4 @@
-// Tests for core/box_constrained_qp.h: agreement with a brute-force enumeration of all active
+// Tests for core/solvers/box_constrained_qp.h: agreement with a brute-force enumeration of all active
 // sets on tiny problems, KKT and exact bounds on random sparse problems of ~2000 variables
 // (M-matrix-like and bi-Laplacian-like), warm starts, the safeguard, and every error branch.
 #include "core/solvers/box_constrained_qp.h"

@@ -1,4 +1,4 @@
-// Tests for core/cage_deformation.h: deform_points (dense and sparse) and sparsify_weights.
+// Tests for core/deformation/cage_deformation.h: deform_points (dense and sparse) and sparsify_weights.
 #include "cage_catalogue.h"
 #include "core/deformation/cage_deformation.h"
 #include "core/common/error.h"

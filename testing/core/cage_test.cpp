@@ -1,4 +1,4 @@
-// Tests for core/cage.h: every branch of validate_cage (error code and the culprit named in the
+// Tests for core/common/cage.h: every branch of validate_cage (error code and the culprit named in the
 // message), signed_measure and is_positively_oriented, and the catalogue itself.
 #include "cage_catalogue.h"
 #include "core/common/cage.h"

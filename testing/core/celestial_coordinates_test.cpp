@@ -1,4 +1,4 @@
-// Tests for core/celestial_coordinates.h (T- and S-Celestial coordinates, Cerveró et al. 2016).
+// Tests for core/coordinates/celestial_coordinates.h (T- and S-Celestial coordinates, Cerveró et al. 2016).
 //
 // What is checked, on random control sets with fixed seeds, in 2D and 3D, for both schemes:
 // positivity, partition of unity, reproduction, the Lagrange property, smoothness (finite

@@ -1,4 +1,4 @@
-// Tests for core/domain_mesh.h: meshing the interior of 2D polygons (CGAL) and 3D closed
+// Tests for core/meshing/domain_mesh.h: meshing the interior of 2D polygons (CGAL) and 3D closed
 // surfaces (TetGen).
 //
 // Properties, over the catalogue (cage_catalogue.h) and the LBC authors' cages when the shared

@@ -1,4 +1,4 @@
-// Tests for core/error.h: codes, names and the message an Error carries.
+// Tests for core/common/error.h: codes, names and the message an Error carries.
 #include "core/common/error.h"
 
 #include "cage_catalogue.h"

@@ -1,4 +1,4 @@
-// Tests for core/fem_operators.h on meshes built here: a structured triangle grid of the unit
+// Tests for core/solvers/fem_operators.h on meshes built here: a structured triangle grid of the unit
 // square, the same grid rotated into 3D (a flat surface patch), the unit cube split into 5
 // tetrahedra, and a Kuhn (6 tetrahedra per cube) grid of the unit cube.
 //

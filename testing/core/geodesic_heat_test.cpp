@@ -1,4 +1,4 @@
-// Heat-method geodesic distances (core/geodesic_heat.h).
+// Heat-method geodesic distances (core/solvers/geodesic_heat.h).
 //
 // References are exact distances computed here without the heat method: the Euclidean distance
 // in convex domains, and in the L-shaped polygon the shortest path around its reflex corner

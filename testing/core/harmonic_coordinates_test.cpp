@@ -1,4 +1,4 @@
-// Harmonic coordinates (core/harmonic_coordinates.h).
+// Harmonic coordinates (core/coordinates/harmonic_coordinates.h).
 //
 // Tolerances:
 // - Partition of unity and linear reproduction hold exactly for the discrete solution (constants

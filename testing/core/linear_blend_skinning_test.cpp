@@ -1,4 +1,4 @@
-// Tests for core/linear_blend_skinning.h: Eq. (1) of Jacobson et al. 2011 on hand-made weights
+// Tests for core/deformation/linear_blend_skinning.h: Eq. (1) of Jacobson et al. 2011 on hand-made weights
 // and transforms, and the §3.4 rotations inferred from pseudo-edges.
 #include "core/common/error.h"
 #include "core/deformation/linear_blend_skinning.h"

@@ -1,4 +1,4 @@
-// Local barycentric coordinates (core/local_barycentric_coordinates.h).
+// Local barycentric coordinates (core/coordinates/local_barycentric_coordinates.h).
 //
 // What is checked, and against what:
 // - the barycentric properties after convergence on 2D and 3D cages (partition of unity,

@@ -1,4 +1,4 @@
-// Locality statistics and weight reduction (core/locality_statistics.h): the LBC paper's Eq. 19-21
+// Locality statistics and weight reduction (core/analysis/locality_statistics.h): the LBC paper's Eq. 19-21
 // checked on hand-computed examples, then reduction of real coordinates (harmonic coordinates of
 // a polygon) with each renormalisation.
 //

@@ -1,4 +1,4 @@
-// Tests for core/mean_value_coordinates.h.
+// Tests for core/coordinates/mean_value_coordinates.h.
 //
 // Property tests run over the whole cage catalogue (cage_catalogue.h): partition of unity,
 // linear reproduction, Lagrange property, linearity on edges and faces, continuity at the

@@ -1,4 +1,4 @@
-// Tests for core/mesh_point_locator.h: point location and piecewise-linear interpolation on
+// Tests for core/meshing/mesh_point_locator.h: point location and piecewise-linear interpolation on
 // triangle and tetrahedron meshes made by domain_mesh.h.
 //
 // Properties: barycentric coordinates of inside points are non-negative and reproduce the point;

@@ -1,4 +1,4 @@
-// Tests for core/min_quad_with_fixed.h: Dirichlet problems for the P1 Laplacian on triangle
+// Tests for core/solvers/min_quad_with_fixed.h: Dirichlet problems for the P1 Laplacian on triangle
 // and tetrahedral grids of the unit square / cube (linear precision, O(h^2) convergence to a
 // harmonic quadratic), the optimality condition with a linear term, batches of right-hand
 // sides, and the error paths.

@@ -1,4 +1,4 @@
-// Tests for core/progress.h: the fraction mapping, throttling, cancellation and thread safety
+// Tests for core/common/progress.h: the fraction mapping, throttling, cancellation and thread safety
 // of ProgressReporter.
 #include "core/common/error.h"
 #include "core/common/progress.h"

@@ -1,4 +1,4 @@
-// Tests for core/skeleton.h: validation, bone samples for meshing, bone parents, forward
+// Tests for core/deformation/skeleton.h: validation, bone samples for meshing, bone parents, forward
 // kinematics (checked against joint continuity and an independent composition of rotations) and
 // transforms from moved joints.
 #include "core/common/error.h"

@@ -1,4 +1,4 @@
-// Tests for core/sparse_cholesky.h: a 2D Poisson-type problem and a 3D bi-Laplacian with every
+// Tests for core/solvers/sparse_cholesky.h: a 2D Poisson-type problem and a 3D bi-Laplacian with every
 // backend, agreement between them, badly scaled SPD matrices, given orderings, the definiteness
 // test, the error paths and the thread-count independence of the supernodal factor.
 //

@@ -1,5 +1,5 @@
-// The one table of weight methods and settings (core/weight_methods.h) and the method
-// dispatch (core/weight_method.h): names and flags unique, defaults equal to the algorithms'
+// The one table of weight methods and settings (core/coordinates/weight_methods.h) and the method
+// dispatch (core/coordinates/weight_method.h): names and flags unique, defaults equal to the algorithms'
 // option defaults and inside their own ranges, every range enforced (non-finite values too),
 // the content hash sensitive to every setting that changes weights and to no other, and
 // compute_weights equal to calling the algorithm directly.

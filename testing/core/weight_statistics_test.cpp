@@ -1,4 +1,4 @@
-// Tests for core/weight_statistics.h, on hand-built matrices whose statistics are worked out
+// Tests for core/analysis/weight_statistics.h, on hand-built matrices whose statistics are worked out
 // by hand in the comments.
 #include "cage_catalogue.h"
 #include "core/common/error.h"

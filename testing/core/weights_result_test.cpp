@@ -1,4 +1,4 @@
-// Tests for core/weights_result.h: the shape every weights computation returns.
+// Tests for core/common/weights_result.h: the shape every weights computation returns.
 #include "core/coordinates/bbw.h"
 #include "core/coordinates/celestial_coordinates.h"
 #include "core/coordinates/local_barycentric_coordinates.h"

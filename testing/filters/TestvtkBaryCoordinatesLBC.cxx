@@ -383,7 +383,7 @@ TEST(vtkBaryCoordinatesLBC, ProgressAndCancel)
 
 TEST(vtkBaryCoordinatesLBC, CageDeformationRecomputesWhenAnLBCParameterChanges)
 {
-  // vtkBaryCageDeformation shares the settings (vtkBaryParametersOf) and keys its weight cache
+  // vtkBaryCageDeformation shares the settings (its vtkBaryWeightMethod) and keys its weight cache
   // on them: the posed cage alone reuses the weights, an LBC parameter recomputes them.
   auto cage = ReadData("cage2d.obj");
   auto posed = ReadData("cage2d_posed.obj");
