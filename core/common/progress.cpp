@@ -23,12 +23,19 @@ bool ProgressReporter::report(double fraction)
 {
   if (!callback_)
     return true;
-  // One reporter at a time; the others skip (they will report later).
+  // One reporter at a time, from any thread; the others skip (they will report later).
   bool expected = false;
   if (!busy_.compare_exchange_strong(expected, true))
     return !cancelled();
-  if (!callback_(std::clamp(fraction, 0.0, 1.0)))
-    cancelled_ = true;
+  // Threads may report out of order (one read done_ earlier but won busy_ later): the callback
+  // only ever sees increasing fractions.
+  fraction = std::clamp(fraction, 0.0, 1.0);
+  if (fraction >= last_fraction_)
+  {
+    last_fraction_ = fraction;
+    if (!callback_(fraction))
+      cancelled_ = true;
+  }
   busy_ = false;
   return !cancelled();
 }

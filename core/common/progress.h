@@ -42,6 +42,7 @@ private:
   std::atomic<long long> done_{ 0 };
   std::atomic<long long> next_report_{ 0 };
   std::atomic<bool> busy_{ false };
+  double last_fraction_ = -1.0; ///< the last fraction reported (guarded by busy_)
   std::atomic<bool> cancelled_{ false };
 };
 

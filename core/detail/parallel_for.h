@@ -1,8 +1,10 @@
 #pragma once
 /// @file parallel_for.h
 /// The one parallel loop of core's per-point and per-handle work: chunks of a range handed out
-/// by OpenMP (dynamic, one chunk at a time), progress reported by OpenMP's thread 0 only (so
-/// the fractions never decrease), cancellation seen by every thread between chunks, the first
+/// by OpenMP (dynamic, one chunk at a time), progress reported by whichever thread finished a
+/// chunk (ProgressReporter keeps the fractions increasing; reporting from one thread only left
+/// a loaded machine's cancellation unseen until the end when the other threads took every
+/// chunk), cancellation seen by every thread between chunks, the first
 /// exception rethrown on the calling thread. Every chunk is computed by the same sequential code
 /// into its own output, so the results do not depend on the number of threads.
 
@@ -36,8 +38,8 @@ inline int thread_count(int threads)
 /// Runs body(state, begin, end) for the chunks [begin, end) = [c chunk, min(n, (c + 1) chunk))
 /// of [0, n), on thread_count(threads) threads (at most one per chunk). Each thread makes its
 /// own state with make_state() before its first chunk and hands it to merge(state) (one thread
-/// at a time) after its last. After each chunk finished without throwing, its end - begin items
-/// count as done; thread 0 reports them to @p reporter, whose total must be n. Once the
+/// at a time) after its last. After each chunk finished without throwing, its thread reports
+/// its end - begin items to @p reporter, whose total must be n. Once the
 /// reporter is cancelled or a body threw, the remaining chunks are skipped. Then: the first
 /// exception is rethrown; reporter.throw_if_cancelled(what); reporter.finish();
 /// reporter.throw_if_cancelled(what).
@@ -46,19 +48,12 @@ void parallel_for(Index n, Index chunk, int threads, ProgressReporter& reporter,
   MakeState&& make_state, Body&& body, Merge&& merge)
 {
   const Index chunks = (n + chunk - 1) / chunk;
-  std::atomic<Index> done{ 0 };
   std::atomic<bool> stop{ false };
   std::exception_ptr failure;
   std::mutex mutex;
   const int team = static_cast<int>(std::max<Index>(1, std::min<Index>(thread_count(threads), chunks)));
 #pragma omp parallel num_threads(team)
   {
-#ifdef _OPENMP
-    const bool reporting_thread = omp_get_thread_num() == 0;
-#else
-    const bool reporting_thread = true;
-#endif
-    Index reported = 0;
     auto state = make_state();
 #pragma omp for schedule(dynamic, 1)
     for (Index c = 0; c < chunks; ++c)
@@ -78,13 +73,8 @@ void parallel_for(Index n, Index chunk, int threads, ProgressReporter& reporter,
         stop = true;
         continue;
       }
-      const Index now = done.fetch_add(end - begin, std::memory_order_relaxed) + end - begin;
-      if (reporting_thread)
-      {
-        if (!reporter.step(now - reported))
-          stop = true;
-        reported = now;
-      }
+      if (!reporter.step(end - begin))
+        stop = true;
     }
     const std::lock_guard<std::mutex> lock(mutex);
     merge(state);
