@@ -131,6 +131,16 @@ Eigen::MatrixXi read_pseudo_edges(const std::string& path)
   return E;
 }
 
+/// The output and the summary are writable and none of the inputs (before any computation).
+void check_outputs(const DeformArgs& a)
+{
+  const std::vector<std::string> inputs = { a.cage, a.posed, a.controls, a.posed_controls,
+    a.handles, a.mesh, a.transforms, a.posed_handles, a.pseudo_edges, a.points, a.weights };
+  check_output(a.output, OutputKind::Data, inputs);
+  if (!a.json_path.empty())
+    check_output(a.json_path, OutputKind::Json, inputs);
+}
+
 int run_deform_bbw(const DeformArgs& a)
 {
   if (a.transforms.empty() == a.posed_handles.empty())
@@ -142,11 +152,7 @@ int run_deform_bbw(const DeformArgs& a)
     throw UsageError("give --points MODEL or --weights FILE");
   if (a.mesh.empty() && a.weights.empty())
     throw UsageError("--method bbw needs --mesh DOMAIN to compute the weights (or --weights FILE)");
-  const std::vector<std::string> inputs = { a.cage, a.posed, a.controls, a.posed_controls,
-    a.handles, a.mesh, a.transforms, a.posed_handles, a.pseudo_edges, a.points, a.weights };
-  check_output(a.output, OutputKind::Data, inputs);
-  if (!a.json_path.empty())
-    check_output(a.json_path, OutputKind::Json, inputs);
+  check_outputs(a);
   auto handles = vtkBaryDataIO::ReadPolyData(a.handles);
   vtkSmartPointer<vtkDataSet> domain = a.mesh.empty() ? nullptr : vtkBaryDataIO::Read(a.mesh);
   int dim = 3;
@@ -240,11 +246,7 @@ int run_deform(DeformArgs a)
                      "--transforms / --deformed-handles)");
   if (!a.transforms.empty() || !a.posed_handles.empty())
     throw UsageError("--transforms and --deformed-handles go with --method bbw --handles");
-  const std::vector<std::string> inputs = { a.cage, a.posed, a.controls, a.posed_controls,
-    a.handles, a.mesh, a.transforms, a.posed_handles, a.pseudo_edges, a.points, a.weights };
-  check_output(a.output, OutputKind::Data, inputs);
-  if (!a.json_path.empty())
-    check_output(a.json_path, OutputKind::Json, inputs);
+  check_outputs(a);
   if (a.points.empty() && a.weights.empty())
     throw UsageError("give --points MODEL or --weights FILE");
   auto cage = vtkBaryDataIO::ReadPolyData(a.cage);
