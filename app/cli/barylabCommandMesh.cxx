@@ -5,6 +5,7 @@
 #include "vtkBaryDataIO.h"
 
 #include "core/common/error.h"
+#include "core/meshing/domain_mesh.h"
 
 #include "vtkDataSet.h"
 #include "vtkPointSet.h"
@@ -14,6 +15,7 @@
 #include <CLI/CLI.hpp>
 
 #include <iostream>
+#include <sstream>
 
 using nlohmann::json;
 
@@ -58,6 +60,16 @@ int run_mesh(const MeshArgs& a)
 
 } // namespace
 
+namespace
+{
+std::string RadiusEdgeRange()
+{
+  std::ostringstream range;
+  range << "[" << bary::kMinRadiusEdgeRatio << ", " << bary::kMaxRadiusEdgeRatio << "]";
+  return range.str();
+}
+} // namespace
+
 void AddMeshCommand(Subcommands& subcommands)
 {
   const auto [command, a] = subcommands.Add<MeshArgs>("mesh",
@@ -75,7 +87,7 @@ void AddMeshCommand(Subcommands& subcommands)
     ->check(FiniteRange(0.0, 1e300, ">= 0"));
   command->add_option("--min-angle", a->parameters.min_angle, "2D: minimum angle, degrees")
     ->default_val(a->parameters.min_angle)
-    ->check(FiniteRange(0.0, 20.7));
+    ->check(FiniteRange(0.0, bary::kMaxMinAngleDegrees));
   command->add_option("--radius-edge-ratio", a->parameters.radius_edge_ratio,
        "3D: TetGen quality bound (0 = no quality refinement)")
     ->default_val(a->parameters.radius_edge_ratio)
@@ -83,11 +95,12 @@ void AddMeshCommand(Subcommands& subcommands)
       [](std::string& text) -> std::string {
         double value = 0.0;
         if (!CLI::detail::lexical_cast(text, value) ||
-          !(value == 0.0 || (value >= 1.0 && value <= 10.0)))
-          return "'" + text + "' is not 0 or a number in [1, 10]";
+          !(value == 0.0 ||
+            (value >= bary::kMinRadiusEdgeRatio && value <= bary::kMaxRadiusEdgeRatio)))
+          return "'" + text + "' is not 0 or a number in " + RadiusEdgeRange();
         return {};
       },
-      "0 or [1, 10]", ""));
+      "0 or " + RadiusEdgeRange(), ""));
   command->add_flag("--preserve-boundary", a->parameters.preserve_boundary,
     "3D: no extra vertices on the cage faces");
   command->add_option("--cage-dimension", a->parameters.cage_dimension, "0 automatic, 2, 3")

@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <numeric>
 #include <utility>
@@ -187,7 +188,27 @@ double Cage::diameter() const
 {
   if (V.rows() == 0)
     return 0.0;
-  return (V.colwise().maxCoeff() - V.colwise().minCoeff()).norm();
+  // stableNorm: the squared sides of a cage near 1e200 overflow
+  return (V.colwise().maxCoeff() - V.colwise().minCoeff()).stableNorm();
+}
+
+double bounding_box_extent(const Eigen::MatrixXd& V)
+{
+  if (V.rows() == 0 || V.cols() == 0)
+    return 0.0;
+  if (!V.allFinite())
+    return std::numeric_limits<double>::quiet_NaN();
+  return (V.colwise().maxCoeff() - V.colwise().minCoeff()).maxCoeff();
+}
+
+int scale_exponent(double extent)
+{
+  if (!(extent > 0.0) || !std::isfinite(extent) ||
+    (extent >= kScaleBandMin && extent <= kScaleBandMax))
+    return 0;
+  int e = 0;
+  std::frexp(extent, &e); // extent = m 2^e, m in [0.5, 1)
+  return -e;
 }
 
 double signed_measure(const Cage& cage)
@@ -226,6 +247,13 @@ bool is_positively_oriented(const Cage& cage)
 void validate_cage(const Cage& cage, const CageValidationOptions& options)
 {
   check_common(cage);
+  if (const int k = scale_exponent(bounding_box_extent(cage.V)); k != 0)
+  {
+    Cage scaled = cage;
+    scaled.V *= std::ldexp(1.0, k);
+    validate_cage(scaled, options);
+    return;
+  }
   if (cage.dimension() == 2)
     validate_polygon(cage, options);
   else

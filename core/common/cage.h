@@ -55,6 +55,24 @@ void validate_cage(const Cage& cage, const CageValidationOptions& options = {});
 /// normals) enclosed by the cage.
 double signed_measure(const Cage& cage);
 
+/// Largest side of the bounding box of the rows of @p V: 0 for no rows, NaN when an entry is not
+/// finite.
+double bounding_box_extent(const Eigen::MatrixXd& V);
+
+/// Extreme scales are normalised by a power of two: cage validation, meshing (CGAL, TetGen) and
+/// the weights computations (compute_weights) run on the geometry times 2^k, k =
+/// scale_exponent(extent), and scale their results back. This is exact (a power of two changes
+/// no digit of a double) and changes no weights (every method is invariant under uniform
+/// scaling; sizes such as max_cell_size are scaled with the geometry). Untreated, a cube of side
+/// 1e75 crashed TetGen's predicates, one of 1e-50 made its refinement run out of memory, and the
+/// mean value coordinates of a 1e100 cube were NaN.
+/// @return 0 for extents in [kScaleBandMin, kScaleBandMax] (the geometry is used as given) and
+///   for 0 or non-finite extents (refused later by validation); otherwise the k that puts
+///   2^k x extent in [0.5, 1).
+int scale_exponent(double extent);
+constexpr double kScaleBandMin = 1.0 / 65536.0; ///< 2^-16, about 1.5e-5
+constexpr double kScaleBandMax = 65536.0;       ///< 2^16
+
 /// Area of a 2D polygon cage / volume of a closed 3D cage, whatever its orientation:
 /// |signed_measure(cage)|. Used to turn a target number of mesh cells into a size bound.
 double enclosed_measure(const Cage& cage);

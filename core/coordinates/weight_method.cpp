@@ -3,10 +3,41 @@
 #include "core/common/error.h"
 #include "core/meshing/mesh_point_locator.h"
 
+#include <algorithm>
 #include <chrono>
+#include <cmath>
+#include <limits>
 
 namespace bary
 {
+
+namespace
+{
+
+/// The scale_exponent (cage.h) of the geometry that defines the weights: cage or control points,
+/// skeleton, domain mesh, domain boundary (not the evaluation points: they may lie anywhere).
+int input_scale_exponent(const WeightsInput& input)
+{
+  double extent = 0.0;
+  const auto add = [&extent](const Eigen::MatrixXd& V) {
+    const double e = bounding_box_extent(V);
+    if (!std::isfinite(e))
+      extent = e;
+    else if (std::isfinite(extent))
+      extent = std::max(extent, e);
+  };
+  if (input.cage)
+    add(input.cage->V);
+  if (input.skeleton)
+    add(input.skeleton->C);
+  if (input.domain_V)
+    add(*input.domain_V);
+  if (input.domain_boundary)
+    add(input.domain_boundary->V);
+  return scale_exponent(extent);
+}
+
+} // namespace
 
 WeightsResult compute_weights(
   const WeightsInput& input, const WeightsSettings& settings, const ProgressCallback& progress)
@@ -14,7 +45,54 @@ WeightsResult compute_weights(
   validate_settings(settings);
   if (!input.points)
     throw Error(ErrorCode::InvalidArgument, "no evaluation points were given");
-  return method_info(settings.method).instance().compute(input, settings, progress);
+  const WeightMethod& method = method_info(settings.method).instance();
+  const int k = input_scale_exponent(input);
+  if (k == 0)
+    return method.compute(input, settings, progress);
+
+  // Extreme scales: the same computation on the geometry times 2^k (exact; see scale_exponent).
+  const double s = std::ldexp(1.0, k);
+  WeightsInput scaled = input;
+  Cage cage, boundary;
+  Skeleton skeleton;
+  Eigen::MatrixXd domain_V, points = *input.points * s;
+  scaled.points = &points;
+  if (input.cage)
+  {
+    cage = *input.cage;
+    cage.V *= s;
+    scaled.cage = &cage;
+  }
+  if (input.skeleton)
+  {
+    skeleton = *input.skeleton;
+    skeleton.C *= s;
+    scaled.skeleton = &skeleton;
+  }
+  if (input.domain_V)
+  {
+    domain_V = *input.domain_V * s;
+    scaled.domain_V = &domain_V;
+  }
+  if (input.domain_boundary)
+  {
+    boundary = *input.domain_boundary;
+    boundary.V *= s;
+    scaled.domain_boundary = &boundary;
+  }
+  WeightsSettings scaled_settings = settings;
+  if (settings.max_cell_size > 0.0)
+  {
+    int dim = 0;
+    for (const Eigen::MatrixXd* V : { input.cage ? &input.cage->V : nullptr,
+           input.skeleton ? &input.skeleton->C : nullptr, input.domain_V,
+           input.domain_boundary ? &input.domain_boundary->V : nullptr })
+      if (V && dim == 0)
+        dim = static_cast<int>(V->cols());
+    scaled_settings.max_cell_size = std::clamp(std::ldexp(settings.max_cell_size, dim * k),
+      std::numeric_limits<double>::min(), std::numeric_limits<double>::max());
+  }
+  return method.compute(scaled, scaled_settings, progress);
 }
 
 PolygonMeshOptions polygon_mesh_options(const WeightsSettings& settings, const Eigen::MatrixXd& points)

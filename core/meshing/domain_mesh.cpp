@@ -30,6 +30,16 @@ namespace
 
 constexpr double kPi = 3.14159265358979323846;
 
+/// The automatic SurfaceMeshOptions::max_added_vertices (TetGen's 'S' switch). Its quality
+/// refinement does not end when the radius-edge bound cannot be met (1.0 on the bundled kidney
+/// cage ran 4 minutes to 4.8 GB), so the work is bounded.
+Index surface_mesh_vertex_cap(double expected_cells, Index faces, Index steiner_points)
+{
+  const double cap = 20.0 * expected_cells + 100.0 * static_cast<double>(faces) +
+    static_cast<double>(steiner_points) + 1e5;
+  return static_cast<Index>(std::min(cap, 2147483647.0));
+}
+
 [[noreturn]] void throw_invalid(const std::string& message)
 {
   throw Error(ErrorCode::InvalidArgument, message);
@@ -447,7 +457,11 @@ double surface_distance_within(const Cage& cage, const std::vector<FaceBox>& box
 
 // --- mesh_polygon -----------------------------------------------------------------------------
 
-DomainMesh mesh_polygon(
+namespace
+{
+
+/// mesh_polygon at the scale given (see scale_exponent).
+DomainMesh mesh_polygon_as_given(
   const Cage& cage2d, const PolygonMeshOptions& options, const ProgressCallback& progress)
 {
   const auto t0 = std::chrono::steady_clock::now();
@@ -460,10 +474,11 @@ DomainMesh mesh_polygon(
   validate_cage(cage2d);
   checkpoint(progress, 0.0, what);
 
-  if (!(options.min_angle_degrees >= 0.0 && options.min_angle_degrees <= 30.0))
+  if (!(options.min_angle_degrees >= 0.0 && options.min_angle_degrees <= kMaxMinAngleDegrees))
     throw Error(ErrorCode::InvalidArgument,
-      "min_angle_degrees must be in [0, 30] (CGAL's refinement terminates up to 20.7 degrees "
-      "for sure), got " + detail::format_number(options.min_angle_degrees));
+      "min_angle_degrees must be in [0, " + detail::format_number(kMaxMinAngleDegrees) +
+        "] (CGAL's refinement terminates for sure up to there), got " +
+        detail::format_number(options.min_angle_degrees));
   if (!std::isfinite(options.max_area))
     throw Error(ErrorCode::InvalidArgument, "max_area must be finite");
   if (options.max_area <= 0.0 && options.target_cells <= 0)
@@ -595,9 +610,50 @@ DomainMesh mesh_polygon(
   return mesh;
 }
 
+} // namespace
+
+namespace
+{
+
+/// A size bound (area, volume) times 2^@p exponent: it stays positive and finite where it was,
+/// so an absurd one is still refused by the mesher's request limit rather than read as "none".
+double scaled_size_bound(double bound, int exponent)
+{
+  if (!(bound > 0.0) || !std::isfinite(bound))
+    return bound;
+  return std::clamp(std::ldexp(bound, exponent), std::numeric_limits<double>::min(),
+    std::numeric_limits<double>::max());
+}
+
+} // namespace
+
+DomainMesh mesh_polygon(
+  const Cage& cage2d, const PolygonMeshOptions& options, const ProgressCallback& progress)
+{
+  const int k = cage2d.V.cols() == 2 ? scale_exponent(bounding_box_extent(cage2d.V)) : 0;
+  if (k == 0)
+    return mesh_polygon_as_given(cage2d, options, progress);
+  validate_cage(cage2d); // its errors in the caller's units
+  const double s = std::ldexp(1.0, k);
+  Cage cage = cage2d;
+  cage.V *= s;
+  PolygonMeshOptions scaled = options;
+  scaled.steiner_points *= s;
+  for (Eigen::MatrixXd& hole : scaled.holes)
+    hole *= s;
+  scaled.max_area = scaled_size_bound(options.max_area, 2 * k);
+  DomainMesh mesh = mesh_polygon_as_given(cage, scaled, progress);
+  mesh.V *= std::ldexp(1.0, -k);
+  return mesh;
+}
+
 // --- mesh_closed_surface ----------------------------------------------------------------------
 
-DomainMesh mesh_closed_surface(
+namespace
+{
+
+/// mesh_closed_surface at the scale given (see scale_exponent).
+DomainMesh mesh_closed_surface_as_given(
   const Cage& cage3d, const SurfaceMeshOptions& options, const ProgressCallback& progress)
 {
   const auto t0 = std::chrono::steady_clock::now();
@@ -616,10 +672,13 @@ DomainMesh mesh_closed_surface(
     throw Error(ErrorCode::InvalidArgument,
       "target_cells must be >= 0 (0 = no volume bound), got " + std::to_string(options.target_cells));
   if (!(options.radius_edge_ratio <= 0.0 ||
-        (options.radius_edge_ratio >= 1.0 && options.radius_edge_ratio <= 10.0)))
+        (options.radius_edge_ratio >= kMinRadiusEdgeRatio &&
+          options.radius_edge_ratio <= kMaxRadiusEdgeRatio)))
     throw Error(ErrorCode::InvalidArgument,
-      "radius_edge_ratio must be <= 0 (no quality refinement) or in [1, 10] (TetGen's refinement "
-      "may not terminate below 1), got " + detail::format_number(options.radius_edge_ratio));
+      "radius_edge_ratio must be <= 0 (no quality refinement) or in [" +
+        detail::format_number(kMinRadiusEdgeRatio) + ", " + detail::format_number(kMaxRadiusEdgeRatio) +
+        "] (TetGen's refinement may not terminate below " + detail::format_number(kMinRadiusEdgeRatio) +
+        "), got " + detail::format_number(options.radius_edge_ratio));
   if (!(options.steiner_tolerance >= 1e-7 && options.steiner_tolerance <= 0.1))
     throw Error(ErrorCode::InvalidArgument,
       "steiner_tolerance must be in [1e-7, 0.1] in 3D (TetGen merges closer points itself), got " +
@@ -671,11 +730,26 @@ DomainMesh mesh_closed_surface(
     switches += "q" + detail::format_number(options.radius_edge_ratio, 17); // digits and '.' only
   if (max_volume > 0.0)
     switches += "a" + detail::format_number(max_volume, 17);
+  if (options.max_added_vertices < 0)
+    throw_invalid("max_added_vertices must be >= 0 (0: automatic), got " +
+      std::to_string(options.max_added_vertices));
+  const Index added_cap = options.max_added_vertices > 0
+    ? std::min<Index>(options.max_added_vertices, 2147483647)
+    : surface_mesh_vertex_cap(
+        max_volume > 0.0 ? volume / max_volume : 0.0, cage3d.F.rows(), accepted.rows());
+  switches += "S" + std::to_string(added_cap);
   detail::TetgenOutput out = detail::tetgen_tetrahedralize(cage3d.V, cage3d.F, accepted, switches);
   checkpoint(progress, 0.9, what);
 
   const Index nc = cage3d.V.rows();
   const Index ntg = out.V.rows();
+  if (options.radius_edge_ratio > 0.0 && ntg - nc - accepted.rows() >= added_cap)
+    throw Error(ErrorCode::NotConverged,
+      "TetGen's quality refinement to radius-edge ratio " +
+        detail::format_number(options.radius_edge_ratio) + " was still adding vertices after " +
+        std::to_string(added_cap) + " (the limit for this cage and size bound): the bound cannot be "
+        "met on this cage",
+      "raise radius_edge_ratio (1.414 meshes every test cage), or 0 for no quality refinement");
   if (ntg < nc || out.T.rows() == 0)
     throw Error(ErrorCode::Internal,
       "TetGen returned " + std::to_string(ntg) + " vertices and " + std::to_string(out.T.rows()) +
@@ -819,6 +893,26 @@ DomainMesh mesh_closed_surface(
   mesh.boundary_weights.setFromTriplets(triplets.begin(), triplets.end());
   mesh.seconds = seconds_since(t0);
   checkpoint(progress, 1.0, what);
+  return mesh;
+}
+
+} // namespace
+
+DomainMesh mesh_closed_surface(
+  const Cage& cage3d, const SurfaceMeshOptions& options, const ProgressCallback& progress)
+{
+  const int k = cage3d.V.cols() == 3 ? scale_exponent(bounding_box_extent(cage3d.V)) : 0;
+  if (k == 0)
+    return mesh_closed_surface_as_given(cage3d, options, progress);
+  validate_cage(cage3d); // its errors in the caller's units
+  const double s = std::ldexp(1.0, k);
+  Cage cage = cage3d;
+  cage.V *= s;
+  SurfaceMeshOptions scaled = options;
+  scaled.steiner_points *= s;
+  scaled.max_volume = scaled_size_bound(options.max_volume, 3 * k);
+  DomainMesh mesh = mesh_closed_surface_as_given(cage, scaled, progress);
+  mesh.V *= std::ldexp(1.0, -k);
   return mesh;
 }
 

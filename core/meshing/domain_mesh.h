@@ -76,6 +76,15 @@ constexpr int default_target_cells(int dim)
   return dim == 2 ? 3000 : 20000;
 }
 
+/// The range of PolygonMeshOptions::min_angle_degrees (CGAL's refinement terminates for sure up
+/// to 20.7 degrees), shared by every front end.
+constexpr double kMaxMinAngleDegrees = 20.7;
+/// The range of SurfaceMeshOptions::radius_edge_ratio besides 0 (no quality refinement), shared
+/// by every front end: TetGen's refinement may not end below about 1.1 (1.0 did not on the
+/// bundled kidney cage), and the vertices it may add are bounded (mesh_closed_surface).
+constexpr double kMinRadiusEdgeRatio = 1.1;
+constexpr double kMaxRadiusEdgeRatio = 10.0;
+
 /// Options of mesh_polygon.
 struct PolygonMeshOptions
 {
@@ -92,8 +101,7 @@ struct PolygonMeshOptions
   /// near cage (and hole) corners whose interior angle is smaller, where small angles may
   /// remain. CGAL's shape criterion is the squared sine of the smallest angle, so the bound
   /// passed is B = sin^2(min_angle_degrees); termination is guaranteed up to 20.7 degrees
-  /// (B = 0.125). Range [0, 30]; 0 = no shape criterion (size only). Above 20.7 the mesher
-  /// usually terminates but more slowly and with more triangles.
+  /// (B = 0.125). Range [0, kMaxMinAngleDegrees = 20.7]; 0 = no shape criterion (size only).
   double min_angle_degrees = 20.0;
   /// #S by 2 points to make mesh vertices (model vertices, handle points, samples along
   /// bones); see DomainMesh::steiner_vertex for skipped and merged points.
@@ -145,8 +153,14 @@ struct SurfaceMeshOptions
   /// the boundary (none for the cube and octahedron, 0.7% of the U box's and 0.9% of a noisy
   /// icosphere's at 1.414, ratio up to 3.5). It does not bound slivers (TetGen's mesh
   /// optimisation reduces them). <= 0 disables refinement for quality; otherwise the range is
-  /// [1, 10] (TetGen's refinement may not terminate below about 1).
+  /// [kMinRadiusEdgeRatio, kMaxRadiusEdgeRatio] = [1.1, 10]. TetGen may add at most
+  /// max_added_vertices vertices; a bound it cannot meet within them throws
+  /// Error(NotConverged) instead of running for minutes into gigabytes.
   double radius_edge_ratio = 1.414;
+  /// The most vertices TetGen may add ('S'); 0: automatic, 20 x the expected number of
+  /// tetrahedra (each added vertex makes about 6) + 100 per cage face + the Steiner points +
+  /// 10^5, which the quality refinement of every test cage stays far below.
+  Index max_added_vertices = 0;
   /// #S by 3 points to make mesh vertices; see DomainMesh::steiner_vertex. They are passed to
   /// TetGen as isolated vertices of the input (not with 'i', which crashed on some cages and
   /// dropped points under 'Y' in TetGen 1.5.0).

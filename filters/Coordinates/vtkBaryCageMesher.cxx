@@ -13,6 +13,8 @@
 #include "vtkPolyData.h"
 #include "vtkUnstructuredGrid.h"
 
+#include <algorithm>
+
 vtkStandardNewMacro(vtkBaryCageMesher);
 
 vtkBaryCageMesher::vtkBaryCageMesher()
@@ -100,6 +102,26 @@ int vtkBaryCageMesher::RequestData(
   }
   VTKBARY_CATCH_ERRORS
   return 1;
+}
+
+void vtkBaryCageMesher::SetMinimumAngle(double degrees)
+{
+  const double clamped = std::clamp(degrees, 0.0, bary::kMaxMinAngleDegrees);
+  if (this->MinimumAngle != clamped)
+  {
+    this->MinimumAngle = clamped;
+    this->Modified();
+  }
+}
+
+void vtkBaryCageMesher::SetRadiusEdgeRatio(double ratio)
+{
+  const double clamped = std::clamp(ratio, 0.0, bary::kMaxRadiusEdgeRatio);
+  if (this->RadiusEdgeRatio != clamped)
+  {
+    this->RadiusEdgeRatio = clamped;
+    this->Modified();
+  }
 }
 
 void vtkBaryCageMesher::PrintSelf(ostream& os, vtkIndent indent)

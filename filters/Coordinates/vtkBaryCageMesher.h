@@ -53,16 +53,18 @@ public:
   ///@}
 
   ///@{
-  /// 2D: minimum triangle angle in degrees, in [0, 20.7] (CGAL's termination bound).
-  /// Default 20.
-  vtkSetClampMacro(MinimumAngle, double, 0.0, 20.7);
+  /// 2D: minimum triangle angle in degrees, clamped to [0, 20.7] (CGAL's termination bound,
+  /// bary::kMaxMinAngleDegrees). Default 20.
+  virtual void SetMinimumAngle(double degrees);
   vtkGetMacro(MinimumAngle, double);
   ///@}
 
   ///@{
   /// 3D: TetGen's radius-edge ratio bound (its 'q' switch); 0 disables quality refinement.
-  /// Default 1.414.
-  vtkSetClampMacro(RadiusEdgeRatio, double, 0.0, 100.0);
+  /// Otherwise in [1.1, 10] (bary::kMinRadiusEdgeRatio, kMaxRadiusEdgeRatio): larger values
+  /// are clamped to 10, values in (0, 1.1) make the update fail (TetGen's refinement may not
+  /// end). Default 1.414.
+  virtual void SetRadiusEdgeRatio(double ratio);
   vtkGetMacro(RadiusEdgeRatio, double);
   ///@}
 

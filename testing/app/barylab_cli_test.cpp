@@ -1406,8 +1406,10 @@ TEST_F(CLI, OptionsOutOfRangeOrNotFiniteAreUsageErrors)
     " --output-dir " + out("anim");
   EXPECT_EQ(run(a + " --period nan").code, 2);
   EXPECT_EQ(run(a + " --prefix ../../x").code, 2); // wrote outside --output-dir before
-  EXPECT_EQ(run("mesh --cage " + data("cage3d.obj") + " --output " + out("m.vtu") +
-              " --radius-edge-ratio nan").code, 2);
+  const std::string m = "mesh --cage " + data("cage3d.obj") + " --output " + out("m.vtu");
+  EXPECT_EQ(run(m + " --radius-edge-ratio nan").code, 2);
+  EXPECT_EQ(run(m + " --radius-edge-ratio 1.0").code, 2); // ran 4+ minutes to 4.8 GB before
+  EXPECT_EQ(run(m + " --min-angle 25").code, 2);
   ExpectEmptyFolder();
   // the same command lines with sensible values are not usage errors (so the 2s above come
   // from the values)
@@ -1415,6 +1417,10 @@ TEST_F(CLI, OptionsOutOfRangeOrNotFiniteAreUsageErrors)
   EXPECT_NE(run(r + " --size 200").code, 2);
   EXPECT_EQ(run(a + " --period 2 --prefix beat -q").code, 0);
   EXPECT_TRUE(fs::exists(out("anim/beat.pvd")));
+  EXPECT_EQ(run(m + " --radius-edge-ratio 1.1 -q").code, 0);
+  // --help shows the one range the command enforces
+  const auto help = run("mesh --help");
+  EXPECT_NE(help.output.find("0 or [1.1, 10]"), std::string::npos) << help.output;
 }
 
 TEST_F(CLI, OutputsNeverOverwriteInputsOrFolders)

@@ -349,20 +349,20 @@ INSTANTIATE_TEST_SUITE_P(
 
 // --- 2D: particular cases ---------------------------------------------------------------------
 
-TEST(MeshPolygon, LargerAngleBoundOnPolygonsWithoutSharpCorners)
+TEST(MeshPolygon, LargestAngleBoundOnPolygonsWithoutSharpCorners)
 {
-  // 30 degrees is above CGAL's guaranteed 20.7 but terminates on these; every angle respects it.
+  // The largest bound allowed, CGAL's guaranteed 20.7 degrees: every angle respects it.
   for (const Cage& c : { bary::test::unit_square(), bary::test::u_polygon(),
          bary::test::l_polygon(), bary::test::regular_polygon(64) })
   {
     PolygonMeshOptions options;
-    options.min_angle_degrees = 30.0;
+    options.min_angle_degrees = bary::kMaxMinAngleDegrees;
     options.target_cells = 1000;
     const DomainMesh mesh = bary::mesh_polygon(c, options);
     double smallest = 180.0;
     for (Index t = 0; t < mesh.T.rows(); ++t)
       smallest = std::min(smallest, triangle_min_angle(mesh.V, mesh.T, t));
-    EXPECT_GE(smallest, 30.0 - 0.01);
+    EXPECT_GE(smallest, bary::kMaxMinAngleDegrees - 0.01);
   }
 }
 
@@ -497,7 +497,7 @@ TEST(MeshPolygon, InvalidCagesAndOptionsAreRejected)
 
   const Cage c = bary::test::unit_square();
   PolygonMeshOptions o;
-  o.min_angle_degrees = 35;
+  o.min_angle_degrees = 21; // above CGAL's guaranteed 20.7
   EXPECT_TRUE(throws_error(
     [&] { bary::mesh_polygon(c, o); }, ErrorCode::InvalidArgument, { "min_angle_degrees" }));
   o = {};
@@ -967,3 +967,92 @@ TEST(DomainMeshForCage, ErrorsSayWhatToGive)
 }
 
 } // namespace
+
+// --- extreme scales and bounded work (issue 17) -----------------------------------------------
+
+TEST(MeshClosedSurface, PowerOfTwoScalesGiveTheSameMeshScaled)
+{
+  // The cage is meshed at a normalised scale and the vertices scaled back, exactly.
+  const Cage unit = bary::test::unit_cube();
+  SurfaceMeshOptions o;
+  o.target_cells = 500;
+  const DomainMesh ref = bary::mesh_closed_surface(unit, o);
+  for (const int k : { 250, -250, 1000, -1000 })
+  {
+    SCOPED_TRACE(k);
+    Cage c = unit;
+    c.V *= std::ldexp(1.0, k);
+    SurfaceMeshOptions scaled = o;
+    const DomainMesh mesh = bary::mesh_closed_surface(c, scaled);
+    ASSERT_EQ(mesh.T, ref.T);
+    EXPECT_EQ(mesh.V, ref.V * std::ldexp(1.0, k));
+    // a volume bound scales with the cube of the lengths
+    scaled.target_cells = 0;
+    scaled.max_volume = std::ldexp(1.0 / 500, 3 * k);
+    if (std::abs(k) < 300)
+      EXPECT_GE(bary::mesh_closed_surface(c, scaled).num_elements(), 500);
+  }
+}
+
+TEST(MeshClosedSurface, NonPowerOfTwoExtremeScalesMeshTheCube)
+{
+  // 1e75 and 1e100 crashed TetGen, 1e-75 aborted it, 1e-50 ran it out of memory (issue 17).
+  for (const double scale : { 1e300, 1e100, 1e75, 1e-50, 1e-75, 1e-300 })
+  {
+    SCOPED_TRACE(scale);
+    Cage c = bary::test::unit_cube();
+    c.V *= scale;
+    SurfaceMeshOptions o;
+    o.target_cells = 500;
+    const DomainMesh mesh = bary::mesh_closed_surface(c, o);
+    EXPECT_GE(mesh.num_elements(), 500);
+    double volume = 0.0;
+    for (Index t = 0; t < mesh.T.rows(); ++t)
+    {
+      Eigen::Matrix3d E;
+      for (int k = 0; k < 3; ++k)
+        E.col(k) = (mesh.V.row(mesh.T(t, k + 1)) - mesh.V.row(mesh.T(t, 0))).transpose() / scale;
+      const double v = E.determinant() / 6.0;
+      EXPECT_GT(v, 0.0);
+      volume += v;
+    }
+    EXPECT_NEAR(volume, 1.0, 1e-12);
+  }
+}
+
+TEST(MeshPolygon, PowerOfTwoScalesGiveTheSameMeshScaled)
+{
+  const Cage unit = bary::test::u_polygon();
+  PolygonMeshOptions o;
+  o.target_cells = 300;
+  const DomainMesh ref = bary::mesh_polygon(unit, o);
+  for (const int k : { 400, -400 })
+  {
+    Cage c = unit;
+    c.V *= std::ldexp(1.0, k);
+    const DomainMesh mesh = bary::mesh_polygon(c, o);
+    ASSERT_EQ(mesh.T, ref.T);
+    EXPECT_EQ(mesh.V, ref.V * std::ldexp(1.0, k));
+  }
+}
+
+TEST(MeshClosedSurface, RefinementThatCannotEndIsBoundedAndRefused)
+{
+  const Cage c = bary::test::unit_cube();
+  SurfaceMeshOptions o;
+  for (const double ratio : { 1.0, 1.05 }) // 1.0 on the kidney cage ran 4 min to 4.8 GB
+  {
+    o.radius_edge_ratio = ratio;
+    EXPECT_TRUE(throws_error([&] { bary::mesh_closed_surface(c, o); }, ErrorCode::InvalidArgument,
+      { "radius_edge_ratio", "[1.1, 10]" }));
+  }
+  // a quality bound not met within the vertices TetGen may add
+  o = {};
+  o.target_cells = 20000;
+  o.max_added_vertices = 200;
+  EXPECT_TRUE(throws_error([&] { bary::mesh_closed_surface(c, o); }, ErrorCode::NotConverged,
+    { "radius-edge ratio 1.414", "after 200", "raise radius_edge_ratio" }));
+  o.max_added_vertices = -1;
+  EXPECT_TRUE(throws_error(
+    [&] { bary::mesh_closed_surface(c, o); }, ErrorCode::InvalidArgument, { "max_added_vertices" }));
+}

@@ -261,3 +261,87 @@ TEST(ComputeWeights, NonConvergenceAdviceNamesTheSettings)
     EXPECT_EQ(std::string(e.what()), e.message() + "; " + e.advice());
   }
 }
+
+// --- extreme scales (issue 17): the geometry is normalised by a power of two ----------------
+
+namespace
+{
+bary::WeightsResult weights_at_scale(MethodId method, const bary::Cage& unit,
+  const Eigen::MatrixXd& unit_points, double scale, int target_cells = 400)
+{
+  bary::Cage cage = unit;
+  cage.V *= scale;
+  const Eigen::MatrixXd points = unit_points * scale;
+  bary::WeightsInput input;
+  input.cage = &cage;
+  input.points = &points;
+  WeightsSettings s;
+  s.method = method;
+  s.target_cells = target_cells;
+  return bary::compute_weights(input, s);
+}
+
+/// Partition of unity and linear reproduction of @p W at @p points to @p tol (relative to the
+/// cage's extent @p scale).
+void expect_barycentric(const bary::WeightsResult& r, const bary::Cage& cage,
+  const Eigen::MatrixXd& points, double scale, double tol)
+{
+  ASSERT_TRUE(r.W.allFinite());
+  for (Eigen::Index p = 0; p < points.rows(); ++p)
+  {
+    EXPECT_NEAR(r.W.row(p).sum(), 1.0, tol);
+    const Eigen::RowVectorXd reproduced = r.W.row(p) * cage.V * scale;
+    EXPECT_LE((reproduced - points.row(p) * scale).cwiseAbs().maxCoeff(), tol * scale);
+  }
+}
+} // namespace
+
+TEST(ComputeWeights, PowerOfTwoScalesGiveTheUnitScaleWeights)
+{
+  // Scaling by 2^k is exact and every method is invariant under scaling, so the weights of a
+  // cage at 2^+-300 are those at scale 1 (to rounding where the normalised scale differs).
+  const bary::Cage square = bary::test::unit_square(), cube = bary::test::unit_cube();
+  Eigen::MatrixXd p2(3, 2), p3(3, 3);
+  p2 << 0.25, 0.5, 0.9, 0.1, 0.5, 0.5;
+  p3 << 0.25, 0.5, 0.4, 0.9, 0.1, 0.2, 0.5, 0.5, 0.5;
+  for (const double scale : { std::ldexp(1.0, 300), std::ldexp(1.0, -300) })
+  {
+    SCOPED_TRACE(scale);
+    for (const MethodId m : { MethodId::MeanValue, MethodId::Harmonic, MethodId::BBW, MethodId::LBC })
+    {
+      SCOPED_TRACE(bary::method_info(m).name);
+      const bary::WeightsResult ref = weights_at_scale(m, square, p2, 1.0);
+      const bary::WeightsResult big = weights_at_scale(m, square, p2, scale);
+      ASSERT_EQ(big.W.rows(), ref.W.rows());
+      EXPECT_LE((big.W - ref.W).cwiseAbs().maxCoeff(), 1e-9);
+    }
+    for (const MethodId m : { MethodId::MeanValue, MethodId::Harmonic })
+    {
+      SCOPED_TRACE(bary::method_info(m).name);
+      const bary::WeightsResult ref = weights_at_scale(m, cube, p3, 1.0, 2000);
+      const bary::WeightsResult big = weights_at_scale(m, cube, p3, scale, 2000);
+      EXPECT_LE((big.W - ref.W).cwiseAbs().maxCoeff(), 1e-9);
+    }
+  }
+}
+
+TEST(ComputeWeights, CubesFrom1e300Down1e_300AreBarycentric)
+{
+  // A cube of side 1e100 gave NaN weights ("every point outside"), 1e75 crashed TetGen, 1e-50
+  // ran TetGen out of memory (issue 17). Scales that are not powers of two change the mesh a
+  // little (TetGen sees other coordinates), so the mesh methods are checked by their properties.
+  const bary::Cage cube = bary::test::unit_cube();
+  Eigen::MatrixXd p3(2, 3);
+  p3 << 0.25, 0.5, 0.4, 0.9, 0.1, 0.2;
+  const bary::WeightsResult mvc_ref = weights_at_scale(MethodId::MeanValue, cube, p3, 1.0);
+  for (const double scale : { 1e300, 1e100, 1e75, 1e-50, 1e-75, 1e-300 })
+  {
+    SCOPED_TRACE(scale);
+    const bary::WeightsResult mvc = weights_at_scale(MethodId::MeanValue, cube, p3, scale);
+    EXPECT_EQ(mvc.count(bary::PointLocation::Inside), 2);
+    EXPECT_LE((mvc.W - mvc_ref.W).cwiseAbs().maxCoeff(), 1e-12);
+    const bary::WeightsResult harmonic = weights_at_scale(MethodId::Harmonic, cube, p3, scale, 2000);
+    expect_barycentric(harmonic, cube, p3, scale, 1e-9);
+    EXPECT_GE(harmonic.W.minCoeff(), -1e-12);
+  }
+}
