@@ -17,6 +17,7 @@
 #include <QVTKOpenGLNativeWidget.h>
 
 #include <iostream>
+#include <string>
 
 int main(int argc, char* argv[])
 {
@@ -98,7 +99,22 @@ int main(int argc, char* argv[])
   if (batch && !window.waitForComputation(600000))
     return fail("the computation did not finish");
   if (parser.isSet(control))
-    window.selectControl(parser.value(control).toInt());
+  {
+    // A control id the weights do not have is a bad command line (exit 2), not a wrap-around.
+    bool whole = false;
+    const int id = parser.value(control).toInt(&whole);
+    const int n = window.componentCount();
+    if (!whole || id < 0 || (n > 0 && id >= n))
+    {
+      std::cerr << "barylab-viewer: error: --control " << parser.value(control).toStdString()
+                << ": "
+                << (n > 0 ? "not a control of these weights (0 to " + std::to_string(n - 1) + ")"
+                          : std::string("not a control id (a whole number >= 0)"))
+                << "\n";
+      return 2;
+    }
+    window.selectControl(id);
+  }
   if (parser.isSet(pose))
     parser.value(pose) == "example" ? window.applyExamplePose() : window.loadPose(parser.value(pose));
   if (parser.isSet(field))

@@ -999,6 +999,18 @@ private slots:
     QCOMPARE(bad.exitCode(), 1);
     QVERIFY(bad.readAllStandardError().contains("unknown example"));
 
+    // a control the weights do not have (the gingerbread cage has 20 points) was accepted
+    for (const QString& control : { QString("9999"), QString("20"), QString("-1"), QString("x") })
+    {
+      QProcess badControl;
+      badControl.start(BARYLAB_VIEWER_EXE,
+        { "--example", "gingerbread-mvc", "--control", control, "--screenshot", output("never.png") });
+      QVERIFY(badControl.waitForFinished(60000));
+      QCOMPARE(badControl.exitCode(), 2);
+      QVERIFY(badControl.readAllStandardError().contains("--control " + control.toUtf8()));
+    }
+    QVERIFY(!QFileInfo::exists(output("never.png")));
+
     QProcess failing;
     failing.start(BARYLAB_VIEWER_EXE,
       { data("bad/open_cage.obj"), data("model3d.off"), "--screenshot", output("never.png") });
