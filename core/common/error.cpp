@@ -17,6 +17,7 @@ const char* to_string(ErrorCode code) noexcept
     case ErrorCode::Io: return "i/o error";
     case ErrorCode::Cancelled: return "cancelled";
     case ErrorCode::NotConverged: return "not converged";
+    case ErrorCode::PointsOutside: return "points outside";
     case ErrorCode::Internal: return "internal error";
   }
   return "unknown error";

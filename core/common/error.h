@@ -20,6 +20,7 @@ enum class ErrorCode
   Io,              ///< unreadable or unwritable file, unknown format
   Cancelled,       ///< the progress callback asked to stop
   NotConverged,    ///< an iterative solver did not reach its tolerance
+  PointsOutside,   ///< evaluation points outside where the method is defined (hull, domain mesh)
   Internal         ///< a bug: please report it
 };
 

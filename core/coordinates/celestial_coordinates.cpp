@@ -1231,14 +1231,14 @@ CelestialResult CelestialCoordinates::compute(
     int arg;
     const double dist = Impl::max_plane_distance(
       im.nodes.front(), im.to_local(im.nodes.front(), X.row(result.outside.front()).data()), &arg);
-    throw Error(ErrorCode::InvalidArgument,
+    throw Error(ErrorCode::PointsOutside,
       std::to_string(result.outside.size()) + " of " + std::to_string(np) +
         " points lie outside the convex hull of the " + std::to_string(nc) +
         " control points (points " + ids + "; point " + std::to_string(result.outside.front()) +
         " is at least " + detail::format_number(dist, 3) +
-        " from the hull): celestial coordinates are defined only inside the "
-        "hull. Add control points around the model (the paper adds the corners of a box), or "
-        "set outside = CelestialOutsidePolicy::Flag to get NaN rows for them");
+        " from the hull): celestial coordinates are defined only inside the hull",
+      "add control points around the model (the paper adds the corners of a box), or set "
+      "outside = CelestialOutsidePolicy::Flag to get NaN rows for them");
   }
 
   // 2. The order of the warm starts.

@@ -37,6 +37,29 @@ int input_scale_exponent(const WeightsInput& input)
   return scale_exponent(extent);
 }
 
+/// Runs settings.method; the advice of points outside the method's domain names the setting
+/// (its filter property and command-line flag) instead of the algorithms' C++ option.
+WeightsResult compute_in_settings_words(
+  const WeightsInput& input, const WeightsSettings& settings, const ProgressCallback& progress)
+{
+  try
+  {
+    return method_info(settings.method).instance().compute(input, settings, progress);
+  }
+  catch (const Error& e)
+  {
+    if (e.code() != ErrorCode::PointsOutside)
+      throw;
+    const SettingField& outside = setting_field("outside");
+    const std::string set = "set " + outside.property + " (" + outside.primary_flag() + ") to ";
+    const bool hull = settings.method == MethodId::TCelestial || settings.method == MethodId::SCelestial;
+    throw Error(e.code(), e.message(),
+      hull ? "add control points around the model (the paper adds the corners of a box), or " +
+          set + "nan to get NaN rows for them"
+           : set + "nearest to clamp them to the mesh or nan to mark them");
+  }
+}
+
 } // namespace
 
 WeightsResult compute_weights(
@@ -45,10 +68,9 @@ WeightsResult compute_weights(
   validate_settings(settings);
   if (!input.points)
     throw Error(ErrorCode::InvalidArgument, "no evaluation points were given");
-  const WeightMethod& method = method_info(settings.method).instance();
   const int k = input_scale_exponent(input);
   if (k == 0)
-    return method.compute(input, settings, progress);
+    return compute_in_settings_words(input, settings, progress);
 
   // Extreme scales: the same computation on the geometry times 2^k (exact; see scale_exponent).
   const double s = std::ldexp(1.0, k);
@@ -92,7 +114,7 @@ WeightsResult compute_weights(
     scaled_settings.max_cell_size = std::clamp(std::ldexp(settings.max_cell_size, dim * k),
       std::numeric_limits<double>::min(), std::numeric_limits<double>::max());
   }
-  return method.compute(scaled, scaled_settings, progress);
+  return compute_in_settings_words(scaled, scaled_settings, progress);
 }
 
 PolygonMeshOptions polygon_mesh_options(const WeightsSettings& settings, const Eigen::MatrixXd& points)

@@ -390,10 +390,10 @@ MeshPointLocator::Result MeshPointLocator::interpolate(const DenseWeights& mesh_
     s << result.outside.size() << " of " << np << " points lie outside the mesh (farther than "
       << tol_ << " from it); the first is point " << first << " at "
       << detail::format_point(X.row(first).data(), dim_, 17) << ", at distance "
-      << result.outside_distance.front()
-      << ". Choose the outside policy 'nearest' to clamp them to the mesh or 'nan' to mark "
-         "them (OutsidePolicy::Nearest / NaN; on the command line --outside nearest|nan)";
-    throw Error(ErrorCode::InvalidArgument, s.str());
+      << result.outside_distance.front();
+    throw Error(ErrorCode::PointsOutside, s.str(),
+      "choose the outside policy OutsidePolicy::Nearest to clamp them to the mesh or "
+      "OutsidePolicy::NaN to mark them");
   }
   return result;
 }

@@ -554,8 +554,18 @@ TEST_F(CLI, HarmonicOutsidePolicies)
   // the posed cage's raised arm lies outside the rest cage
   const std::string base = "weights --method harmonic --cells 800 --cage " + data("cage2d.obj") +
     " --points " + data("cage2d_posed.obj") + " --output " + out("h.vtp");
-  ExpectError(run(base), "lie outside");
+  const CommandResult refused = run(base);
+  ExpectError(refused, "lie outside");
+  // the advice in the command line's words (it named OutsidePolicy::Nearest before)
+  ExpectError(refused, "set OutsidePolicy (--outside) to nearest");
+  EXPECT_EQ(refused.output.find("::"), std::string::npos) << refused.output;
   EXPECT_FALSE(fs::exists(out("h.vtp")));
+  // celestial coordinates: outside the control points' hull (CelestialOutsidePolicy::Flag before)
+  const CommandResult hull = run("weights --method scc --control-points " + data("cage2d.obj") +
+    " --points " + data("cage2d_posed.obj") + " --output " + out("s.vtp"));
+  ExpectError(hull, "outside the convex hull");
+  ExpectError(hull, "set OutsidePolicy (--outside) to nan");
+  EXPECT_EQ(hull.output.find("::"), std::string::npos) << hull.output;
   const CommandResult nearest = run(base + " --outside nearest --json " + out("n.json") + " -q");
   ASSERT_EQ(nearest.code, 0) << nearest.output;
   std::ifstream in(out("n.json"));

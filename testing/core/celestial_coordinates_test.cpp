@@ -781,7 +781,7 @@ TEST(Celestial, OutsidePoints)
   for (CelestialScheme scheme : { CelestialScheme::T, CelestialScheme::S })
   {
     CelestialOptions o = options_for(scheme);
-    EXPECT_TRUE(throws_error([&] { celestial_coordinates(V, X, o); }, ErrorCode::InvalidArgument,
+    EXPECT_TRUE(throws_error([&] { celestial_coordinates(V, X, o); }, ErrorCode::PointsOutside,
       { "2 of 20 points lie outside the convex hull of the 18 control points", "points 3, 17",
         "point 3 is at least 3.8 from the hull", "CelestialOutsidePolicy::Flag" }));
     o.outside = CelestialOutsidePolicy::Flag;

@@ -176,7 +176,7 @@ TEST(HarmonicCoordinates, OutsidePolicies)
   const HarmonicCoordinates hc(square, with_cells(300));
   Points P(3, 2);
   P << 0.5, 0.5, 1.5, 0.5, -1, -1;
-  EXPECT_TRUE(test::throws_error([&] { hc.evaluate(P); }, ErrorCode::InvalidArgument,
+  EXPECT_TRUE(test::throws_error([&] { hc.evaluate(P); }, ErrorCode::PointsOutside,
     { "2 of 3 points lie outside", "point 1" }));
   std::vector<Index> outside;
   const DenseWeights nearest = hc.evaluate(P, OutsidePolicy::Nearest, &outside);

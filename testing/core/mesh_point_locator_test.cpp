@@ -345,7 +345,7 @@ TEST(MeshPointLocator, OutsidePolicies2D)
   P << 0.5, 0.5, 1.5, 0.5, -1, -1, 0.25, 2;
   const DenseWeights X = m.mesh.V;
 
-  EXPECT_TRUE(throws_error([&] { locator.interpolate(X, P); }, ErrorCode::InvalidArgument,
+  EXPECT_TRUE(throws_error([&] { locator.interpolate(X, P); }, ErrorCode::PointsOutside,
     { "3 of 4 points lie outside the mesh", "first is point 1", "(1.5, 0.5)", "distance 0.5",
       "OutsidePolicy::Nearest" }));
 
@@ -390,7 +390,7 @@ TEST(MeshPointLocator, OutsidePolicies3DAndTheTolerance)
   EXPECT_LE((r.W.row(0) - Eigen::RowVector3d(1.0, 0.5, 0.25)).norm(), 1e-15);
   EXPECT_LE((r.W.row(1) - Eigen::RowVector3d(0.5, 0.5, 1.0)).norm(), 1e-15);
   EXPECT_TRUE(throws_error([&] { locator.interpolate(DenseWeights(m.mesh.V), P); },
-    ErrorCode::InvalidArgument, { "2 of 3 points", "first is point 0" }));
+    ErrorCode::PointsOutside, { "2 of 3 points", "first is point 0" }));
 }
 
 // --- Validation, progress, degenerate elements ------------------------------------------------
