@@ -51,7 +51,7 @@ vtkSmartPointer<vtkDataSet> attach_weights(vtkSmartPointer<vtkDataSet> model,
   if (weights_path.empty())
     return model;
   auto weighted = vtkBaryDataIO::Read(weights_path);
-  vtkDataArray* w = weighted->GetPointData()->GetArray(array.c_str());
+  vtkDataArray* w = vtkBaryConversion::FindPointArray(weighted, array);
   // or the compact pair written by 'barylab reduce' (sparse weights)
   vtkDataArray* wi = w ? nullptr : weighted->GetPointData()->GetArray((array + "Indices").c_str());
   vtkDataArray* wv = w ? nullptr : weighted->GetPointData()->GetArray((array + "Values").c_str());

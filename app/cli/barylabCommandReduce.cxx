@@ -31,6 +31,8 @@ struct ReduceArgs
 
 int run_reduce(const ReduceArgs& a)
 {
+  if (a.parameters.renormalize == "affine" && a.cage.empty())
+    throw UsageError("--renormalize affine needs --cage (the control points the rows must reproduce)");
   check_output(a.output, OutputKind::Data, { a.input, a.cage });
   const std::string ext = vtkBaryDataIO::Extension(a.output);
   if (ext != ".vtp" && ext != ".vtu" && ext != ".vtk")

@@ -458,10 +458,7 @@ vtkDataArray* weights_array(vtkDataSet* data, const std::string& name)
 {
   if (!data)
     throw bary::Error(bary::ErrorCode::InvalidArgument, "no dataset");
-  vtkDataArray* w = data->GetPointData()->GetArray(name.c_str());
-  if (!w)
-    throw bary::Error(bary::ErrorCode::InvalidArgument,
-      "the dataset has no point-data array '" + name + "'");
+  vtkDataArray* w = vtkBaryConversion::RequirePointArray(data, name);
   for (vtkIdType p = 0; p < w->GetNumberOfTuples(); ++p)
     for (int c = 0; c < w->GetNumberOfComponents(); ++c)
       if (!std::isfinite(w->GetComponent(p, c)))

@@ -405,9 +405,9 @@ bool HasDisplay()
 vtkSmartPointer<vtkRenderWindow> WeightFieldWindow(
   vtkDataSet* data, vtkPolyData* cage, const RenderOptions& options)
 {
-  if (!data || !data->GetPointData()->GetArray(options.weights_name.c_str()))
-    throw Error(ErrorCode::InvalidArgument,
-      "the data to render have no point-data array '" + options.weights_name + "'");
+  if (!data)
+    throw Error(ErrorCode::EmptyInput, "no data to render");
+  vtkBaryConversion::RequirePointArray(data, options.weights_name);
   auto window = make_window(options);
   vtkNew<vtkRenderer> renderer;
   renderer->SetBackground(1.0, 1.0, 1.0);

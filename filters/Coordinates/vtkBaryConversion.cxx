@@ -239,6 +239,37 @@ vtkSmartPointer<vtkDoubleArray> vtkBaryConversion::ToArray(
   return array;
 }
 
+vtkDataArray* vtkBaryConversion::FindPointArray(vtkDataSet* data, const std::string& name)
+{
+  if (!data || name.empty())
+    return nullptr;
+  vtkAbstractArray* any = data->GetPointData()->GetAbstractArray(name.c_str());
+  if (!any)
+    return nullptr;
+  vtkDataArray* numbers = vtkDataArray::SafeDownCast(any);
+  if (!numbers)
+    throw Error(ErrorCode::InvalidArgument,
+      "the point-data array '" + name + "' holds " +
+        (any->IsA("vtkStringArray") ? std::string("text") : std::string(any->GetClassName())) +
+        ", not numbers");
+  return numbers;
+}
+
+vtkDataArray* vtkBaryConversion::RequirePointArray(
+  vtkDataSet* data, const std::string& name, const std::string& advice)
+{
+  if (vtkDataArray* array = FindPointArray(data, name))
+    return array;
+  std::string names;
+  for (int i = 0; data && i < data->GetPointData()->GetNumberOfArrays(); ++i)
+    if (const char* n = data->GetPointData()->GetArrayName(i))
+      names += (names.empty() ? "" : ", ") + std::string(n);
+  throw Error(ErrorCode::InvalidArgument,
+    "no point-data array '" + name + "' (arrays present: " + (names.empty() ? "none" : names) +
+      ")",
+    advice);
+}
+
 bary::DenseWeights vtkBaryConversion::ArrayToMatrix(vtkDataArray* array)
 {
   if (!array)

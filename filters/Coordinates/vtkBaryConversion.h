@@ -95,6 +95,15 @@ public:
   /// A multi-component array as a #tuples by #components matrix, columns in array order.
   static bary::DenseWeights ArrayToMatrix(vtkDataArray* array);
 
+  /// The numeric point-data array @p name of @p data, or nullptr when @p data has no point-data
+  /// array of that name. @throws bary::Error(InvalidArgument) when the array of that name holds
+  /// text (a vtkStringArray) or other values than numbers.
+  static vtkDataArray* FindPointArray(vtkDataSet* data, const std::string& name);
+  /// FindPointArray, but an array that is not there is an error too: "no point-data array
+  /// 'Weights' (arrays present: A, B)", then "; " and @p advice when given.
+  static vtkDataArray* RequirePointArray(
+    vtkDataSet* data, const std::string& name, const std::string& advice = {});
+
   /**
    * The points of @p points (e.g. a moved cage) as control points in core order: row k is
    * point cage.ControlPointIds[k], first cage.Cage.dimension() coordinates. Throws

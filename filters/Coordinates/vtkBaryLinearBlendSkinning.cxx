@@ -64,14 +64,9 @@ int vtkBaryLinearBlendSkinning::RequestData(
       throw bary::Error(bary::ErrorCode::SizeMismatch,
         "the transforms array has " + std::to_string(this->Transforms->GetNumberOfComponents()) +
           " components; it needs 12 per handle ([A | t] row-major, 3 by 4)");
-    vtkDataArray* weights = this->WeightsArrayName
-      ? input->GetPointData()->GetArray(this->WeightsArrayName)
-      : nullptr;
-    if (!weights)
-      throw bary::Error(bary::ErrorCode::InvalidArgument,
-        std::string("the input has no point-data array '") +
-          (this->WeightsArrayName ? this->WeightsArrayName : "") +
-          "' with the handles' weights (compute them with vtkBaryCoordinates)");
+    vtkDataArray* weights = vtkBaryConversion::RequirePointArray(input,
+      this->WeightsArrayName ? this->WeightsArrayName : "",
+      "the handles' weights (compute them with vtkBaryCoordinates)");
     const vtkIdType handles = this->Transforms->GetNumberOfTuples();
     if (weights->GetNumberOfComponents() != handles)
       throw bary::Error(bary::ErrorCode::SizeMismatch,

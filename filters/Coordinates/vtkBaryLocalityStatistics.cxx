@@ -116,11 +116,8 @@ int vtkBaryLocalityStatistics::RequestData(
       throw bary::Error(bary::ErrorCode::EmptyInput,
         "the input has no points: locality statistics need weights at points");
     const std::string name = this->WeightsArrayName ? this->WeightsArrayName : "";
-    vtkDataArray* array = input->GetPointData()->GetArray(name.c_str());
-    if (!array)
-      throw bary::Error(bary::ErrorCode::InvalidArgument,
-        "the input has no point-data array '" + name +
-          "' (set WeightsArrayName to the weights array, one component per control point)");
+    vtkDataArray* array = vtkBaryConversion::RequirePointArray(input, name,
+      "set WeightsArrayName to the weights array, one component per control point");
     const bary::DenseWeights W = vtkBaryConversion::ArrayToMatrix(array);
 
     Eigen::VectorXd measure;

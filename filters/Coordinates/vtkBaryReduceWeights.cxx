@@ -74,11 +74,8 @@ int vtkBaryReduceWeights::RequestData(
     const std::string name = this->WeightsArrayName ? this->WeightsArrayName : "";
     if (name.empty())
       throw bary::Error(bary::ErrorCode::InvalidArgument, "WeightsArrayName is empty");
-    vtkDataArray* array = input->GetPointData()->GetArray(name.c_str());
-    if (!array)
-      throw bary::Error(bary::ErrorCode::InvalidArgument,
-        "the input has no point-data array '" + name +
-          "' (set WeightsArrayName to the dense weights array)");
+    vtkDataArray* array = vtkBaryConversion::RequirePointArray(
+      input, name, "set WeightsArrayName to the dense weights array");
     const bary::DenseWeights W = vtkBaryConversion::ArrayToMatrix(array);
     const bary::Renormalization mode = this->Renormalization == RENORMALIZE_NONE
       ? bary::Renormalization::None

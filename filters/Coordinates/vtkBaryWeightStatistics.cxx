@@ -74,17 +74,7 @@ int vtkBaryWeightStatistics::RequestData(
   try
   {
     const std::string name = this->WeightsArrayName ? this->WeightsArrayName : "";
-    vtkDataArray* array = input ? input->GetPointData()->GetArray(name.c_str()) : nullptr;
-    if (!array)
-    {
-      std::string names;
-      for (int i = 0; input && i < input->GetPointData()->GetNumberOfArrays(); ++i)
-        if (const char* n = input->GetPointData()->GetArrayName(i))
-          names += (names.empty() ? "" : ", ") + std::string(n);
-      throw bary::Error(bary::ErrorCode::InvalidArgument,
-        "no point-data array named '" + name + "' (arrays present: " +
-          (names.empty() ? "none" : names) + ")");
-    }
+    vtkDataArray* array = vtkBaryConversion::RequirePointArray(input, name);
     const int nc = array->GetNumberOfComponents();
     const bary::DenseWeights W = vtkBaryConversion::ArrayToMatrix(array);
     bary::WeightStatisticsOptions options;

@@ -236,7 +236,7 @@ TEST_F(CLI, StatsJsonAndText)
   const CommandResult t = run("stats --input " + out("w.vtp"));
   ASSERT_EQ(t.code, 0);
   EXPECT_NE(t.output.find("partition of unity"), std::string::npos);
-  ExpectError(run("stats --input " + out("w.vtp") + " --array Nope"), "no point-data array named 'Nope'");
+  ExpectError(run("stats --input " + out("w.vtp") + " --array Nope"), "no point-data array 'Nope'");
   ExpectError(run("stats --input " + out("w.vtp") + " --cage " + data("cage3d.obj")),
     "components but the cage has 72");
 }
@@ -1187,9 +1187,13 @@ TEST_F(CLI, ReduceAffineAndErrors)
   ASSERT_EQ(t.code, 0) << t.output;
   EXPECT_NE(t.output.find("of the dense array"), std::string::npos) << t.output;
 
-  ExpectError(run("reduce --input " + out("w.vtp") + " --output " + out("x.vtp") +
-                " --renormalize affine"),
-    "affine renormalisation needs the control points");
+  // a usage error in the command line's words (it said "connect the cage to input port 1
+  // (SetCageData)" before)
+  const CommandResult affine = run("reduce --input " + out("w.vtp") + " --output " + out("x.vtp") +
+    " --renormalize affine");
+  EXPECT_EQ(affine.code, 2) << affine.output;
+  EXPECT_NE(affine.output.find("--renormalize affine needs --cage"), std::string::npos) << affine.output;
+  EXPECT_EQ(affine.output.find("SetCageData"), std::string::npos) << affine.output;
   ExpectError(run("reduce --input " + out("w.vtp") + " --output " + out("x.vtp") + " --array Nope"),
     "no point-data array 'Nope'");
   ExpectError(run("reduce --input " + out("w.vtp") + " --cage " + data("cage2d.obj") +

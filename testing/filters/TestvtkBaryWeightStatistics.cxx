@@ -13,6 +13,8 @@
 #include "vtkIdTypeArray.h"
 #include "vtkIntArray.h"
 #include "vtkPointData.h"
+#include "vtkPolyData.h"
+#include "vtkStringArray.h"
 #include "vtkTable.h"
 #include "vtkVariant.h"
 
@@ -110,9 +112,25 @@ TEST(vtkBaryWeightStatistics, Errors)
   f->SetInputData(0, Weighted());
   f->SetWeightsArrayName("Nope");
   EXPECT_EQ(RunPipeline(f), 0);
-  EXPECT_TRUE(observer->HasError("no point-data array named 'Nope' (arrays present: Weights)"))
+  EXPECT_TRUE(observer->HasError("no point-data array 'Nope' (arrays present: Weights)"))
     << observer->AllErrors();
   observer->Clear();
+  // a text array of the right name: it said "no array 'Weights' (arrays present: Weights)"
+  {
+    vtkSmartPointer<vtkPolyData> text = Weighted();
+    text->GetPointData()->RemoveArray("Weights");
+    vtkNew<vtkStringArray> names;
+    names->SetName("Weights");
+    names->SetNumberOfValues(text->GetNumberOfPoints());
+    text->GetPointData()->AddArray(names);
+    f->SetInputData(0, text);
+    f->SetWeightsArrayName("Weights");
+    EXPECT_EQ(RunPipeline(f), 0);
+    EXPECT_TRUE(observer->HasError("the point-data array 'Weights' holds text, not numbers"))
+      << observer->AllErrors();
+    observer->Clear();
+    f->SetInputData(0, Weighted());
+  }
   f->SetWeightsArrayName("Weights");
   f->SetCageData(MakeCube());
   EXPECT_EQ(RunPipeline(f), 0);
