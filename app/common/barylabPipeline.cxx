@@ -167,7 +167,7 @@ vtkSmartPointer<vtkDataSet> ComputeWeights(vtkDataSet* points, vtkPolyData* cage
   if (summary)
   {
     (*summary)["method"] = MethodName(parameters);
-    const bool skeleton = filter->GetWeightMethod()->IsSkeleton(cage);
+    const bool skeleton = filter->GetWeightMethod()->IsSkeleton(cage, domain);
     if (skeleton)
     {
       const int dim = vtkBaryConversion::DomainDimension(domain);

@@ -169,10 +169,17 @@ void vtkBaryWeightMethod::DeepCopy(vtkBaryWeightMethod* other)
   this->SetUserWeights(other->UserWeights);
 }
 
-bool vtkBaryWeightMethod::IsSkeleton(vtkPolyData* controls) const
+bool vtkBaryWeightMethod::IsSkeleton(vtkPolyData* controls, vtkDataObject* domain) const
 {
-  return this->Settings.method == bary::MethodId::BBW && controls &&
-    controls->GetNumberOfPolys() == 0 && controls->GetNumberOfStrips() == 0;
+  if (this->Settings.method != bary::MethodId::BBW || !controls ||
+    controls->GetNumberOfPolys() > 0 || controls->GetNumberOfStrips() > 0)
+    return false;
+  if (domain)
+    return true;
+  for (vtkIdType c = 0; c < controls->GetNumberOfCells(); ++c)
+    if (controls->GetCellType(c) == VTK_LINE)
+      return true;
+  return false;
 }
 
 vtkBaryCage vtkBaryWeightMethod::ReadControls(vtkPolyData* controls) const
@@ -192,7 +199,7 @@ bary::WeightsResult vtkBaryWeightMethod::Compute(vtkDataSet* input, vtkPolyData*
   Eigen::MatrixXd V, points;
   Eigen::MatrixXi T, edges;
   vtkBaryCage cage;
-  if (this->IsSkeleton(controls))
+  if (this->IsSkeleton(controls, domain))
   {
     // BBW with a skeleton (points and lines) in a domain: a simplicial mesh is used as is, a
     // closed surface or a polygon is meshed with the skeleton.

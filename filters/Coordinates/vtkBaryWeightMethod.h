@@ -35,6 +35,7 @@
 
 class vtkDataArray;
 class vtkDataSet;
+class vtkDataObject;
 class vtkPolyData;
 
 class BARYLABFILTERS_EXPORT vtkBaryWeightMethod : public vtkObject
@@ -184,8 +185,10 @@ public:
   /// Sets every setting. @throws bary::Error(InvalidArgument) naming a setting out of range.
   void SetSettings(const bary::WeightsSettings& settings);
 
-  /// True when @p controls are a skeleton for BBW (points and lines, no polygons).
-  bool IsSkeleton(vtkPolyData* controls) const;
+  /// True when @p controls are a skeleton for BBW: points and lines, no polygons, and either a
+  /// @p domain or at least one bone (a two-point line). Without a domain, bare points or one
+  /// polyline are a 2D cage (the `v`-only .obj habit), which BBW meshes itself.
+  bool IsSkeleton(vtkPolyData* controls, vtkDataObject* domain) const;
   /// The controls as the method reads them: a cage (ToCage) or free points (ToControlPoints),
   /// with the cage dimension setting.
   struct vtkBaryCage ReadControls(vtkPolyData* controls) const;

@@ -143,6 +143,33 @@ TEST_F(CLI, Weights3DWritesArrayAndSummary)
   EXPECT_LT(s["statistics"]["partition_of_unity"]["max_error"].get<double>(), 1e-12);
 }
 
+TEST_F(CLI, BBWOfAVertexOnlyOrPolylineCage)
+{
+  // --help offers "bbw with --cage"; a v-only .obj or one polyline was read as a skeleton and
+  // failed with "need a domain" (issue 17). A cage's BBW: partition of unity, in [0, 1].
+  fs::path polyline = out("square.vtk");
+  {
+    std::ofstream f(polyline);
+    f << "# vtk DataFile Version 3.0\nsquare\nASCII\nDATASET POLYDATA\nPOINTS 4 double\n"
+         "0 0 0 1 0 0 1 1 0 0 1 0\nLINES 1 6\n5 0 1 2 3 0\n";
+  }
+  std::ofstream(out("p.obj")) << "v 0.3 0.3 0\nv 0.6 0.5 0\nv 0.9 0.1 0\n";
+  for (const std::string& cage : { data("cage2d.obj"), polyline.string() })
+  {
+    SCOPED_TRACE(cage);
+    const std::string points = cage == polyline.string() ? out("p.obj") : data("model2d.obj");
+    const CommandResult r = run("weights --method bbw --cells 600 --cage " + cage + " --points " +
+      points + " --output " + out("b.vtp") + " --json " + out("b.json") + " -q");
+    ASSERT_EQ(r.code, 0) << r.output;
+    std::ifstream in(out("b.json"));
+    const nlohmann::json s = nlohmann::json::parse(in);
+    EXPECT_EQ(s["method"], "bbw");
+    EXPECT_EQ(s["cage"]["dimension"], 2);
+    EXPECT_LT(s["statistics"]["partition_of_unity"]["max_error"].get<double>(), 1e-8);
+    EXPECT_GE(s["statistics"]["min_weight"].get<double>(), -1e-8);
+  }
+}
+
 TEST_F(CLI, Weights2DFromVertexOnlyObj)
 {
   const CommandResult r = run("weights --cage " + data("cage2d.obj") + " --points " + data("model2d.obj") +
