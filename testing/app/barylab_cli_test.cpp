@@ -20,6 +20,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <regex>
 #include <sstream>
 #include <string>
 #include <sys/wait.h>
@@ -1478,4 +1479,50 @@ TEST_F(CLI, OutputsNeverOverwriteInputsOrFolders)
                 " --output " + out("w.vtp") + " --json " + out("summary.json")),
     "it is a folder");
   EXPECT_FALSE(fs::exists(out("w.vtp")));
+}
+
+TEST_F(CLI, ReadmeTutorialShowsWhatItSays)
+{
+  // The README's tutorial states figures; they are read from README.md and compared with what
+  // the commands give (issue 17: "about 20000 tetrahedra" gave 50,289, a level-set example wrote
+  // 0 cells, the reduce example kept all 72 weights).
+  std::ifstream readme_file(std::string(BARYLAB_DATA_DIR) + "/../README.md");
+  ASSERT_TRUE(readme_file) << "README.md not found";
+  std::stringstream buffer;
+  buffer << readme_file.rdbuf();
+  const std::string readme = buffer.str();
+  const auto number = [&readme](const std::string& pattern) {
+    std::smatch m;
+    EXPECT_TRUE(std::regex_search(readme, m, std::regex(pattern))) << pattern;
+    std::string digits = m.size() > 1 ? m[1].str() : "nan";
+    digits.erase(std::remove(digits.begin(), digits.end(), ','), digits.end());
+    return std::stod(digits);
+  };
+  const double tets = number("makes more: ([0-9,]+) tetrahedra here");
+  const double kept = number("keeping weights > 0\\.01 keeps ([0-9.]+) of 72 on average");
+  const double csr = number("\\(([0-9.]+)% of the dense array in CSR\\)");
+  const double reproduction = number("reproduction error of ([0-9.]+)% of the cage's diameter");
+
+  const std::string w = out("kidney_w.vtp");
+  ASSERT_EQ(run("weights --method mvc --cage " + data("cage3d.obj") + " --points " +
+              data("model3d.off") + " --output " + w + " -q").code, 0);
+  const CommandResult reduce = run("reduce --input " + w + " --cage " + data("cage3d.obj") +
+    " --output " + out("kidney_sparse.vtp") + " --threshold 0.01 --json");
+  ASSERT_EQ(reduce.code, 0) << reduce.output;
+  const nlohmann::json r = nlohmann::json::parse(reduce.output);
+  EXPECT_NEAR(r["mean_support"].get<double>(), kept, 0.05);
+  EXPECT_NEAR(100.0 * r["csr_memory_fraction"].get<double>(), csr, 0.5);
+  EXPECT_NEAR(100.0 * r["reproduction_error"].get<double>(), reproduction, 0.05);
+  EXPECT_LT(r["csr_memory_fraction"].get<double>(), 1.0) << "a compact copy larger than dense";
+
+  const CommandResult fields = run("fields --input " + w + " --level-sets " + out("w36.vtp") +
+    " --control 36 --level 0.01 --level 0.05 --json");
+  ASSERT_EQ(fields.code, 0) << fields.output;
+  EXPECT_GT(nlohmann::json::parse(fields.output)["level_sets"]["cells"].get<int>(), 100);
+
+  ASSERT_EQ(run("weights --method harmonic --cage " + data("cage3d.obj") + " --points " +
+              data("model3d.off") + " --output " + out("kidney_h.vtp") + " --json " +
+              out("h.json") + " -q").code, 0);
+  std::ifstream h(out("h.json"));
+  EXPECT_EQ(nlohmann::json::parse(h)["solver"]["mesh_cells"].get<double>(), tets);
 }
