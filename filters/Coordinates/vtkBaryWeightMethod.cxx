@@ -5,6 +5,7 @@
 #include "core/common/error.h"
 #include "core/coordinates/weight_method.h"
 
+#include "vtkCell.h"
 #include "vtkCellType.h"
 #include "vtkDataArray.h"
 #include "vtkDataSet.h"
@@ -176,10 +177,17 @@ bool vtkBaryWeightMethod::IsSkeleton(vtkPolyData* controls, vtkDataObject* domai
     return false;
   if (domain)
     return true;
+  // Without a domain: bare points, or one polyline through every point, are a 2D cage.
+  const vtkIdType lines = controls->GetNumberOfLines();
+  if (lines == 0)
+    return false;
+  if (lines > 1)
+    return true;
+  vtkIdType visited = 0;
   for (vtkIdType c = 0; c < controls->GetNumberOfCells(); ++c)
-    if (controls->GetCellType(c) == VTK_LINE)
-      return true;
-  return false;
+    if (controls->GetCellType(c) == VTK_LINE || controls->GetCellType(c) == VTK_POLY_LINE)
+      visited = controls->GetCell(c)->GetNumberOfPoints();
+  return visited < controls->GetNumberOfPoints();
 }
 
 vtkBaryCage vtkBaryWeightMethod::ReadControls(vtkPolyData* controls) const

@@ -186,8 +186,8 @@ public:
   void SetSettings(const bary::WeightsSettings& settings);
 
   /// True when @p controls are a skeleton for BBW: points and lines, no polygons, and either a
-  /// @p domain or at least one bone (a two-point line). Without a domain, bare points or one
-  /// polyline are a 2D cage (the `v`-only .obj habit), which BBW meshes itself.
+  /// @p domain or lines other than one polyline through every point. Without a domain, bare
+  /// points or one such polyline are a 2D cage (the `v`-only .obj habit), which BBW meshes.
   bool IsSkeleton(vtkPolyData* controls, vtkDataObject* domain) const;
   /// The controls as the method reads them: a cage (ToCage) or free points (ToControlPoints),
   /// with the cage dimension setting.
