@@ -61,6 +61,16 @@ int main(int argc, char** argv)
   cli::AddRenderCommand(subcommands);
   cli::AddDemoCommand(subcommands);
 
+  // CLI11 2.1.2 loops forever on an empty argument followed by an unknown option in a
+  // subcommand with option groups (barylab weights "" --x); no option takes an empty value.
+  for (int i = 1; i < argc; ++i)
+    if (argv[i][0] == '\0')
+    {
+      std::cerr << "barylab: usage error: argument " << i << " is empty\n"
+                << "Run with --help for more information.\n";
+      return 2;
+    }
+
   try
   {
     app.parse(argc, argv);

@@ -1451,6 +1451,7 @@ TEST_F(CLI, OptionsOutOfRangeOrNotFiniteAreUsageErrors)
   const std::string m = "mesh --cage " + data("cage3d.obj") + " --output " + out("m.vtu");
   EXPECT_EQ(run(m + " --radius-edge-ratio nan").code, 2);
   EXPECT_EQ(run(m + " --radius-edge-ratio 1.0").code, 2); // ran 4+ minutes to 4.8 GB before
+  EXPECT_EQ(run("weights \"\" --x").code, 2); // CLI11 looped forever (found by fuzzing)
   EXPECT_EQ(run(m + " --min-angle 25").code, 2);
   ExpectEmptyFolder();
   // the same command lines with sensible values are not usage errors (so the 2s above come
