@@ -19,6 +19,7 @@
 #include <limits>
 #include <numeric>
 #include <string>
+#include <type_traits>
 #include <unordered_map>
 #include <utility>
 #include <vector>
@@ -625,26 +626,40 @@ double scaled_size_bound(double bound, int exponent)
     std::numeric_limits<double>::max());
 }
 
+/// @p mesh_as_given run on @p cage at a normalised scale (scale_exponent, cage.h), the mesh
+/// scaled back: the cage, the Steiner points, the holes (2D) and the size bound (its @p dim-th
+/// power) are scaled by 2^k, which is exact.
+template <class Options>
+DomainMesh mesh_at_normalised_scale(const Cage& cage, int dim, const Options& options,
+  double Options::*size_bound,
+  DomainMesh (*mesh_as_given)(const Cage&, const Options&, const ProgressCallback&),
+  const ProgressCallback& progress)
+{
+  const int k = cage.V.cols() == dim ? scale_exponent(bounding_box_extent(cage.V)) : 0;
+  if (k == 0)
+    return mesh_as_given(cage, options, progress);
+  validate_cage(cage); // its errors in the caller's units
+  const double s = std::ldexp(1.0, k);
+  Cage scaled_cage = cage;
+  scaled_cage.V *= s;
+  Options scaled = options;
+  scaled.steiner_points *= s;
+  if constexpr (std::is_same_v<Options, PolygonMeshOptions>)
+    for (Eigen::MatrixXd& hole : scaled.holes)
+      hole *= s;
+  scaled.*size_bound = scaled_size_bound(options.*size_bound, dim * k);
+  DomainMesh mesh = mesh_as_given(scaled_cage, scaled, progress);
+  mesh.V *= std::ldexp(1.0, -k);
+  return mesh;
+}
+
 } // namespace
 
 DomainMesh mesh_polygon(
   const Cage& cage2d, const PolygonMeshOptions& options, const ProgressCallback& progress)
 {
-  const int k = cage2d.V.cols() == 2 ? scale_exponent(bounding_box_extent(cage2d.V)) : 0;
-  if (k == 0)
-    return mesh_polygon_as_given(cage2d, options, progress);
-  validate_cage(cage2d); // its errors in the caller's units
-  const double s = std::ldexp(1.0, k);
-  Cage cage = cage2d;
-  cage.V *= s;
-  PolygonMeshOptions scaled = options;
-  scaled.steiner_points *= s;
-  for (Eigen::MatrixXd& hole : scaled.holes)
-    hole *= s;
-  scaled.max_area = scaled_size_bound(options.max_area, 2 * k);
-  DomainMesh mesh = mesh_polygon_as_given(cage, scaled, progress);
-  mesh.V *= std::ldexp(1.0, -k);
-  return mesh;
+  return mesh_at_normalised_scale(
+    cage2d, 2, options, &PolygonMeshOptions::max_area, mesh_polygon_as_given, progress);
 }
 
 // --- mesh_closed_surface ----------------------------------------------------------------------
@@ -901,19 +916,8 @@ DomainMesh mesh_closed_surface_as_given(
 DomainMesh mesh_closed_surface(
   const Cage& cage3d, const SurfaceMeshOptions& options, const ProgressCallback& progress)
 {
-  const int k = cage3d.V.cols() == 3 ? scale_exponent(bounding_box_extent(cage3d.V)) : 0;
-  if (k == 0)
-    return mesh_closed_surface_as_given(cage3d, options, progress);
-  validate_cage(cage3d); // its errors in the caller's units
-  const double s = std::ldexp(1.0, k);
-  Cage cage = cage3d;
-  cage.V *= s;
-  SurfaceMeshOptions scaled = options;
-  scaled.steiner_points *= s;
-  scaled.max_volume = scaled_size_bound(options.max_volume, 3 * k);
-  DomainMesh mesh = mesh_closed_surface_as_given(cage, scaled, progress);
-  mesh.V *= std::ldexp(1.0, -k);
-  return mesh;
+  return mesh_at_normalised_scale(cage3d, 3, options, &SurfaceMeshOptions::max_volume,
+    mesh_closed_surface_as_given, progress);
 }
 
 DomainMesh domain_mesh_from_simplices(const Cage& cage, const Eigen::MatrixXd& V,
