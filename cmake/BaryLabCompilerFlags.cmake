@@ -2,6 +2,16 @@
 add_library(barylab_flags INTERFACE)
 target_compile_options(barylab_flags INTERFACE
   $<$<CXX_COMPILER_ID:GNU,Clang>:-Wall -Wextra -Wshadow=local -Wnon-virtual-dtor>)
+if(BARYLAB_FUZZ)
+  if(NOT CMAKE_CXX_COMPILER_ID STREQUAL "Clang")
+    message(FATAL_ERROR "BARYLAB_FUZZ needs clang (libFuzzer): configure with "
+      "CC=clang CXX=clang++ (tools/fuzz.sh does)")
+  endif()
+  # our code carries libFuzzer's coverage instrumentation; only the fuzz executables link
+  # libFuzzer's main (-fsanitize=fuzzer)
+  target_compile_options(barylab_flags INTERFACE -fsanitize=fuzzer-no-link)
+  set(BARYLAB_SANITIZE ON)
+endif()
 if(BARYLAB_SANITIZE)
   target_compile_options(barylab_flags INTERFACE
     -fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=undefined)

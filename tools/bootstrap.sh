@@ -4,6 +4,7 @@
 #   tools/bootstrap.sh demo [--output-dir DIR]   install deps, build, run the demo pipeline
 #   tools/bootstrap.sh test                      install deps, build, run the whole test suite
 #   tools/bootstrap.sh build                     install deps and build only
+#   tools/bootstrap.sh deps                      install deps only
 #
 # Installs missing Debian packages (idempotent: nothing is installed when all are present),
 # configures and builds in build/ (Release), and starts Xvfb itself when there is no display.
@@ -70,6 +71,9 @@ with_display() {
 cmd=${1:-}
 shift || true
 case "$cmd" in
+  deps)
+    install_deps
+    ;;
   build)
     install_deps
     configure_and_build "$ROOT/build"

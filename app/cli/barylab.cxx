@@ -42,49 +42,12 @@ int main(int argc, char** argv)
   // them as exceptions); VTK's own log lines on stderr would come before it, coloured.
   vtkLogger::SetStderrVerbosity(vtkLogger::VERBOSITY_OFF);
 
-  CLI::App app{ "BaryLab: generalized barycentric coordinates and cage deformation.\n"
-                "Weights are written as a point-data array 'Weights' with one component per "
-                "control point (component i = cage point i, in the cage file's order).",
-    "barylab" };
-  app.require_subcommand(1);
-  app.set_version_flag("--version", "barylab 0.1.0");
-
   namespace cli = barylab::cli;
+  CLI::App app;
   cli::Subcommands subcommands(app);
-  cli::AddWeightsCommand(subcommands);
-  cli::AddDeformCommand(subcommands);
-  cli::AddAnimateCommand(subcommands);
-  cli::AddStatsCommand(subcommands);
-  cli::AddReduceCommand(subcommands);
-  cli::AddFieldsCommand(subcommands);
-  cli::AddMeshCommand(subcommands);
-  cli::AddRenderCommand(subcommands);
-  cli::AddDemoCommand(subcommands);
-
-  // CLI11 2.1.2 loops forever on an empty argument followed by an unknown option in a
-  // subcommand with option groups (barylab weights "" --x); no option takes an empty value.
-  for (int i = 1; i < argc; ++i)
-    if (argv[i][0] == '\0')
-    {
-      std::cerr << "barylab: usage error: argument " << i << " is empty\n"
-                << "Run with --help for more information.\n";
-      return 2;
-    }
-
-  try
-  {
-    app.parse(argc, argv);
-  }
-  catch (const CLI::ParseError& e)
-  {
-    const int code = app.exit(e);
-    return code == 0 ? 0 : 2;
-  }
-  catch (const bary::Error& e) // a value the table's lookups refuse (an unknown --method)
-  {
-    std::cerr << "barylab: error: " << e.what() << "\n";
-    return 1;
-  }
+  cli::ConfigureApp(app, subcommands);
+  if (const int parsed = cli::ParseArguments(app, argc, argv); parsed != 0)
+    return parsed < 0 ? 0 : parsed;
 
   try
   {
@@ -92,7 +55,8 @@ int main(int argc, char** argv)
   }
   catch (const cli::UsageError& e)
   {
-    std::cerr << "barylab: usage error: " << e.what() << "\nRun with --help for more information.\n";
+    std::cerr << "barylab: usage error: " << bary::one_line(e.what())
+              << "\nRun with --help for more information.\n";
     return 2;
   }
   catch (const bary::Error& e)
@@ -102,7 +66,7 @@ int main(int argc, char** argv)
   }
   catch (const std::exception& e)
   {
-    std::cerr << "barylab: error: " << e.what() << "\n";
+    std::cerr << "barylab: error: " << bary::one_line(e.what()) << "\n";
     return 1;
   }
 }

@@ -46,6 +46,59 @@ int Subcommands::Run() const
   return 1;
 }
 
+void ConfigureApp(CLI::App& app, Subcommands& subcommands)
+{
+  app.description("BaryLab: generalized barycentric coordinates and cage deformation.\n"
+                  "Weights are written as a point-data array 'Weights' with one component per "
+                  "control point (component i = cage point i, in the cage file's order).");
+  app.name("barylab");
+  app.require_subcommand(1);
+  app.set_version_flag("--version", "barylab 0.1.0");
+  AddWeightsCommand(subcommands);
+  AddDeformCommand(subcommands);
+  AddAnimateCommand(subcommands);
+  AddStatsCommand(subcommands);
+  AddReduceCommand(subcommands);
+  AddFieldsCommand(subcommands);
+  AddMeshCommand(subcommands);
+  AddRenderCommand(subcommands);
+  AddDemoCommand(subcommands);
+}
+
+int ParseArguments(CLI::App& app, int argc, const char* const* argv, bool quiet)
+{
+  const auto usage = [quiet](const std::string& what) {
+    if (!quiet)
+      std::cerr << "barylab: usage error: " << bary::one_line(what)
+                << "\nRun with --help for more information.\n";
+    return 2;
+  };
+  // CLI11 2.1.2 loops forever on an empty argument followed by an unknown option in a
+  // subcommand with option groups (barylab weights "" --x); no option takes an empty value.
+  for (int i = 1; i < argc; ++i)
+    if (argv[i][0] == '\0')
+      return usage("argument " + std::to_string(i) + " is empty");
+  try
+  {
+    app.parse(argc, argv);
+  }
+  catch (const CLI::Success& e) // --help, --version: their text, exit 0
+  {
+    return quiet ? -1 : (app.exit(e), -1);
+  }
+  catch (const CLI::ParseError& e)
+  {
+    return usage(e.what());
+  }
+  catch (const bary::Error& e) // a value the table's lookups refuse (an unknown --method)
+  {
+    if (!quiet)
+      std::cerr << "barylab: error: " << e.what() << "\n";
+    return 1;
+  }
+  return 0;
+}
+
 ProgressBar::ProgressBar(bool enabled, std::string label)
   : enabled_(enabled && isatty(fileno(stderr)))
   , label_(std::move(label))
@@ -168,34 +221,7 @@ void print_summary(const json& s)
 
 std::vector<double> read_user_weights(const std::string& path)
 {
-  if (path.empty())
-    return {};
-  if (vtkBaryDataIO::Extension(path) == ".dmat")
-  {
-    const Eigen::MatrixXd M = vtkBaryDataIO::ReadDMAT(path);
-    return std::vector<double>(M.data(), M.data() + M.size());
-  }
-  std::ifstream in(path);
-  if (!in)
-    throw bary::Error(bary::ErrorCode::Io, "cannot read '" + path + "': no such file or not readable");
-  std::vector<double> values;
-  std::string line;
-  for (int number = 1; std::getline(in, line); ++number)
-  {
-    std::istringstream fields(line.substr(0, line.find('#')));
-    std::string token;
-    while (fields >> token)
-    {
-      char* end = nullptr;
-      const double v = std::strtod(token.c_str(), &end);
-      if (end != token.c_str() + token.size())
-        throw bary::Error(bary::ErrorCode::Io,
-          "cannot read '" + path + "' line " + std::to_string(number) + ": '" + token +
-            "' is not a number");
-      values.push_back(v);
-    }
-  }
-  return values;
+  return path.empty() ? std::vector<double>() : vtkBaryDataIO::ReadNumbers(path);
 }
 
 void write_locality_csv(const std::string& path, const json& inputs, const char* key,

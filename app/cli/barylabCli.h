@@ -73,6 +73,16 @@ private:
   std::vector<std::pair<CLI::App*, RunFunction>> commands_;
 };
 
+/// The barylab command line on @p app: its description, --version and every subcommand, in
+/// --help order (the one list `main` and the parsing fuzzer use).
+void ConfigureApp(CLI::App& app, Subcommands& subcommands);
+
+/// Parses @p argv into @p app (set up by ConfigureApp). Returns 0 when the command line parsed,
+/// -1 when --help or --version answered it (exit 0), 2 for a usage error (one line "barylab:
+/// usage error: ..." on stderr, printable whatever the arguments held), 1 for a value the
+/// method table refuses. Prints nothing when @p quiet.
+int ParseArguments(CLI::App& app, int argc, const char* const* argv, bool quiet = false);
+
 /// @name The subcommands, in --help order; each in barylabCommand<Name>.cxx.
 /// @{
 void AddWeightsCommand(Subcommands& subcommands);

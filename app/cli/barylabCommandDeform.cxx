@@ -101,36 +101,6 @@ vtkSmartPointer<vtkDataSet> attach_weights(vtkSmartPointer<vtkDataSet> model,
   return model;
 }
 
-/// Pseudo-edges file: one pair of point-handle indices (0-based) per line, '#' comments.
-Eigen::MatrixXi read_pseudo_edges(const std::string& path)
-{
-  if (path.empty())
-    return Eigen::MatrixXi();
-  std::ifstream in(path);
-  if (!in)
-    throw bary::Error(bary::ErrorCode::Io, "cannot read '" + path + "': no such file or not readable");
-  std::vector<std::array<int, 2>> edges;
-  std::string line;
-  for (int number = 1; std::getline(in, line); ++number)
-  {
-    line = line.substr(0, line.find('#'));
-    std::istringstream fields(line);
-    int a = 0, b = 0;
-    std::string rest;
-    if (!(fields >> a))
-      continue;
-    if (!(fields >> b) || (fields >> rest))
-      throw bary::Error(bary::ErrorCode::Io,
-        "cannot read '" + path + "' line " + std::to_string(number) +
-          ": a pseudo-edge line holds two point-handle indices");
-    edges.push_back({ a, b });
-  }
-  Eigen::MatrixXi E(static_cast<Eigen::Index>(edges.size()), 2);
-  for (std::size_t e = 0; e < edges.size(); ++e)
-    E.row(static_cast<Eigen::Index>(e)) << edges[e][0], edges[e][1];
-  return E;
-}
-
 /// The output and the summary are writable and none of the inputs (before any computation).
 void check_outputs(const DeformArgs& a)
 {
@@ -177,7 +147,7 @@ int run_deform_bbw(const DeformArgs& a)
         "'" + a.posed_handles + "' must hold the " + std::to_string(handles->GetNumberOfPoints()) +
           " joints of '" + a.handles + "' moved (same points, same order)");
     pose = vtkBaryLinearBlendSkinning::PoseFromJoints(
-      handles, posedSet, dim, read_pseudo_edges(a.pseudo_edges));
+      handles, posedSet, dim, a.pseudo_edges.empty() ? Eigen::MatrixXi() : vtkBaryDataIO::ReadPseudoEdges(a.pseudo_edges));
   }
   vtkSmartPointer<vtkDataSet> model = a.points.empty() ? nullptr : vtkBaryDataIO::Read(a.points);
   model = attach_weights(model, a.points, a.weights, a.parameters.weights_name,

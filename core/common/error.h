@@ -5,6 +5,7 @@
 
 #include <stdexcept>
 #include <string>
+#include <string_view>
 
 namespace bary
 {
@@ -24,6 +25,10 @@ enum class ErrorCode
   Internal         ///< a bug: please report it
 };
 
+/// @p text as one printable line: line breaks and tabs become spaces, other control bytes and
+/// bytes that are not well-formed UTF-8 become "\xNN"; UTF-8 text is kept.
+std::string one_line(std::string_view text);
+
 /// Short stable name of a code ("invalid cage", ...).
 const char* to_string(ErrorCode code) noexcept;
 
@@ -31,6 +36,10 @@ const char* to_string(ErrorCode code) noexcept;
 /// caller may want to word it in its own terms (its option names, its command line), how to fix
 /// it (advice()). what() is the whole text: the message, then "; " and the advice if there is
 /// one.
+///
+/// Messages are one printable line, whatever went into them (a token of a binary file, a
+/// reader's multi-line report): the constructor turns line breaks and tabs into spaces and
+/// writes other control bytes and bytes that are not UTF-8 as \xNN (one_line()).
 class Error : public std::runtime_error
 {
 public:
@@ -43,6 +52,7 @@ public:
   const std::string& advice() const noexcept { return advice_; }
 
 private:
+  Error(ErrorCode code, std::string&& message, std::string&& advice, int);
   ErrorCode code_;
   std::string message_;
   std::string advice_;

@@ -12,7 +12,10 @@ vtkBaryErrorObserver* vtkBaryErrorObserver::New()
 
 vtkBaryErrorObserver::~vtkBaryErrorObserver()
 {
-  this->Release();
+  // Nothing to remove: an observer is destroyed only once every object it observed has let go
+  // of it (AddObserver holds a reference), and removing it from an object being destroyed
+  // (an exception unwinding past Release) recursed until the stack overflowed.
+  this->Tags.clear();
 }
 
 std::string vtkBaryErrorObserver::CleanMessage(const std::string& message)

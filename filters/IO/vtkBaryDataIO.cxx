@@ -1,11 +1,14 @@
 #include "vtkBaryDataIO.h"
 
+#include "vtkBaryOBJReader.h"
 #include "vtkBaryOFFReader.h"
+#include "vtkBaryTextParsing.h"
 #include "vtkBaryOFFWriter.h"
 #include "vtkBaryMEDITReader.h"
 #include "vtkBaryTGFReader.h"
 
 #include "vtkBaryErrorObserver.h"
+#include "vtkBaryFormatCheck.h"
 
 #include "core/common/error.h"
 #include "core/deformation/linear_blend_skinning.h"
@@ -17,11 +20,16 @@
 #include "vtkDataSetReader.h"
 #include "vtkDataSetWriter.h"
 #include "vtkExecutive.h"
-#include "vtkOBJReader.h"
 #include "vtkOBJWriter.h"
 #include "vtkObjectFactory.h"
 #include "vtkOutputWindow.h"
+#include "vtkCellArray.h"
 #include "vtkCellData.h"
+#include "vtkCellType.h"
+#include "vtkImageData.h"
+#include "vtkRectilinearGrid.h"
+#include "vtkStructuredGrid.h"
+#include "vtkUnsignedCharArray.h"
 #include "vtkDataArray.h"
 #include "vtkIdList.h"
 #include "vtkPointData.h"
@@ -40,6 +48,9 @@
 #include "vtkXMLUnstructuredGridWriter.h"
 
 #include <algorithm>
+#include <array>
+#include <climits>
+#include <sstream>
 #include <cctype>
 #include <charconv>
 #include <cmath>
@@ -120,50 +131,210 @@ private:
   vtkNew<CaptureOutputWindow> Window;
 };
 
-/// What a reader gave must be safe to use: finite points, cells naming existing points, one
-/// tuple per point in every point-data array (cell arrays that do not fit are dropped).
+/// A point id read from a file, for a message (whole, or as it is when it is not).
+std::string detail_id(double id)
+{
+  if (id == std::floor(id) && std::fabs(id) < 9e15)
+    return std::to_string(static_cast<long long>(id));
+  std::ostringstream out;
+  out << id;
+  return out.str();
+}
+
+/// The largest number of points of a data set whose points are implicit (an image's grid, a
+/// rectilinear grid): a header of a few bytes can announce 10^15 of them.
+constexpr vtkIdType kMaxImplicitPoints = vtkIdType(1) << 31;
+
+/// One of a data set's cell arrays must be well formed before VTK builds anything from it:
+/// offsets from 0, increasing, ending at the connectivity's length, every id a point, every
+/// cell at least @p least points (VTK's cell map throws on fewer and leaves the data set
+/// without cells, and the next cell access crashes). Cells are numbered from @p first in
+/// messages; returns their count.
+vtkIdType check_cell_array(vtkCellArray* cells, vtkIdType np, vtkIdType least, const char* kind,
+  const std::string& path, vtkIdType first)
+{
+  if (!cells || cells->GetNumberOfCells() == 0)
+    return 0;
+  vtkDataArray* offsets = cells->GetOffsetsArray();
+  vtkDataArray* connectivity = cells->GetConnectivityArray();
+  const auto fail = [&](const std::string& what) {
+    return Error(ErrorCode::Io, "cannot read '" + path + "': " + what);
+  };
+  if (!offsets || !connectivity || offsets->GetNumberOfComponents() != 1 ||
+    connectivity->GetNumberOfComponents() != 1)
+    throw fail(std::string("the ") + kind + " cells have no valid offsets and connectivity");
+  const vtkIdType nc = offsets->GetNumberOfTuples() - 1;
+  const vtkIdType size = connectivity->GetNumberOfTuples();
+  if (nc < 0 || offsets->GetComponent(0, 0) != 0.0 ||
+    offsets->GetComponent(nc, 0) != static_cast<double>(size))
+    throw fail(std::string("the ") + kind + " cells' offsets do not span their connectivity (" +
+      std::to_string(size) + " ids)");
+  double begin = 0.0;
+  for (vtkIdType c = 0; c < nc; ++c)
+  {
+    const double end = offsets->GetComponent(c + 1, 0);
+    if (!(end - begin >= static_cast<double>(least)) || end > static_cast<double>(size))
+      throw fail("cell " + std::to_string(first + c) + " (a " + kind + ") has " +
+        (end < begin ? std::string("a negative number of") : detail_id(end - begin)) +
+        " points, fewer than the " + std::to_string(least) + " it needs");
+    for (auto k = static_cast<vtkIdType>(begin); k < static_cast<vtkIdType>(end); ++k)
+    {
+      const double id = connectivity->GetComponent(k, 0);
+      if (!(id >= 0.0 && id < static_cast<double>(np)))
+        throw Error(ErrorCode::InvalidArgument,
+          "cannot read '" + path + "': cell " + std::to_string(first + c) + " names point " +
+            detail_id(id) + ", but the file has " + std::to_string(np) + " points (0 to " +
+            std::to_string(np - 1) + ")");
+    }
+    begin = end;
+  }
+  return nc;
+}
+
+/// The points a fixed-size VTK cell type has (0: any number, from a minimum; -1: not a type
+/// BaryLab reads).
+int cell_type_points(int type, vtkIdType& least)
+{
+  least = 1;
+  switch (type)
+  {
+    case VTK_VERTEX: return 1;
+    case VTK_POLY_VERTEX: return 0;
+    case VTK_LINE: return 2;
+    case VTK_POLY_LINE: least = 2; return 0;
+    case VTK_TRIANGLE: return 3;
+    case VTK_TRIANGLE_STRIP: least = 3; return 0;
+    case VTK_POLYGON: least = 3; return 0;
+    case VTK_PIXEL: return 4;
+    case VTK_QUAD: return 4;
+    case VTK_TETRA: return 4;
+    case VTK_VOXEL: return 8;
+    case VTK_HEXAHEDRON: return 8;
+    case VTK_WEDGE: return 6;
+    case VTK_PYRAMID: return 5;
+    case VTK_PENTAGONAL_PRISM: return 10;
+    case VTK_HEXAGONAL_PRISM: return 12;
+    case VTK_QUADRATIC_EDGE: return 3;
+    case VTK_QUADRATIC_TRIANGLE: return 6;
+    case VTK_QUADRATIC_QUAD: return 8;
+    case VTK_QUADRATIC_TETRA: return 10;
+    case VTK_QUADRATIC_HEXAHEDRON: return 20;
+    case VTK_QUADRATIC_WEDGE: return 15;
+    case VTK_QUADRATIC_PYRAMID: return 13;
+    default: return -1;
+  }
+}
+
+/// What a reader gave must be safe to use: finite points, well-formed cells naming existing
+/// points, one tuple per point in every point-data array (cell arrays that do not fit are
+/// dropped), grids whose size matches their points.
 /// @throws Error naming the file and the first problem.
 void validate_read(vtkDataSet* data, const std::string& path)
 {
-  const vtkIdType np = data->GetNumberOfPoints();
-  for (vtkIdType p = 0; p < np; ++p)
+  const auto fail = [&path](ErrorCode code, const std::string& what) {
+    return Error(code, "cannot read '" + path + "': " + what);
+  };
+  const auto finite3 = [](const double* x) {
+    return std::isfinite(x[0]) && std::isfinite(x[1]) && std::isfinite(x[2]);
+  };
+  if (auto* image = vtkImageData::SafeDownCast(data))
   {
-    double x[3];
-    data->GetPoint(p, x);
-    if (!std::isfinite(x[0]) || !std::isfinite(x[1]) || !std::isfinite(x[2]))
-      throw Error(ErrorCode::NonFinite,
-        "cannot read '" + path + "': point " + std::to_string(p) +
-          " has a non-finite coordinate (NaN or infinity)");
+    if (!finite3(image->GetOrigin()) || !finite3(image->GetSpacing()))
+      throw fail(ErrorCode::NonFinite, "the image's origin or spacing is not finite");
   }
-  if (vtkPointSet::SafeDownCast(data) || vtkPolyData::SafeDownCast(data))
+  else if (auto* rect = vtkRectilinearGrid::SafeDownCast(data))
   {
-    vtkNew<vtkIdList> ids;
-    const vtkIdType nc = data->GetNumberOfCells();
-    for (vtkIdType c = 0; c < nc; ++c)
+    int dims[3];
+    rect->GetDimensions(dims);
+    vtkDataArray* coords[3] = { rect->GetXCoordinates(), rect->GetYCoordinates(),
+      rect->GetZCoordinates() };
+    for (int k = 0; k < 3; ++k)
     {
-      data->GetCellPoints(c, ids);
-      for (vtkIdType k = 0; k < ids->GetNumberOfIds(); ++k)
-        if (ids->GetId(k) < 0 || ids->GetId(k) >= np)
-          throw Error(ErrorCode::InvalidArgument,
-            "cannot read '" + path + "': cell " + std::to_string(c) + " names point " +
-              std::to_string(ids->GetId(k)) + ", but the file has " + std::to_string(np) +
-              " points (0 to " + std::to_string(np - 1) + ")");
+      if (!coords[k] || coords[k]->GetNumberOfTuples() != dims[k])
+        throw fail(ErrorCode::Io, std::string("the grid's ") + "xyz"[k] + " coordinates do not "
+          "match its dimension " + std::to_string(dims[k]));
+      for (vtkIdType i = 0; i < dims[k]; ++i)
+        if (!std::isfinite(coords[k]->GetComponent(i, 0)))
+          throw fail(ErrorCode::NonFinite, "a grid coordinate is not finite");
     }
   }
-  const auto check_arrays = [&path](vtkFieldData* fields, vtkIdType count, const char* what) {
+  if (vtkImageData::SafeDownCast(data) || vtkRectilinearGrid::SafeDownCast(data))
+  {
+    if (data->GetNumberOfPoints() > kMaxImplicitPoints)
+      throw fail(ErrorCode::Io, "the grid has " + std::to_string(data->GetNumberOfPoints()) +
+        " points, more than BaryLab reads (2^31)");
+  }
+  const vtkIdType np = data->GetNumberOfPoints();
+  if (auto* set = vtkPointSet::SafeDownCast(data))
+  {
+    vtkPoints* points = set->GetPoints();
+    for (vtkIdType p = 0; points && p < np; ++p)
+    {
+      double x[3];
+      points->GetPoint(p, x);
+      if (!finite3(x))
+        throw fail(ErrorCode::NonFinite,
+          "point " + std::to_string(p) + " has a non-finite coordinate (NaN or infinity)");
+    }
+  }
+  if (auto* grid = vtkStructuredGrid::SafeDownCast(data))
+  {
+    int dims[3];
+    grid->GetDimensions(dims);
+    if (static_cast<double>(dims[0]) * dims[1] * dims[2] != static_cast<double>(np))
+      throw fail(ErrorCode::Io, "the grid's dimensions " + std::to_string(dims[0]) + " x " +
+        std::to_string(dims[1]) + " x " + std::to_string(dims[2]) + " do not match its " +
+        std::to_string(np) + " points");
+  }
+  if (auto* poly = vtkPolyData::SafeDownCast(data))
+  {
+    // cells are numbered as vtkPolyData numbers them: vertices, lines, polygons, strips
+    vtkIdType first = check_cell_array(poly->GetVerts(), np, 1, "vertex", path, 0);
+    first += check_cell_array(poly->GetLines(), np, 2, "line", path, first);
+    first += check_cell_array(poly->GetPolys(), np, 3, "polygon", path, first);
+    check_cell_array(poly->GetStrips(), np, 3, "triangle strip", path, first);
+  }
+  else if (auto* grid = vtkUnstructuredGrid::SafeDownCast(data))
+  {
+    vtkCellArray* cells = grid->GetCells();
+    vtkUnsignedCharArray* types = grid->GetCellTypesArray();
+    const vtkIdType nc = cells ? cells->GetNumberOfCells() : 0;
+    if (nc > 0)
+    {
+      check_cell_array(cells, np, 1, "cell", path, 0);
+      if (!types || types->GetNumberOfTuples() != nc)
+        throw fail(ErrorCode::Io, "the grid has " + std::to_string(nc) + " cells but " +
+          std::to_string(types ? types->GetNumberOfTuples() : 0) + " cell types");
+      for (vtkIdType c = 0; c < nc; ++c)
+      {
+        vtkIdType least = 1;
+        const int type = types->GetValue(c);
+        const int fixed = cell_type_points(type, least);
+        const vtkIdType size = cells->GetCellSize(c);
+        if (fixed < 0)
+          throw fail(ErrorCode::Io, "cell " + std::to_string(c) + " has VTK cell type " +
+            std::to_string(type) + ", which BaryLab does not read (linear and quadratic "
+            "cells, polygons, strips and poly-lines are read; no polyhedra)");
+        if ((fixed > 0 && size != fixed) || (fixed == 0 && size < least))
+          throw fail(ErrorCode::Io, "cell " + std::to_string(c) + " of VTK cell type " +
+            std::to_string(type) + " has " + std::to_string(size) + " points, " +
+            (fixed > 0 ? "not " + std::to_string(fixed) : "fewer than " + std::to_string(least)));
+      }
+    }
+  }
+  const auto check_arrays = [&fail](vtkFieldData* fields, vtkIdType count, const char* what) {
     for (int i = 0; fields && i < fields->GetNumberOfArrays(); ++i)
     {
       vtkAbstractArray* array = fields->GetAbstractArray(i);
       if (array && array->GetNumberOfTuples() != count)
-        throw Error(ErrorCode::SizeMismatch,
-          "cannot read '" + path + "': the " + what + "-data array '" +
+        throw fail(ErrorCode::SizeMismatch,
+          std::string("the ") + what + "-data array '" +
             (array->GetName() ? array->GetName() : "(unnamed)") + "' has " +
             std::to_string(array->GetNumberOfTuples()) + " tuples for " + std::to_string(count) +
             " " + what + "s");
     }
   };
   check_arrays(data->GetPointData(), np, "point");
-  // VTK's OBJ reader itself leaves a cell array ("GroupIds") without tuples for polylines:
   // cell arrays that do not fit are dropped (BaryLab reads no cell data), not refused
   vtkCellData* cells = data->GetCellData();
   for (int i = cells->GetNumberOfArrays() - 1; i >= 0; --i)
@@ -196,7 +367,7 @@ vtkSmartPointer<vtkAlgorithm> make_reader(const std::string& ext, const std::str
   }
   if (ext == ".obj")
   {
-    auto r = vtkSmartPointer<vtkOBJReader>::New();
+    auto r = vtkSmartPointer<vtkBaryOBJReader>::New();
     r->SetFileName(path.c_str());
     return r;
   }
@@ -233,40 +404,14 @@ vtkSmartPointer<vtkAlgorithm> make_reader(const std::string& ext, const std::str
   return nullptr;
 }
 
-/// vtkOBJReader reads "nan" as 0 and skips malformed vertex lines silently: check the `v`
-/// lines ourselves so bad coordinates are an error that names the line.
-void check_obj_vertices(const std::string& path)
+/// A count of a header, for a message ("1e+30" as such, small ones whole).
+std::string detail_count(double n)
 {
-  std::ifstream in(path);
-  std::string line;
-  long number = 0;
-  while (std::getline(in, line))
-  {
-    ++number;
-    if (line.size() < 2 || line[0] != 'v' || !std::isspace(static_cast<unsigned char>(line[1])))
-      continue;
-    // from_chars: locale-independent (a GUI may set a decimal-comma locale)
-    const char* s = line.c_str() + 1;
-    const char* const end = line.c_str() + line.size();
-    for (int k = 0; k < 3; ++k)
-    {
-      while (s < end && std::isspace(static_cast<unsigned char>(*s)))
-        ++s;
-      if (s < end && *s == '+')
-        ++s;
-      double x = 0.0;
-      const auto [next, ec] = std::from_chars(s, end, x);
-      if (next == s)
-        throw Error(ErrorCode::Io,
-          "cannot read '" + path + "' line " + std::to_string(number) +
-            ": a vertex line needs three numbers: '" + line + "'");
-      if (ec == std::errc() && !std::isfinite(x))
-        throw Error(ErrorCode::NonFinite,
-          "'" + path + "' line " + std::to_string(number) +
-            ": vertex coordinate is not finite (NaN or inf): '" + line + "'");
-      s = next;
-    }
-  }
+  if (n < 1e15)
+    return std::to_string(static_cast<long long>(n));
+  std::ostringstream out;
+  out << n;
+  return out.str();
 }
 
 const char* const kReadable = ".vtp, .vtu, .vtk, .obj, .stl, .ply, .off, .mesh, .tgf";
@@ -316,14 +461,34 @@ vtkSmartPointer<vtkDataSet> vtkBaryDataIO::Read(const std::string& path)
     if (st.st_size == 0)
       throw Error(ErrorCode::Io, "cannot read '" + path + "': the file is empty");
   }
-  if (ext == ".obj")
-    check_obj_vertices(path);
+  // sizes a VTK reader would allocate for must fit in the file (vtkBaryFormatCheck.h)
+  if (ext == ".vtk")
+    vtkbary::CheckLegacyCounts(path, static_cast<std::uintmax_t>(st.st_size));
+  else if (ext == ".vtp" || ext == ".vtu")
+  {
+    vtkbary::CheckXMLCounts(path, static_cast<std::uintmax_t>(st.st_size));
+    vtkbary::CheckXMLCompression(path, static_cast<std::uintmax_t>(st.st_size));
+  }
   vtkNew<vtkBaryErrorObserver> collector;
   collector->Observe(reader);
   std::string vtkMessage;
   {
     ScopedCapture capture;
-    reader->Update();
+    try
+    {
+      reader->Update();
+    }
+    catch (const std::bad_alloc&)
+    {
+      collector->Release();
+      throw Error(ErrorCode::Io,
+        "cannot read '" + path + "': it announces more data than this machine's memory holds");
+    }
+    catch (const std::exception& e)
+    {
+      collector->Release();
+      throw Error(ErrorCode::Io, "cannot read '" + path + "': " + e.what());
+    }
     vtkMessage = capture->First();
   }
   collector->Release();
@@ -335,7 +500,8 @@ vtkSmartPointer<vtkDataSet> vtkBaryDataIO::Read(const std::string& path)
     // readers that name the file themselves ("'x.off' line 3: ...") need no second prefix
     const std::string& message = collector->GetFirstError();
     const std::string quoted = "'" + path + "' ";
-    throw Error(ErrorCode::Io,
+    throw Error(reader->GetErrorCode() == vtkbary::NonFiniteErrorCode ? ErrorCode::NonFinite
+                                                                      : ErrorCode::Io,
       message.compare(0, quoted.size(), quoted) == 0 ? "cannot read " + message
                                                      : "cannot read '" + path + "': " + message);
   }
@@ -478,22 +644,29 @@ void vtkBaryDataIO::Write(vtkDataSet* data, const std::string& path)
 
 Eigen::MatrixXd vtkBaryDataIO::ReadDMAT(const std::string& path)
 {
+  struct stat st;
   std::ifstream in(path);
-  if (!in)
+  if (!in || stat(path.c_str(), &st) != 0)
     throw Error(ErrorCode::Io, "cannot read '" + path + "': no such file or not readable");
+  if (!S_ISREG(st.st_mode))
+    throw Error(ErrorCode::Io, "cannot read '" + path + "': not a regular file");
   std::string token;
   auto next_number = [&](double& x) {
-    if (!(in >> token))
-      return false;
-    const char* begin = token.data() + (token[0] == '+' ? 1 : 0);
-    const auto [end, ec] = std::from_chars(begin, token.data() + token.size(), x);
-    return ec == std::errc() && end == token.data() + token.size();
+    return (in >> token) && vtkbary::ParseDouble(token, x) == vtkbary::Parsed::Ok;
   };
   double cols = -1, rows = -1;
-  if (!next_number(cols) || !next_number(rows) || cols < 0 || rows < 0 ||
+  if (!next_number(cols) || !next_number(rows) || !(cols >= 0) || !(rows >= 0) ||
     cols != std::floor(cols) || rows != std::floor(rows))
     throw Error(ErrorCode::Io,
       "cannot read '" + path + "': a .dmat file starts with 'columns rows' (ASCII)");
+  // each value takes at least two bytes ("0\n"): a header that promises more than the file can
+  // hold is refused before anything is allocated for it
+  const double most = static_cast<double>(st.st_size) / 2.0;
+  if (cols * rows > most)
+    throw Error(ErrorCode::Io,
+      "cannot read '" + path + "': its header announces " + detail_count(cols) + " columns by " +
+        detail_count(rows) + " rows, more values than a file of " + std::to_string(st.st_size) +
+        " bytes holds");
   Eigen::MatrixXd M(static_cast<Eigen::Index>(rows), static_cast<Eigen::Index>(cols));
   for (Eigen::Index c = 0; c < M.cols(); ++c) // column-major
     for (Eigen::Index r = 0; r < M.rows(); ++r)
@@ -508,7 +681,77 @@ Eigen::MatrixXd vtkBaryDataIO::ReadDMAT(const std::string& path)
           "'" + path + "': value " + std::to_string(c * M.rows() + r + 1) + " is not finite");
       M(r, c) = x;
     }
+  if (in >> token)
+    throw Error(ErrorCode::Io,
+      "cannot read '" + path + "': more values than its header's " + std::to_string(M.cols()) +
+        " columns by " + std::to_string(M.rows()) + " rows");
   return M;
+}
+
+std::vector<double> vtkBaryDataIO::ReadNumbers(const std::string& path)
+{
+  if (Extension(path) == ".dmat")
+  {
+    const Eigen::MatrixXd M = ReadDMAT(path);
+    return std::vector<double>(M.data(), M.data() + M.size());
+  }
+  std::ifstream in(path);
+  if (!in)
+    throw Error(ErrorCode::Io, "cannot read '" + path + "': no such file or not readable");
+  std::vector<double> values;
+  std::string line;
+  std::istringstream fields;
+  for (long number = 1; std::getline(in, line); ++number)
+  {
+    fields.clear();
+    fields.str(line.substr(0, line.find('#')));
+    std::string token;
+    while (fields >> token)
+    {
+      double v = 0.0;
+      if (vtkbary::ParseDouble(token, v) != vtkbary::Parsed::Ok)
+        throw Error(ErrorCode::Io,
+          "cannot read '" + path + "' line " + std::to_string(number) + ": '" +
+            vtkbary::Printable(token) + "' is not a number double precision holds");
+      if (!std::isfinite(v))
+        throw Error(ErrorCode::NonFinite,
+          "'" + path + "' line " + std::to_string(number) + " holds NaN or infinity");
+      values.push_back(v);
+    }
+  }
+  return values;
+}
+
+Eigen::MatrixXi vtkBaryDataIO::ReadPseudoEdges(const std::string& path)
+{
+  std::ifstream in(path);
+  if (!in)
+    throw Error(ErrorCode::Io, "cannot read '" + path + "': no such file or not readable");
+  std::vector<std::array<int, 2>> edges;
+  std::string line;
+  std::istringstream fields;
+  for (long number = 1; std::getline(in, line); ++number)
+  {
+    fields.clear();
+    fields.str(line.substr(0, line.find('#')));
+    std::vector<std::string> tokens;
+    for (std::string token; fields >> token;)
+      tokens.push_back(token);
+    if (tokens.empty())
+      continue;
+    long long ab[2] = { -1, -1 };
+    if (tokens.size() != 2 || !vtkbary::ParseInteger(tokens[0], ab[0]) ||
+      !vtkbary::ParseInteger(tokens[1], ab[1]) || ab[0] < 0 || ab[1] < 0 || ab[0] > INT_MAX ||
+      ab[1] > INT_MAX)
+      throw Error(ErrorCode::Io,
+        "cannot read '" + path + "' line " + std::to_string(number) +
+          ": a pseudo-edge line holds two point-handle indices (whole numbers from 0)");
+    edges.push_back({ static_cast<int>(ab[0]), static_cast<int>(ab[1]) });
+  }
+  Eigen::MatrixXi E(static_cast<Eigen::Index>(edges.size()), 2);
+  for (std::size_t e = 0; e < edges.size(); ++e)
+    E.row(static_cast<Eigen::Index>(e)) << edges[e][0], edges[e][1];
+  return E;
 }
 
 void vtkBaryDataIO::WriteDMAT(const Eigen::MatrixXd& M, const std::string& path)
@@ -620,12 +863,11 @@ std::vector<Eigen::MatrixXd> vtkBaryDataIO::ReadPose(
       while (j < line.size() && !std::isspace(static_cast<unsigned char>(line[j])))
         ++j;
       double x = 0;
-      const char* begin = line.data() + i + (line[i] == '+' ? 1 : 0);
-      const auto [end, ec] = std::from_chars(begin, line.data() + j, x);
-      if (ec != std::errc() || end != line.data() + j)
+      if (vtkbary::ParseDouble(std::string_view(line).substr(i, j - i), x) != vtkbary::Parsed::Ok)
         throw Error(ErrorCode::Io,
           "cannot read '" + path + "' line " + std::to_string(line_number) + ": '" +
-            line.substr(i, j - i) + "' is not a number");
+            vtkbary::Printable(std::string_view(line).substr(i, j - i)) +
+            "' is not a number double precision holds");
       if (!std::isfinite(x))
         throw Error(ErrorCode::NonFinite,
           "'" + path + "' line " + std::to_string(line_number) + " holds NaN or infinity");

@@ -54,6 +54,13 @@ public:
   /// libigl's ASCII .dmat matrix: header "columns rows", then the values column-major.
   /// @throws bary::Error(Io) naming the file and the missing/bad value, (NonFinite) for NaN/inf.
   static Eigen::MatrixXd ReadDMAT(const std::string& path);
+  /// A list of numbers: whitespace-separated, '#' comments, any number a line (tcc user
+  /// weights), or a libigl .dmat read in column-major order.
+  /// @throws bary::Error(Io) naming the line and token, (NonFinite) for NaN/inf.
+  static std::vector<double> ReadNumbers(const std::string& path);
+  /// A pseudo-edges file (BBW poses from moved point handles): one pair of point-handle
+  /// indices (0-based) a line, '#' comments. @throws bary::Error(Io) naming the line.
+  static Eigen::MatrixXi ReadPseudoEdges(const std::string& path);
   /// Writes @p M as ASCII .dmat (shortest round-trip decimal representation), atomically.
   static void WriteDMAT(const Eigen::MatrixXd& M, const std::string& path);
 

@@ -1,5 +1,7 @@
 #include "vtkBaryMEDITReader.h"
 
+#include "vtkBaryTextParsing.h"
+
 #include "vtkCellData.h"
 #include "vtkCellType.h"
 #include "vtkInformation.h"
@@ -10,7 +12,6 @@
 #include "vtkUnstructuredGrid.h"
 
 #include <cctype>
-#include <charconv>
 #include <cmath>
 #include <sstream>
 #include <fstream>
@@ -60,13 +61,10 @@ private:
   long line_ = 1;
 };
 
-/// Locale-independent number parsing (from_chars); the whole token must be a number.
+/// Locale-independent number parsing (vtkbary::ParseDouble); the whole token must be a number.
 bool to_number(const std::string& s, double& x)
 {
-  const char* begin = s.data() + (!s.empty() && s[0] == '+' ? 1 : 0);
-  const char* end = s.data() + s.size();
-  const auto [next, ec] = std::from_chars(begin, end, x);
-  return ec == std::errc() && next == end && begin != end;
+  return vtkbary::ParseDouble(s, x) == vtkbary::Parsed::Ok;
 }
 } // namespace
 
@@ -134,7 +132,10 @@ int vtkBaryMEDITReader::RequestData(
             return error("vertex " + std::to_string(i + 1) + " of " + std::to_string(n) +
               " is truncated or not a number");
         if (!std::isfinite(x[0]) || !std::isfinite(x[1]) || !std::isfinite(x[2]))
+        {
+          this->SetErrorCode(vtkbary::NonFiniteErrorCode);
           return error("vertex " + std::to_string(i + 1) + " has a non-finite coordinate");
+        }
         if (!tokens.next(token) || !to_number(token, ref))
           return error("vertex " + std::to_string(i + 1) + " has no reference number");
         points->InsertNextPoint(x);
@@ -192,7 +193,7 @@ int vtkBaryMEDITReader::RequestData(
     else if (token == "End")
       break;
     else
-      return error("unknown keyword '" + token + "' (is this a MEDIT .mesh file?)");
+      return error("unknown keyword '" + vtkbary::Printable(token) + "' (is this a MEDIT .mesh file?)");
   }
   if (!any)
     return error("the file is empty");

@@ -1,5 +1,7 @@
 #include "vtkBaryOFFReader.h"
 
+#include "vtkBaryTextParsing.h"
+
 #include "vtkCellArray.h"
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
@@ -8,7 +10,6 @@
 #include "vtkPolyData.h"
 
 #include <algorithm>
-#include <charconv>
 #include <cmath>
 #include <fstream>
 #include <sstream>
@@ -114,34 +115,32 @@ int vtkBaryOFFReader::RequestData(
     if (!reader.next(line))
       return error("the file ends after " + std::to_string(i) + " of " + std::to_string(nv) +
         " vertices");
-    // Tokens are parsed with std::from_chars (locale-independent, accepts "nan"/"inf"), since
-    // operator>> fails on them and would report a NaN as a missing coordinate.
+    // tokens parsed by vtkbary::ParseDouble (locale-independent, accepts "nan"/"inf", which
+    // operator>> fails on and would report as a missing coordinate)
     double x[3];
     for (int k = 0; k < 3; ++k)
     {
       std::string token;
       if (!(line >> token))
         return error("vertex " + std::to_string(i) + " does not have three coordinates");
-      const char* begin = token.c_str();
-      const char* last = begin + token.size();
-      if (*begin == '+')
-        ++begin; // from_chars does not accept a leading '+'
-      auto parsed = std::from_chars(begin, last, x[k]);
-      if (parsed.ec == std::errc::result_out_of_range)
+      switch (vtkbary::ParseDouble(token, x[k]))
       {
-        // Overflow (reported as non-finite below) or underflow (a tiny number, read as 0 or a
-        // denormal): the wider type tells which.
-        long double wide = 0.0L;
-        parsed = std::from_chars(begin, last, wide);
-        x[k] = static_cast<double>(wide);
+        case vtkbary::Parsed::OutOfRange:
+          this->SetErrorCode(vtkbary::NonFiniteErrorCode);
+          return error("vertex " + std::to_string(i) + ": '" + vtkbary::Printable(token) +
+            "' is beyond the range of double precision (1.8e308)");
+        case vtkbary::Parsed::NotANumber:
+          return error("vertex " + std::to_string(i) + ": '" + vtkbary::Printable(token) +
+            "' is not a number");
+        case vtkbary::Parsed::Ok:
+          break;
       }
-      if (parsed.ec == std::errc::result_out_of_range)
-        return error("vertex " + std::to_string(i) + ": '" + token + "' is out of range");
-      if (parsed.ec != std::errc() || parsed.ptr != last)
-        return error("vertex " + std::to_string(i) + ": '" + token + "' is not a number");
     }
     if (!std::isfinite(x[0]) || !std::isfinite(x[1]) || !std::isfinite(x[2]))
+    {
+      this->SetErrorCode(vtkbary::NonFiniteErrorCode);
       return error("vertex " + std::to_string(i) + " has a non-finite coordinate (NaN or inf)");
+    }
     points->InsertNextPoint(x);
   }
   (void)colors;

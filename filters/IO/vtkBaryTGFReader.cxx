@@ -1,5 +1,7 @@
 #include "vtkBaryTGFReader.h"
 
+#include "vtkBaryTextParsing.h"
+
 #include "vtkCellArray.h"
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
@@ -7,7 +9,6 @@
 #include "vtkPoints.h"
 #include "vtkPolyData.h"
 
-#include <charconv>
 #include <cmath>
 #include <fstream>
 #include <sstream>
@@ -25,11 +26,8 @@ bool numbers(const std::string& line, std::vector<double>& out)
   std::string token;
   while (in >> token)
   {
-    const char* begin = token.data() + (token[0] == '+' ? 1 : 0);
-    const char* end = token.data() + token.size();
     double x;
-    const auto [next, ec] = std::from_chars(begin, end, x);
-    if (ec != std::errc() || next != end)
+    if (vtkbary::ParseDouble(token, x) != vtkbary::Parsed::Ok)
       return false;
     out.push_back(x);
   }
@@ -76,13 +74,16 @@ int vtkBaryTGFReader::RequestData(
     if (section >= 2)
       continue;
     if (!numbers(line, v))
-      return error("expected numbers, got '" + line + "' (is this a .tgf skeleton?)");
+      return error("expected numbers, got '" + vtkbary::Printable(line, 60) + "' (is this a .tgf skeleton?)");
     if (section == 0)
     {
       if (v.size() < 4)
         return error("a vertex line needs an index and three coordinates");
       if (!std::isfinite(v[1]) || !std::isfinite(v[2]) || !std::isfinite(v[3]))
+      {
+        this->SetErrorCode(vtkbary::NonFiniteErrorCode);
         return error("vertex coordinate is not finite (NaN or inf)");
+      }
       points->InsertNextPoint(v[1], v[2], v[3]);
     }
     else

@@ -283,6 +283,8 @@ TEST(vtkBaryCageDeformation, PermutedPolygonCellRestCage2D)
   for (vtkIdType j = 0; j < n; ++j)
     inverse[pi[j] = (3 * j + 1) % n] = j;
   vtkNew<vtkPoints> rest_points, posed_points;
+  rest_points->SetDataTypeToDouble(); // as read: .obj coordinates are doubles
+  posed_points->SetDataTypeToDouble();
   for (vtkIdType j = 0; j < n; ++j)
   {
     rest_points->InsertNextPoint(bare->GetPoint(pi[j]));

@@ -20,6 +20,8 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <functional>
+#include <iterator>
 #include <set>
 
 namespace
@@ -327,7 +329,7 @@ TEST(vtkBaryDataIO, ReadGarbage)
 
 TEST(vtkBaryDataIO, ReadNaNObj)
 {
-  // vtkOBJReader would read "nan" as a number; vtkBaryDataIO checks the v lines itself.
+  // vtkOBJReader read "nan" as a number; vtkBaryOBJReader refuses it, naming the line.
   ExpectReadThrows(DataPath("bad/nan_cage.obj"), { bary::ErrorCode::NonFinite }, "line 7");
 }
 
@@ -618,7 +620,7 @@ TEST(vtkBaryOFFReader, NonFiniteVertex)
   ExpectOFFError(
     "inf", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 -inf 0\n3 0 1 2\n", { "line 5", "vertex 2", "non-finite" });
   ExpectOFFError("overflow", "OFF\n3 1 0\n0 0 1e999\n1 0 0\n0 1 0\n3 0 1 2\n",
-    { "line 3", "vertex 0", "non-finite" });
+    { "line 3", "vertex 0", "'1e999' is beyond the range of double precision" });
   ExpectOFFError(
     "comma", "OFF\n3 1 0\n0 0 0\n1,5 0 0\n0 1 0\n3 0 1 2\n", { "line 4", "'1,5' is not a number" });
 }
@@ -719,6 +721,230 @@ TEST(vtkBaryOFFWriter, UnwritablePathIsAnError)
   writer->Write();
   EXPECT_NE(writer->GetErrorCode(), 0ul);
   EXPECT_TRUE(observer->HasError(path)) << observer->AllErrors();
+}
+
+
+// --- issue 17: .obj in double precision, sizes checked before VTK allocates, one-line errors ---
+
+TEST(vtkBaryOBJReader, DoublePrecisionAndEveryCellKind)
+{
+  const fs::path dir = Scratch("obj_double");
+  const std::string path = WriteText(dir / "cells.obj",
+    "# comment\nv 0.1 -0.4 1e300\nv 1 0 0 1.0\nv 0 1 0 0.5 0.5 0.5\nv 1 1 1e-400\n"
+    "vt 0 0\nvn 0 0 1\ng group\ns off\n"
+    "f 1/1/1 2//1 3\nf -4 -3 -1\nl 1 2 3 1\np 4\n");
+  auto data = vtkBaryDataIO::ReadPolyData(path);
+  ASSERT_EQ(data->GetNumberOfPoints(), 4);
+  // exactly the decimal's nearest double (vtkOBJReader stored floats: 0.1 -> 0.100000001,
+  // 1e300 -> 3.4e38)
+  EXPECT_EQ(data->GetPoint(0)[0], 0.1);
+  EXPECT_EQ(data->GetPoint(0)[1], -0.4);
+  EXPECT_EQ(data->GetPoint(0)[2], 1e300);
+  EXPECT_EQ(data->GetPoint(3)[2], 0.0); // underflow reads as 0, as strtod does
+  EXPECT_EQ(data->GetNumberOfVerts(), 1);
+  EXPECT_EQ(data->GetNumberOfLines(), 1);
+  EXPECT_EQ(data->GetNumberOfPolys(), 2);
+  vtkIdType n;
+  const vtkIdType* ids;
+  data->GetPolys()->GetCellAtId(1, n, ids); // negative indices count back
+  ASSERT_EQ(n, 3);
+  EXPECT_EQ(ids[0], 0);
+  EXPECT_EQ(ids[1], 1);
+  EXPECT_EQ(ids[2], 3);
+}
+
+TEST(vtkBaryOBJReader, RefusesWhatDoubleCannotHoldAndIndicesThatNameNoVertex)
+{
+  const fs::path dir = Scratch("obj_bad");
+  const std::string v = "v 0 0 0\nv 1 0 0\nv 0 1 0\n";
+  ExpectReadThrows(WriteText(dir / "huge.obj", "v 1e999 0 0\n" + v),
+    { bary::ErrorCode::NonFinite }, "line 1: vertex coordinate '1e999' is beyond the range");
+  // a 32-bit wrap-around made 4294967301 vertex 5 (vtkOBJReader)
+  ExpectReadThrows(WriteText(dir / "wrap.obj", v + "v 1 1 0\nv 2 2 0\nf 1 2 4294967301\n"),
+    { bary::ErrorCode::Io }, "line 6: vertex index 4294967301 but the file has 5 vertices");
+  ExpectReadThrows(WriteText(dir / "zero.obj", v + "f 0 1 2\n"), { bary::ErrorCode::Io },
+    "vertex index 0");
+  ExpectReadThrows(WriteText(dir / "back.obj", v + "f -1 -2 -4\n"), { bary::ErrorCode::Io },
+    "counts back past the first vertex");
+  ExpectReadThrows(WriteText(dir / "two.obj", "v 1 2\n"), { bary::ErrorCode::Io },
+    "needs three coordinates, it has 2");
+  ExpectReadThrows(WriteText(dir / "face2.obj", v + "f 1 2\n"), { bary::ErrorCode::Io },
+    "a face needs at least 3 vertices");
+  ExpectReadThrows(WriteText(dir / "word.obj", v + "f 1 2 x\n"), { bary::ErrorCode::Io },
+    "'x' is not a vertex index");
+  ExpectReadThrows(WriteText(dir / "text.obj", "v 0 \x01\xff 0\n"), { bary::ErrorCode::Io },
+    "'\\x01\\xff' is not a number");
+}
+
+TEST(vtkBaryDataIO, SizesAFileCannotHoldAreRefusedBeforeAllocating)
+{
+  const fs::path dir = Scratch("sizes");
+  // legacy: a few bytes announcing 10^11 points (std::bad_alloc or the machine's memory before)
+  ExpectReadThrows(WriteText(dir / "points.vtk", "# vtk DataFile Version 3.0\nx\nASCII\n"
+                                                 "DATASET POLYDATA\nPOINTS 99999999999 float\n0 0 0\n"),
+    { bary::ErrorCode::Io }, "line 5: POINTS announces 99999999999 x 3 values, more than the file's");
+  ExpectReadThrows(WriteText(dir / "scalars.vtk",
+                     "# vtk DataFile Version 3.0\nx\nASCII\nDATASET POLYDATA\nPOINTS 1 float\n"
+                     "0 0 0\nPOINT_DATA 1\nSCALARS w float 2000000000\nLOOKUP_TABLE default\n0\n"),
+    { bary::ErrorCode::Io }, "SCALARS' components announces 2000000000 values");
+  // XML: a header count no file of this size holds, even compressed
+  {
+    auto mesh = SmallMesh();
+    const std::string path = (dir / "count.vtp").string();
+    vtkNew<vtkXMLPolyDataWriter> writer;
+    writer->SetInputData(mesh);
+    writer->SetFileName(path.c_str());
+    writer->SetDataModeToAscii();
+    ASSERT_EQ(writer->Write(), 1);
+    std::ifstream in(path);
+    std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    in.close();
+    const std::size_t at = text.find("NumberOfPoints=\"");
+    ASSERT_NE(at, std::string::npos);
+    const std::size_t end = text.find('"', at + 16);
+    WriteText(path, text.substr(0, at + 16) + "99999999999" + text.substr(end));
+    ExpectReadThrows(path, { bary::ErrorCode::Io }, "announces NumberOfPoints=99999999999");
+    WriteText(path, text.substr(0, at + 16) + "1e3" + text.substr(end));
+    ExpectReadThrows(path, { bary::ErrorCode::Io }, "NumberOfPoints=\"1e3\" is not a count");
+  }
+  // .dmat: a header of 10^18 values (std::bad_alloc, "a -9223372036854775808 by 1 matrix")
+  const std::string dmat = WriteText(dir / "big.dmat", "1000000000 1000000000\n1\n2\n");
+  try
+  {
+    vtkBaryDataIO::ReadDMAT(dmat);
+    ADD_FAILURE() << "an impossible .dmat header was accepted";
+  }
+  catch (const bary::Error& e)
+  {
+    EXPECT_NE(std::string(e.what()).find("more values than a file of"), std::string::npos) << e.what();
+  }
+}
+
+/// A .vtp with appended, zlib-compressed data as vtkBaryDataIO writes it, whose first data
+/// array's compression header (three 32-bit words: blocks, block size, last block size) is
+/// changed by @p edit.
+std::string CompressedWithHeader(const fs::path& path, const std::function<void(std::uint32_t*)>& edit)
+{
+  auto mesh = SmallMesh();
+  vtkNew<vtkXMLPolyDataWriter> writer;
+  writer->SetInputData(mesh);
+  writer->SetFileName(path.string().c_str());
+  writer->SetDataModeToAppended();
+  writer->SetCompressorTypeToZLib();
+  writer->SetHeaderTypeToUInt32();
+  writer->EncodeAppendedDataOn();
+  EXPECT_EQ(writer->Write(), 1);
+  std::ifstream in(path);
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::size_t data = text.find('_', text.find("<AppendedData")) + 1;
+  // 12 bytes <-> 16 base64 characters, no padding
+  static const std::string b64 =
+    "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  unsigned char bytes[12];
+  for (int g = 0; g < 4; ++g)
+  {
+    unsigned v = 0;
+    for (int k = 0; k < 4; ++k)
+      v = (v << 6) | static_cast<unsigned>(b64.find(text[data + 4 * g + k]));
+    bytes[3 * g] = static_cast<unsigned char>(v >> 16);
+    bytes[3 * g + 1] = static_cast<unsigned char>(v >> 8);
+    bytes[3 * g + 2] = static_cast<unsigned char>(v);
+  }
+  std::uint32_t words[3] = { 0, 0, 0 };
+  for (int w = 0; w < 3; ++w)
+    for (int b = 3; b >= 0; --b)
+      words[w] = (words[w] << 8) | bytes[4 * w + b];
+  edit(words);
+  for (int w = 0; w < 3; ++w)
+    for (int b = 0; b < 4; ++b)
+      bytes[4 * w + b] = static_cast<unsigned char>(words[w] >> (8 * b));
+  std::string encoded;
+  for (int g = 0; g < 4; ++g)
+  {
+    const unsigned v = (bytes[3 * g] << 16) | (bytes[3 * g + 1] << 8) | bytes[3 * g + 2];
+    for (int k = 3; k >= 0; --k)
+      encoded += b64[(v >> (6 * k)) & 63];
+  }
+  text.replace(data, 16, encoded);
+  return WriteText(path, text);
+}
+
+TEST(vtkBaryDataIO, CompressionHeadersVTKTrustsAreChecked)
+{
+  const fs::path dir = Scratch("compression");
+  // the file as written reads (so the edits below are what is refused)
+  ASSERT_NO_THROW(vtkBaryDataIO::Read(CompressedWithHeader(dir / "ok.vtp", [](std::uint32_t*) {})));
+  // no blocks but a partial last block: VTK's total size underflowed and it read block 0 of an
+  // empty table (SIGSEGV, found by the fuzzer)
+  ExpectReadThrows(CompressedWithHeader(dir / "underflow.vtp", [](std::uint32_t* w) { w[0] = 0; }),
+    { bary::ErrorCode::Io }, "invalid compression header");
+  // a block size of 0 divides by zero
+  ExpectReadThrows(CompressedWithHeader(dir / "zero.vtp", [](std::uint32_t* w) { w[1] = 0; }),
+    { bary::ErrorCode::Io }, "invalid compression header (block size 0");
+  // a last block larger than the others reads past the block table
+  ExpectReadThrows(CompressedWithHeader(dir / "last.vtp", [](std::uint32_t* w) { w[1] = 8; }),
+    { bary::ErrorCode::Io }, "invalid compression header (block size 8");
+  // more blocks than the file holds
+  ExpectReadThrows(CompressedWithHeader(dir / "blocks.vtp", [](std::uint32_t* w) { w[0] = 400000000; }),
+    { bary::ErrorCode::Io }, "announces 400000000 compressed blocks");
+}
+
+TEST(vtkBaryDataIO, CellsVTKCannotBuildAreRefusedNotCrashedOn)
+{
+  // a line with one point: vtkPolyData's cell map threw inside VTK and left no cells, and the
+  // next cell access crashed (found by the fuzzer)
+  const fs::path dir = Scratch("cellsizes");
+  const std::string path = WriteText(dir / "line1.vtp",
+    "<?xml version=\"1.0\"?>\n<VTKFile type=\"PolyData\" version=\"0.1\">\n<PolyData>\n"
+    "<Piece NumberOfPoints=\"2\" NumberOfLines=\"1\">\n<Points>\n"
+    "<DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"ascii\">0 0 0 1 0 0"
+    "</DataArray>\n</Points>\n<Lines>\n"
+    "<DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\">1</DataArray>\n"
+    "<DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">1</DataArray>\n"
+    "</Lines>\n</Piece>\n</PolyData>\n</VTKFile>\n");
+  ExpectReadThrows(path, { bary::ErrorCode::Io }, "cell 0 (a line) has 1 points, fewer than the 2");
+  // an unstructured grid cell whose type needs more points than it has
+  const std::string head = "# vtk DataFile Version 3.0\nx\nASCII\nDATASET UNSTRUCTURED_GRID\n"
+                           "POINTS 4 double\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n";
+  ExpectReadThrows(WriteText(dir / "tet3.vtk", head + "CELLS 1 4\n3 0 1 2\nCELL_TYPES 1\n10\n"),
+    { bary::ErrorCode::Io }, "cell 0 of VTK cell type 10 has 3 points, not 4");
+  ExpectReadThrows(WriteText(dir / "type.vtk", head + "CELLS 1 5\n4 0 1 2 3\nCELL_TYPES 1\n200\n"),
+    { bary::ErrorCode::Io }, "VTK cell type 200, which BaryLab does not read");
+}
+
+TEST(vtkBaryDataIO, NumberListsAndPseudoEdgesAreReadStrictly)
+{
+  const fs::path dir = Scratch("lists");
+  EXPECT_EQ(vtkBaryDataIO::ReadNumbers(WriteText(dir / "w.txt", "1 +2.5 # c\n\n3e-1\n")),
+    (std::vector<double>{ 1.0, 2.5, 0.3 }));
+  for (const char* bad : { "1 2,5\n", "1 1e999\n", "0x10\n" })
+  {
+    EXPECT_THROW(vtkBaryDataIO::ReadNumbers(WriteText(dir / "bad.txt", bad)), bary::Error) << bad;
+  }
+  EXPECT_THROW(vtkBaryDataIO::ReadNumbers(WriteText(dir / "nan.txt", "1 nan\n")), bary::Error);
+  const Eigen::MatrixXi E = vtkBaryDataIO::ReadPseudoEdges(WriteText(dir / "e.txt", "# c\n0 1\n\n2 1 # c\n"));
+  ASSERT_EQ(E.rows(), 2);
+  EXPECT_EQ(E(1, 0), 2);
+  // an index that overflowed an int made operator>> fail and the line was skipped silently
+  for (const char* bad : { "99999999999 1\n", "0 1 2\n", "0\n", "-1 2\n", "0 1.5\n" })
+  {
+    try
+    {
+      vtkBaryDataIO::ReadPseudoEdges(WriteText(dir / "bad.txt", bad));
+      ADD_FAILURE() << "accepted '" << bad << "'";
+    }
+    catch (const bary::Error& e)
+    {
+      EXPECT_NE(std::string(e.what()).find("line 1"), std::string::npos) << e.what();
+    }
+  }
+}
+
+TEST(BaryError, MessagesAreOnePrintableLine)
+{
+  const bary::Error e(bary::ErrorCode::Io, "a\nb\tc\x01\xff\xc3\xa9", "d\re");
+  EXPECT_EQ(std::string(e.what()), "a b c\\x01\\xff\xc3\xa9; d e");
+  EXPECT_EQ(e.message(), "a b c\\x01\\xff\xc3\xa9");
 }
 
 } // namespace

@@ -1,0 +1,39 @@
+/**
+ * @file   vtkBaryFormatCheck.h
+ * @brief  Checks of a file's announced sizes before a VTK reader allocates for them; private
+ *         to the IO module (vtkBaryDataIO::Read calls them).
+ *
+ * VTK's readers allocate what a file's header announces before they read the data: a legacy
+ * `POINTS 99999999999 float` or an XML `NumberOfPoints="1e11"` asks for terabytes (std::bad_alloc
+ * at best, the machine's memory at worst) on a file of a few bytes. These checks walk the
+ * header keywords and refuse, naming the keyword and its line, any count that the file cannot
+ * hold: a legacy file stores each value in at least one byte; an XML file may compress its data,
+ * by at most the 1032:1 of zlib (a bound of 1100 values a byte; LZMA-compressed files beyond it
+ * are refused).
+ */
+#ifndef vtkBaryFormatCheck_h
+#define vtkBaryFormatCheck_h
+
+#include <cstdint>
+#include <string>
+
+namespace vtkbary
+{
+/// A legacy .vtk file of @p size bytes: every count that sizes an allocation (POINTS, cells,
+/// CELL_TYPES, coordinates, FIELD arrays, POINT_DATA / CELL_DATA times each attribute's
+/// components, lookup tables) must fit in the file. @throws bary::Error(Io)
+void CheckLegacyCounts(const std::string& path, std::uintmax_t size);
+
+/// A VTK XML file of @p size bytes: every Number...="N" attribute of the header (before the
+/// appended data) is a whole number, and N times the largest NumberOfComponents fits in
+/// 1100 values a byte of the file. @throws bary::Error(Io)
+void CheckXMLCounts(const std::string& path, std::uintmax_t size);
+/// A compressed VTK XML file of @p size bytes: each data array's compression header (block
+/// count, block size, last block's size, compressed sizes; inline base64 or appended, raw or
+/// base64) is consistent and fits in the file. VTK's reader trusts it: a block size of 0
+/// divides by zero, a last block larger than the others reads past the block table.
+/// @throws bary::Error(Io)
+void CheckXMLCompression(const std::string& path, std::uintmax_t size);
+} // namespace vtkbary
+
+#endif
