@@ -1,7 +1,8 @@
 # Warning and sanitizer flags, applied per target through barylab_set_flags(target).
 add_library(barylab_flags INTERFACE)
 target_compile_options(barylab_flags INTERFACE
-  $<$<CXX_COMPILER_ID:GNU,Clang>:-Wall -Wextra -Wshadow=local -Wnon-virtual-dtor>)
+  $<$<CXX_COMPILER_ID:GNU,Clang>:-Wall -Wextra -Wnon-virtual-dtor>
+  $<$<CXX_COMPILER_ID:GNU>:-Wshadow=local>)
 if(BARYLAB_FUZZ)
   if(NOT CMAKE_CXX_COMPILER_ID STREQUAL "Clang")
     message(FATAL_ERROR "BARYLAB_FUZZ needs clang (libFuzzer): configure with "

@@ -2,6 +2,7 @@
 
 #include "vtkBaryOBJReader.h"
 #include "vtkBaryOFFReader.h"
+#include "vtkBaryPLYReader.h"
 #include "vtkBaryTextParsing.h"
 #include "vtkBaryOFFWriter.h"
 #include "vtkBaryMEDITReader.h"
@@ -9,6 +10,7 @@
 
 #include "vtkBaryErrorObserver.h"
 #include "vtkBaryFormatCheck.h"
+#include "vtkBaryLegacyVTK.h"
 
 #include "core/common/error.h"
 #include "core/deformation/linear_blend_skinning.h"
@@ -17,7 +19,6 @@
 #include "vtkAppendFilter.h"
 #include "vtkCommand.h"
 #include "vtkDataSet.h"
-#include "vtkDataSetReader.h"
 #include "vtkDataSetWriter.h"
 #include "vtkExecutive.h"
 #include "vtkOBJWriter.h"
@@ -33,7 +34,6 @@
 #include "vtkDataArray.h"
 #include "vtkIdList.h"
 #include "vtkPointData.h"
-#include "vtkPLYReader.h"
 #include "vtkPLYWriter.h"
 #include "vtkPointSet.h"
 #include "vtkPolyData.h"
@@ -357,14 +357,7 @@ vtkSmartPointer<vtkAlgorithm> make_reader(const std::string& ext, const std::str
     return r;
   }
   if (ext == ".vtk")
-  {
-    auto r = vtkSmartPointer<vtkDataSetReader>::New();
-    r->SetFileName(path.c_str());
-    r->ReadAllScalarsOn();
-    r->ReadAllVectorsOn();
-    r->ReadAllFieldsOn();
-    return r;
-  }
+    return nullptr; // vtkbary::ReadLegacyVTK, not an algorithm
   if (ext == ".obj")
   {
     auto r = vtkSmartPointer<vtkBaryOBJReader>::New();
@@ -379,7 +372,7 @@ vtkSmartPointer<vtkAlgorithm> make_reader(const std::string& ext, const std::str
   }
   if (ext == ".ply")
   {
-    auto r = vtkSmartPointer<vtkPLYReader>::New();
+    auto r = vtkSmartPointer<vtkBaryPLYReader>::New();
     r->SetFileName(path.c_str());
     return r;
   }
@@ -414,6 +407,17 @@ std::string detail_count(double n)
   return out.str();
 }
 
+/// @p data as read from @p path, once it is safe to use (validate_read) and has points.
+vtkSmartPointer<vtkDataSet> checked(vtkSmartPointer<vtkDataSet> data, const std::string& path,
+  const std::string& ext)
+{
+  if (data->GetNumberOfPoints() == 0)
+    throw Error(ErrorCode::EmptyInput,
+      "'" + path + "' contains no points (empty or not a valid " + ext + " file)");
+  validate_read(data, path);
+  return data;
+}
+
 const char* const kReadable = ".vtp, .vtu, .vtk, .obj, .stl, .ply, .off, .mesh, .tgf";
 } // namespace
 
@@ -431,7 +435,7 @@ std::string vtkBaryDataIO::Extension(const std::string& path)
 
 bool vtkBaryDataIO::CanRead(const std::string& path)
 {
-  return make_reader(Extension(path), path) != nullptr;
+  return Extension(path) == ".vtk" || make_reader(Extension(path), path) != nullptr;
 }
 
 bool vtkBaryDataIO::CanWrite(const std::string& path)
@@ -445,7 +449,7 @@ vtkSmartPointer<vtkDataSet> vtkBaryDataIO::Read(const std::string& path)
 {
   const std::string ext = Extension(path);
   vtkSmartPointer<vtkAlgorithm> reader = make_reader(ext, path);
-  if (!reader)
+  if (!reader && ext != ".vtk")
     throw Error(ErrorCode::Io,
       "cannot read '" + path + "': unknown file extension '" + ext + "' (readable: " +
         kReadable + ")");
@@ -461,10 +465,23 @@ vtkSmartPointer<vtkDataSet> vtkBaryDataIO::Read(const std::string& path)
     if (st.st_size == 0)
       throw Error(ErrorCode::Io, "cannot read '" + path + "': the file is empty");
   }
-  // sizes a VTK reader would allocate for must fit in the file (vtkBaryFormatCheck.h)
   if (ext == ".vtk")
-    vtkbary::CheckLegacyCounts(path, static_cast<std::uintmax_t>(st.st_size));
-  else if (ext == ".vtp" || ext == ".vtu")
+  {
+    // BaryLab's own legacy reader (vtkBaryLegacyVTK.h): VTK's trusted the file and crashed
+    vtkSmartPointer<vtkDataSet> legacy;
+    try
+    {
+      legacy = vtkbary::ReadLegacyVTK(path);
+    }
+    catch (const std::bad_alloc&)
+    {
+      throw Error(ErrorCode::Io,
+        "cannot read '" + path + "': it announces more data than this machine's memory holds");
+    }
+    return checked(legacy, path, ext);
+  }
+  // sizes a VTK reader would allocate for must fit in the file (vtkBaryFormatCheck.h)
+  if (ext == ".vtp" || ext == ".vtu")
   {
     vtkbary::CheckXMLCounts(path, static_cast<std::uintmax_t>(st.st_size));
     vtkbary::CheckXMLCompression(path, static_cast<std::uintmax_t>(st.st_size));
@@ -507,14 +524,10 @@ vtkSmartPointer<vtkDataSet> vtkBaryDataIO::Read(const std::string& path)
   }
   if (!data)
     throw Error(ErrorCode::Io, "cannot read '" + path + "': the reader produced no data set");
-  if (data->GetNumberOfPoints() == 0)
-    throw Error(ErrorCode::EmptyInput,
-      "'" + path + "' contains no points (empty or not a valid " + ext + " file)");
-  validate_read(data, path);
   vtkSmartPointer<vtkDataSet> result;
   result.TakeReference(data->NewInstance());
   result->ShallowCopy(data);
-  return result;
+  return checked(result, path, ext);
 }
 
 vtkSmartPointer<vtkPolyData> vtkBaryDataIO::ReadPolyData(const std::string& path)

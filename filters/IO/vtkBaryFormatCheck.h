@@ -3,13 +3,13 @@
  * @brief  Checks of a file's announced sizes before a VTK reader allocates for them; private
  *         to the IO module (vtkBaryDataIO::Read calls them).
  *
- * VTK's readers allocate what a file's header announces before they read the data: a legacy
- * `POINTS 99999999999 float` or an XML `NumberOfPoints="1e11"` asks for terabytes (std::bad_alloc
- * at best, the machine's memory at worst) on a file of a few bytes. These checks walk the
- * header keywords and refuse, naming the keyword and its line, any count that the file cannot
- * hold: a legacy file stores each value in at least one byte; an XML file may compress its data,
- * by at most the 1032:1 of zlib (a bound of 1100 values a byte; LZMA-compressed files beyond it
- * are refused).
+ * VTK's XML readers allocate what a file's header announces before they read the data: an XML
+ * `NumberOfPoints="99999999999"` asks for terabytes (std::bad_alloc at best, the machine's
+ * memory at worst) on a file of a few bytes, and they trust its compression headers. These
+ * checks refuse, naming the attribute or the array, what the file cannot hold: an XML file may
+ * compress its data, by at most the 1032:1 of zlib (a bound of 1100 values a byte;
+ * LZMA-compressed files beyond it are refused). (Legacy .vtk files are read by BaryLab's own
+ * reader, which checks each count as it goes: vtkBaryLegacyVTK.h.)
  */
 #ifndef vtkBaryFormatCheck_h
 #define vtkBaryFormatCheck_h
@@ -19,11 +19,6 @@
 
 namespace vtkbary
 {
-/// A legacy .vtk file of @p size bytes: every count that sizes an allocation (POINTS, cells,
-/// CELL_TYPES, coordinates, FIELD arrays, POINT_DATA / CELL_DATA times each attribute's
-/// components, lookup tables) must fit in the file. @throws bary::Error(Io)
-void CheckLegacyCounts(const std::string& path, std::uintmax_t size);
-
 /// A VTK XML file of @p size bytes: every Number...="N" attribute of the header (before the
 /// appended data) is a whole number, and N times the largest NumberOfComponents fits in
 /// 1100 values a byte of the file. @throws bary::Error(Io)

@@ -449,7 +449,7 @@ TEST(vtkBaryCoordinates, LocationCounts2D)
   ASSERT_TRUE(cage);
   // inside the body, inside the head, outside, between the legs (outside), on vertex 5,
   // on the midpoint of edge 5-6 (the right hand). The points on the cage are taken from the
-  // cage as read (the OBJ reader stores floats: 0.92 is not the double 0.92).
+  // cage as read (exactly the doubles of the file, since vtkBaryOBJReader).
   double v5[3], v6[3];
   cage->GetPoint(5, v5);
   cage->GetPoint(6, v6);
