@@ -9,8 +9,10 @@
 # Outputs under out/fuzz/: corpus/<target>/ (grows run to run), crashes/<target>-* (inputs that
 # crashed, hung or made a sanitizer report), logs/<target>.log, summary.tsv (target, runs,
 # seconds, executions/s, coverage edges, features, corpus size, crashes).
-# Environment: JOBS, MAX_LEN (bytes, default 8192), TIMEOUT (s a input, default 20),
-# RSS_LIMIT_MB (default 4096).
+# Environment: JOBS, MAX_LEN (bytes, default 8192), TIMEOUT (s an input, default 20),
+# RSS_LIMIT_MB (memory in use, default 4096), MALLOC_LIMIT_MB (one request, default 1 TiB:
+# a request the machine cannot satisfy gets a null pointer, as without the sanitizer, and VTK
+# reports it; memory actually used stays under RSS_LIMIT_MB).
 set -euo pipefail
 
 ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
@@ -54,12 +56,20 @@ run_one() { # target runs
   before=$(find "$OUT/crashes" -name "$t-*" | wc -l)
   local start=$(date +%s)
   local args=(-runs="$per" -max_len="${MAX_LEN:-8192}" -timeout="${TIMEOUT:-20}"
-    -rss_limit_mb="${RSS_LIMIT_MB:-4096}" -print_final_stats=1
+    -rss_limit_mb="${RSS_LIMIT_MB:-4096}" -malloc_limit_mb="${MALLOC_LIMIT_MB:-1048576}"
+    -print_final_stats=1
     -artifact_prefix="$OUT/crashes/$t-" "$OUT/corpus/$t" "$OUT/seeds/$t")
+  # VTK 9.1's XML readers leak on malformed files (testing/fuzz/lsan.supp); their suppressions
+  # need full malloc stacks, which cost 5-10x the speed, so the two XML targets run without
+  # leak detection here (ctest's fuzz.readers checks them with the suppressions)
+  local leaks=1
+  case "$t" in vtp|vtu) leaks=0 ;; esac
+  args+=(-detect_leaks="$leaks")
   local pids=()
   for j in $(seq 1 "$JOBS"); do
-    ( cd "$OUT" && ASAN_OPTIONS=detect_leaks=1:allocator_may_return_null=0 \
+    ( cd "$OUT" && ASAN_OPTIONS=detect_leaks=1:allocator_may_return_null=1 \
       UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
+      LSAN_OPTIONS=suppressions="$ROOT/testing/fuzz/lsan.supp" \
       "$exe" -seed="$j" "${args[@]}" >"$OUT/logs/$t.$j.log" 2>&1 ) &
     pids+=($!)
   done

@@ -26,6 +26,7 @@
 
 using nlohmann::json;
 
+
 namespace barylab
 {
 namespace cli
@@ -61,12 +62,13 @@ vtkSmartPointer<vtkDataSet> attach_weights(vtkSmartPointer<vtkDataSet> model,
     throw bary::Error(bary::ErrorCode::InvalidArgument,
       "'" + weights_path + "' has no point-data array '" + array + "' and no compact pair '" +
         array + "Indices'/'" + array + "Values' (write them with 'barylab weights' / 'barylab reduce')");
+  // compared as doubles: a NaN or huge count in the file is no integer to cast to
   if (!w && wn && wn->GetNumberOfTuples() > 0 &&
-    static_cast<vtkIdType>(wn->GetComponent(0, 0)) != components)
+    !(wn->GetComponent(0, 0) == static_cast<double>(components)))
     throw bary::Error(bary::ErrorCode::SizeMismatch,
       "the compact weights in '" + weights_path + "' are for " +
-        std::to_string(static_cast<vtkIdType>(wn->GetComponent(0, 0))) + " control points but " +
-        what + " has " + std::to_string(components));
+        vtkBaryConversion::CountText(wn->GetComponent(0, 0)) + " control points but " + what + " has " +
+        std::to_string(components));
   if (w && w->GetNumberOfComponents() != components)
     throw bary::Error(bary::ErrorCode::SizeMismatch,
       "the weights in '" + weights_path + "' have " + std::to_string(w->GetNumberOfComponents()) +

@@ -21,9 +21,11 @@
 #include <algorithm>
 #include <cstdint>
 #include <cstring>
+#include <cmath>
 #include <string>
 
 vtkStandardNewMacro(vtkBaryCageDeformation);
+
 
 namespace
 {
@@ -200,12 +202,13 @@ int vtkBaryCageDeformation::RequestData(
       const std::string name = this->WeightsArrayName;
       vtkDataArray* count =
         input->GetFieldData()->GetArray((name + "NumberOfControlPoints").c_str());
+      // compared as doubles: a NaN or huge count in the file is no integer to cast to
       if (count && count->GetNumberOfTuples() > 0 &&
-        static_cast<vtkIdType>(count->GetComponent(0, 0)) != nc)
+        !(count->GetComponent(0, 0) == static_cast<double>(nc)))
         throw bary::Error(bary::ErrorCode::SizeMismatch,
           "the compact weights '" + name + "Indices'/'" + name + "Values' are for " +
-            std::to_string(static_cast<vtkIdType>(count->GetComponent(0, 0))) +
-            " control points but the cage has " + std::to_string(nc));
+            vtkBaryConversion::CountText(count->GetComponent(0, 0)) + " control points but the cage has " +
+            std::to_string(nc));
       const bary::SparseWeights Ws =
         vtkBaryConversion::FromCompactArrays(compactIndices, compactValues, nc);
       if (Ws.rows() != input->GetNumberOfPoints())

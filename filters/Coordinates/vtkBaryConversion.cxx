@@ -239,6 +239,13 @@ vtkSmartPointer<vtkDoubleArray> vtkBaryConversion::ToArray(
   return array;
 }
 
+std::string vtkBaryConversion::CountText(double value)
+{
+  return value == std::floor(value) && std::fabs(value) < 1e15
+    ? std::to_string(static_cast<long long>(value))
+    : std::to_string(value);
+}
+
 vtkDataArray* vtkBaryConversion::FindPointArray(vtkDataSet* data, const std::string& name)
 {
   if (!data || name.empty())

@@ -99,6 +99,10 @@ public:
   /// array of that name. @throws bary::Error(InvalidArgument) when the array of that name holds
   /// text (a vtkStringArray) or other values than numbers.
   static vtkDataArray* FindPointArray(vtkDataSet* data, const std::string& name);
+
+  /// A count read from a file (a field-data value), for a message: whole ("72"), or as it is
+  /// ("nan", "2.500000"); never cast to an integer, which a NaN or 1e300 cannot be.
+  static std::string CountText(double value);
   /// FindPointArray, but an array that is not there is an error too: "no point-data array
   /// 'Weights' (arrays present: A, B)", then "; " and @p advice when given.
   static vtkDataArray* RequirePointArray(

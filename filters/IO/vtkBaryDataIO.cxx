@@ -680,8 +680,10 @@ Eigen::MatrixXd vtkBaryDataIO::ReadDMAT(const std::string& path)
       "cannot read '" + path + "': its header announces " + detail_count(cols) + " columns by " +
         detail_count(rows) + " rows, more values than a file of " + std::to_string(st.st_size) +
         " bytes holds");
+  // a matrix without values (0 rows, or 0 columns) is read without looping over the other
+  // count, which may be anything (0 by 10^15 took forever)
   Eigen::MatrixXd M(static_cast<Eigen::Index>(rows), static_cast<Eigen::Index>(cols));
-  for (Eigen::Index c = 0; c < M.cols(); ++c) // column-major
+  for (Eigen::Index c = 0; M.size() > 0 && c < M.cols(); ++c) // column-major
     for (Eigen::Index r = 0; r < M.rows(); ++r)
     {
       double x;

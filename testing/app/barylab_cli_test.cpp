@@ -1432,6 +1432,28 @@ TEST_F(CLI, UnsafeFilesAreRefusedInOneLine)
   ExpectError(run("stats --locality --input " + out("cell.vtk")), "cell 0 names point 7");
 }
 
+TEST_F(CLI, RawBytesOfArgumentsAndFilesAreEscapedInOneLine)
+{
+  // an unknown --method and a bad token of a binary file were echoed raw (terminal escapes,
+  // line breaks): every message is one printable line, bytes that are not text as \xNN
+  const std::string w = " --cage " + data("cage2d.obj") + " --points " + data("model2d.obj") +
+    " --output " + out("raw.vtp");
+  const CommandResult method = run("weights --method '\x1b[31mred\nx\xff'" + w);
+  EXPECT_NE(method.code, 0) << method.output;
+  EXPECT_EQ(method.output.find('\x1b'), std::string::npos) << method.output;
+  EXPECT_NE(method.output.find("\\x1b[31mred x\\xff"), std::string::npos) << method.output;
+  EXPECT_EQ(method.output.rfind("barylab: ", 0), 0u) << method.output;
+  EXPECT_LE(std::count(method.output.begin(), method.output.end(), '\n'), 2) << method.output;
+  {
+    std::ofstream f(out("binary.off"), std::ios::binary);
+    f << "OFF\n3 1 0\n0 0 \x1b\x01\xfe\n1 0 0\n0 1 0\n3 0 1 2\n";
+  }
+  const CommandResult file = run("stats --input " + out("binary.off"));
+  ExpectError(file, "'\\x1b\\x01\\xfe' is not a number");
+  EXPECT_EQ(std::count(file.output.begin(), file.output.end(), '\n'), 1) << file.output;
+  EXPECT_FALSE(fs::exists(out("raw.vtp")));
+}
+
 TEST_F(CLI, OptionsOutOfRangeOrNotFiniteAreUsageErrors)
 {
   const std::string w = "weights --cage " + data("cage2d.obj") + " --points " +

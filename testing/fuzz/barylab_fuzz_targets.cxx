@@ -96,9 +96,28 @@ const bary::Skeleton& skeleton()
   return s;
 }
 
+/// A 3D chain of three bones: quaternion poses need a 3D skeleton.
+const bary::Skeleton& skeleton3d()
+{
+  static const bary::Skeleton s = [] {
+    bary::Skeleton k;
+    k.C.resize(4, 3);
+    k.C << 0, 0, 0, 0, 1, 0, 0, 2, 0, 1, 2, 0;
+    k.BE.resize(3, 2);
+    k.BE << 0, 1, 1, 2, 2, 3;
+    return k;
+  }();
+  return s;
+}
+
 void read_pose(const std::string& path, const std::uint8_t*, std::size_t)
 {
   vtkBaryDataIO::ReadPose(path, skeleton().handle_count(), &skeleton());
+}
+
+void read_pose_dmat(const std::string& path, const std::uint8_t*, std::size_t)
+{
+  vtkBaryDataIO::ReadPose(path, skeleton3d().handle_count(), &skeleton3d());
 }
 
 // --- seeds --------------------------------------------------------------------------------
@@ -361,23 +380,26 @@ std::vector<std::string> make_seeds(const Target& t, const std::string& data_dir
     seeds.push_back(slurp(data_dir + "/skeleton2d_pose.txt"));
   else if (t.name == "pose-dmat")
   {
-    // one quaternion (x y z w) per bone of the bundled skeleton, as a 4-column and a column
-    std::ostringstream rows, column;
-    rows << "4 8\n";
-    column << "1 32\n";
+    // one quaternion (x y z w) per bone of the 3D chain: as 4 columns, and as one column
+    std::ostringstream rows, column, stacked;
+    rows << "4 3\n";
+    const double q[3][4] = { { 0, 0, 0, 1 }, { 0, 0, 0.38268343236508978, 0.92387953251128674 },
+      { 0.5, 0.5, 0.5, 0.5 } };
     for (int c = 0; c < 4; ++c)
-      for (int b = 0; b < 8; ++b)
-        rows << (c == 3 ? 1.0 : (c == 2 && b == 3 ? 0.25 : 0.0)) << "\n";
-    for (int b = 0; b < 8; ++b)
-      column << "0\n0\n" << 0.1 * b << "\n1\n";
+      for (int b = 0; b < 3; ++b)
+        rows << q[b][c] << "\n";
+    column << "1 12\n";
+    for (int b = 0; b < 3; ++b)
+      for (int c = 0; c < 4; ++c)
+        column << q[b][c] << "\n";
+    // libigl's stacked transforms: 4 rows of 3 per handle, column-major
+    stacked << "3 12\n";
+    for (int c = 0; c < 3; ++c)
+      for (int h = 0; h < 3; ++h)
+        for (int r = 0; r < 4; ++r)
+          stacked << (r == c ? 1.0 : (r == 3 ? 0.25 * (h + 1) : 0.0)) << "\n";
     seeds.push_back(rows.str());
     seeds.push_back(column.str());
-    // libigl's stacked transforms: 3 rows of 2 per handle
-    std::ostringstream stacked;
-    stacked << "2 27\n";
-    for (int c = 0; c < 2; ++c)
-      for (int h = 0; h < 9; ++h)
-        stacked << (c == 0 ? "1\n0\n0.5\n" : "0\n1\n-0.5\n");
     seeds.push_back(stacked.str());
   }
   else if (t.name == "numbers")
@@ -443,8 +465,9 @@ std::vector<Target> make_targets()
     { "dmat", ".dmat", "vtkBaryDataIO::ReadDMAT: libigl .dmat matrix", read_dmat, text },
     { "pose", ".txt", "vtkBaryDataIO::ReadPose: transforms a line, for the bundled skeleton",
       read_pose, text },
-    { "pose-dmat", ".dmat", "vtkBaryDataIO::ReadPose: quaternions or stacked transforms (.dmat)",
-      read_pose, text },
+    { "pose-dmat", ".dmat",
+      "vtkBaryDataIO::ReadPose: quaternions or stacked transforms (.dmat), for a 3D chain",
+      read_pose_dmat, text },
     { "numbers", ".txt", "vtkBaryDataIO::ReadNumbers: tcc user weights", read_numbers, text },
     { "pseudo-edges", ".txt", "vtkBaryDataIO::ReadPseudoEdges: BBW pseudo-edges",
       read_pseudo_edges, text },
