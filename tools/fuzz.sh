@@ -36,7 +36,9 @@ build() {
       -DCMAKE_BUILD_TYPE=RelWithDebInfo "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O2 -g1 -DNDEBUG" \
       -DBARYLAB_BUILD_BENCHMARKS=OFF
   fi
-  local targets=(barylab_fuzz)
+  # the driver first: it lists the targets
+  cmake --build "$BUILD" -j "$JOBS" --target barylab_fuzz
+  local targets=()
   for t in $(targets); do targets+=("barylab_libfuzz_$t"); done
   cmake --build "$BUILD" -j "$JOBS" --target "${targets[@]}"
 }
@@ -67,7 +69,7 @@ run_one() { # target runs
   args+=(-detect_leaks="$leaks")
   local pids=()
   for j in $(seq 1 "$JOBS"); do
-    ( cd "$OUT" && ASAN_OPTIONS=detect_leaks=1:allocator_may_return_null=1 \
+    ( cd "$OUT" && ASAN_OPTIONS=detect_leaks=$leaks:allocator_may_return_null=1 \
       UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
       LSAN_OPTIONS=suppressions="$ROOT/testing/fuzz/lsan.supp" \
       "$exe" -seed="$j" "${args[@]}" >"$OUT/logs/$t.$j.log" 2>&1 ) &

@@ -481,6 +481,8 @@ vtkSmartPointer<vtkDataSet> vtkBaryDataIO::Read(const std::string& path)
     return checked(legacy, path, ext);
   }
   // sizes a VTK reader would allocate for must fit in the file (vtkBaryFormatCheck.h)
+  if (ext == ".stl")
+    vtkbary::CheckSTLCount(path, static_cast<std::uintmax_t>(st.st_size));
   if (ext == ".vtp" || ext == ".vtu")
   {
     vtkbary::CheckXMLCounts(path, static_cast<std::uintmax_t>(st.st_size));
@@ -674,8 +676,9 @@ Eigen::MatrixXd vtkBaryDataIO::ReadDMAT(const std::string& path)
       "cannot read '" + path + "': a .dmat file starts with 'columns rows' (ASCII)");
   // each value takes at least two bytes ("0\n"): a header that promises more than the file can
   // hold is refused before anything is allocated for it
+  // (each count on its own too: 0 columns by 6e29 rows holds no value but is no matrix size)
   const double most = static_cast<double>(st.st_size) / 2.0;
-  if (cols * rows > most)
+  if (cols * rows > most || cols > 2147483647.0 || rows > 2147483647.0)
     throw Error(ErrorCode::Io,
       "cannot read '" + path + "': its header announces " + detail_count(cols) + " columns by " +
         detail_count(rows) + " rows, more values than a file of " + std::to_string(st.st_size) +

@@ -29,6 +29,10 @@ void CheckXMLCounts(const std::string& path, std::uintmax_t size);
 /// divides by zero, a last block larger than the others reads past the block table.
 /// @throws bary::Error(Io)
 void CheckXMLCompression(const std::string& path, std::uintmax_t size);
+/// A binary STL file of @p size bytes (binary as vtkSTLReader decides it): the triangle
+/// count at byte 80 must fit in the file (84 bytes + 50 a triangle). VTK's reader allocates for
+/// the count first (4 billion triangles for a 300-byte file). @throws bary::Error(Io)
+void CheckSTLCount(const std::string& path, std::uintmax_t size);
 } // namespace vtkbary
 
 #endif

@@ -813,16 +813,28 @@ TEST(vtkBaryDataIO, SizesAFileCannotHoldAreRefusedBeforeAllocating)
     WriteText(path, text.substr(0, at + 16) + "1e3" + text.substr(end));
     ExpectReadThrows(path, { bary::ErrorCode::Io }, "NumberOfPoints=\"1e3\" is not a count");
   }
-  // .dmat: a header of 10^18 values (std::bad_alloc, "a -9223372036854775808 by 1 matrix")
-  const std::string dmat = WriteText(dir / "big.dmat", "1000000000 1000000000\n1\n2\n");
-  try
+  // .dmat: a header of 10^18 values (std::bad_alloc, "a -9223372036854775808 by 1 matrix"),
+  // and 0 columns by 6e29 rows (no values, but a cast of 6e29 to a matrix size: found by
+  // libFuzzer's UBSan)
+  for (const char* header : { "1000000000 1000000000\n1\n2\n", "0 600000000000000000000000000000\n" })
   {
-    vtkBaryDataIO::ReadDMAT(dmat);
-    ADD_FAILURE() << "an impossible .dmat header was accepted";
+    try
+    {
+      vtkBaryDataIO::ReadDMAT(WriteText(dir / "big.dmat", header));
+      ADD_FAILURE() << "an impossible .dmat header was accepted: " << header;
+    }
+    catch (const bary::Error& e)
+    {
+      EXPECT_NE(std::string(e.what()).find("more values than a file of"), std::string::npos) << e.what();
+    }
   }
-  catch (const bary::Error& e)
+  // binary STL: a 4-billion-triangle count in a 134-byte file (VTK allocated for it first)
   {
-    EXPECT_NE(std::string(e.what()).find("more values than a file of"), std::string::npos) << e.what();
+    std::string stl(80, ' ');
+    stl += std::string("\xff\xff\xff\xfe", 4);
+    stl += std::string(50, '\x01');
+    ExpectReadThrows(WriteText(dir / "count.stl", stl), { bary::ErrorCode::Io },
+      "cannot hold the 4278190079 triangles its header announces");
   }
 }
 
