@@ -91,7 +91,9 @@ int vtkBaryMEDITReader::RequestData(
   };
   auto read_count = [&](const char* section, long long& n) {
     double x;
-    if (!tokens.next(token) || !to_number(token, x) || x < 0 || x != std::floor(x))
+    // at most 9e15 (a count beyond long long was cast: UBSan, found by libFuzzer); entries are
+    // read one by one, so a count larger than the file's is a truncation error
+    if (!tokens.next(token) || !to_number(token, x) || !(x >= 0 && x <= 9e15) || x != std::floor(x))
       return false;
     n = static_cast<long long>(x);
     (void)section;

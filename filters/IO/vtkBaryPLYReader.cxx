@@ -98,7 +98,7 @@ public:
   {
   }
 
-  std::size_t left() const { return bytes_.size() - pos_; }
+  std::size_t left() const { return pos_ < bytes_.size() ? bytes_.size() - pos_ : 0; }
 
   double value(Scalar s, const std::string& what)
   {
@@ -174,7 +174,9 @@ int vtkBaryPLYReader::RequestData(
       if (end == std::string::npos)
         end = bytes.size();
       std::string line = bytes.substr(pos, end - pos);
-      pos = end + 1;
+      // past the newline, or at the end of a file whose last line has none (end + 1 was past
+      // the end, and the bytes left underflowed: found by libFuzzer)
+      pos = end < bytes.size() ? end + 1 : bytes.size();
       ++line_number;
       if (!line.empty() && line.back() == '\r')
         line.pop_back();

@@ -828,6 +828,9 @@ TEST(vtkBaryDataIO, SizesAFileCannotHoldAreRefusedBeforeAllocating)
       EXPECT_NE(std::string(e.what()).find("more values than a file of"), std::string::npos) << e.what();
     }
   }
+  // MEDIT: a count beyond long long was cast to it (UBSan, found by libFuzzer)
+  ExpectReadThrows(WriteText(dir / "count.mesh", "MeshVersionFormatted 1\nVertices\n5e95\n0 0 0 1\n"),
+    { bary::ErrorCode::Io }, "expected the number of vertices after 'Vertices'");
   // binary STL: a 4-billion-triangle count in a 134-byte file (VTK allocated for it first)
   {
     std::string stl(80, ' ');
@@ -928,6 +931,34 @@ TEST(vtkBaryDataIO, CellsVTKCannotBuildAreRefusedNotCrashedOn)
     { bary::ErrorCode::Io }, "cell 0 of VTK cell type 10 has 3 points, not 4");
   ExpectReadThrows(WriteText(dir / "type.vtk", head + "CELLS 1 5\n4 0 1 2 3\nCELL_TYPES 1\n200\n"),
     { bary::ErrorCode::Io }, "VTK cell type 200, which BaryLab does not read");
+}
+
+TEST(vtkBaryPLYReader, HeadersAndBodiesAreCheckedNotTrusted)
+{
+  const fs::path dir = Scratch("ply");
+  // ASCII, with properties that are read past (normals, a colour list, an unknown element)
+  auto data = vtkBaryDataIO::ReadPolyData(WriteText(dir / "ok.ply",
+    "ply\nformat ascii 1.0\ncomment c\nelement vertex 4\nproperty double x\nproperty float y\n"
+    "property float z\nproperty float nx\nelement face 2\nproperty list uchar int vertex_indices\n"
+    "property list uchar float texcoord\nelement edge 1\nproperty int vertex1\nproperty int vertex2\n"
+    "element other 1\nproperty short s\nend_header\n"
+    "0.1 0 0 1\n1 0 0 1\n0 1 0 1\n1 1 0 1\n3 0 1 2 2 0.5 0.5\n4 0 1 3 2 0\n2 3\n7\n"));
+  EXPECT_EQ(data->GetNumberOfPoints(), 4);
+  EXPECT_EQ(data->GetPoint(0)[0], 0.1);
+  EXPECT_EQ(data->GetNumberOfPolys(), 2);
+  EXPECT_EQ(data->GetNumberOfLines(), 1);
+  // a binary header that is the file's last line, without a newline: the body started one byte
+  // past the end (heap-buffer-overflow in BaryLab's reader, found by libFuzzer)
+  ExpectReadThrows(WriteText(dir / "eof.ply",
+    "ply\nformat binary_little_endian 1.0\nelement vertex 1\nproperty float x\nproperty float y\n"
+    "property float z\nend_header"), { bary::ErrorCode::Io }, "announces 1 entries, more than the 0 bytes left hold");
+  ExpectReadThrows(WriteText(dir / "count.ply",
+    "ply\nformat ascii 1.0\nelement vertex 99999999999\nproperty float x\nproperty float y\n"
+    "property float z\nend_header\n0 0 0\n"), { bary::ErrorCode::Io },
+    "line 3: element 'vertex' announces 99999999999 entries, more than the");
+  ExpectReadThrows(WriteText(dir / "type.ply",
+    "ply\nformat ascii 1.0\nelement vertex 1\nproperty flaot x\nend_header\n0\n"),
+    { bary::ErrorCode::Io }, "line 4: unknown property type in 'property flaot x'");
 }
 
 TEST(vtkBaryDataIO, NumberListsAndPseudoEdgesAreReadStrictly)

@@ -35,15 +35,6 @@
 
 extern "C" void __sanitizer_set_death_callback(void (*)(void)) __attribute__((weak));
 
-namespace barylab
-{
-namespace fuzz
-{
-#ifdef BARYLAB_FUZZ_CLI
-void RegisterCliTarget();
-#endif
-}
-}
 
 namespace
 {

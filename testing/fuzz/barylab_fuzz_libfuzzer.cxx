@@ -8,15 +8,6 @@
 #include <string>
 #include <unistd.h>
 
-namespace barylab
-{
-namespace fuzz
-{
-#ifdef BARYLAB_FUZZ_CLI
-void RegisterCliTarget();
-#endif
-}
-}
 
 namespace
 {

@@ -35,8 +35,12 @@ struct Target
 const std::vector<Target>& Targets();
 const Target* FindTarget(const std::string& name);
 
-/// Registers the command-line target (barylab_fuzz_cli.cxx, linked where the app is built).
+/// Adds @p target to Targets().
 void RegisterTarget(Target target);
+
+/// Registers the command-line target: defined in barylab_fuzz_cli.cxx, which is linked (and
+/// BARYLAB_FUZZ_CLI defined) only where the app is built.
+void RegisterCliTarget();
 
 /// The seed inputs of @p target, made from the bundled data/ (@p data_dir) through BaryLab's
 /// and VTK's writers in each variant of the format (ASCII, binary, compressed, ...).
