@@ -180,6 +180,15 @@ int vtkBaryMEDITReader::RequestData(
             ids[k] = static_cast<vtkIdType>(value) - 1;
           }
         }
+        // the reference (region) number is an int in the format: checked before the cast (a
+        // 1e68 was cast to int: UBSan, found by libFuzzer)
+        if (corners > 0 && !(value == std::floor(value) && value >= -2147483648.0 && value <= 2147483647.0))
+        {
+          std::ostringstream text;
+          text << section << " entry " << e + 1 << " has reference number " << value
+               << ", not a whole number that fits an int";
+          return error(text.str());
+        }
         if (section == "Triangles")
         {
           triangles.insert(triangles.end(), ids, ids + 3);

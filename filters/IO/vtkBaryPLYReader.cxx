@@ -298,9 +298,13 @@ int vtkBaryPLYReader::RequestData(
           if (p.list)
           {
             const double n = body.value(p.count, what);
-            if (n < 0 || n > static_cast<double>(body.left()))
-              throw PlyError(what + ": a list of " + std::to_string(static_cast<long long>(n)) +
-                " values, more than the bytes left hold");
+            if (!(n >= 0 && n <= static_cast<double>(body.left())))
+            {
+              // n as read, never cast (3e102 in an ASCII list: UBSan, found by libFuzzer)
+              std::ostringstream text;
+              text << what << ": a list of " << n << " values, more than the bytes left hold";
+              throw PlyError(text.str());
+            }
             if (static_cast<int>(k) == face)
               ids.clear();
             for (long long j = 0; j < static_cast<long long>(n); ++j)

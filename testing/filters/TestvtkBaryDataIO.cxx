@@ -831,6 +831,11 @@ TEST(vtkBaryDataIO, SizesAFileCannotHoldAreRefusedBeforeAllocating)
   // MEDIT: a count beyond long long was cast to it (UBSan, found by libFuzzer)
   ExpectReadThrows(WriteText(dir / "count.mesh", "MeshVersionFormatted 1\nVertices\n5e95\n0 0 0 1\n"),
     { bary::ErrorCode::Io }, "expected the number of vertices after 'Vertices'");
+  // ... and a reference number beyond int was cast to int
+  ExpectReadThrows(WriteText(dir / "ref.mesh", "MeshVersionFormatted 1\nDimension 3\nVertices\n4\n"
+                                               "0 0 0 1\n1 0 0 1\n0 1 0 1\n0 0 1 1\n"
+                                               "Tetrahedra\n1\n1 2 3 4 1e68\nEnd\n"),
+    { bary::ErrorCode::Io }, "Tetrahedra entry 1 has reference number 1e+68, not a whole number");
   // binary STL: a 4-billion-triangle count in a 134-byte file (VTK allocated for it first)
   {
     std::string stl(80, ' ');
