@@ -25,6 +25,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <sstream>
 #include <string>
 
 vtkStandardNewMacro(vtkBaryConversion);
@@ -241,9 +242,11 @@ vtkSmartPointer<vtkDoubleArray> vtkBaryConversion::ToArray(
 
 std::string vtkBaryConversion::CountText(double value)
 {
-  return value == std::floor(value) && std::fabs(value) < 1e15
-    ? std::to_string(static_cast<long long>(value))
-    : std::to_string(value);
+  if (value == std::floor(value) && std::fabs(value) < 1e15)
+    return std::to_string(static_cast<long long>(value));
+  std::ostringstream out; // "nan", "1e+30", "2.5"
+  out << value;
+  return out.str();
 }
 
 vtkDataArray* vtkBaryConversion::FindPointArray(vtkDataSet* data, const std::string& name)

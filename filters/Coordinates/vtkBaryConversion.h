@@ -100,8 +100,8 @@ public:
   /// text (a vtkStringArray) or other values than numbers.
   static vtkDataArray* FindPointArray(vtkDataSet* data, const std::string& name);
 
-  /// A count read from a file (a field-data value), for a message: whole ("72"), or as it is
-  /// ("nan", "2.500000"); never cast to an integer, which a NaN or 1e300 cannot be.
+  /// A count or id read from a file, for a message: whole ("72"), or as it is ("nan", "2.5",
+  /// "1e+30"); never cast to an integer, which a NaN or 1e300 cannot be.
   static std::string CountText(double value);
   /// FindPointArray, but an array that is not there is an error too: "no point-data array
   /// 'Weights' (arrays present: A, B)", then "; " and @p advice when given.

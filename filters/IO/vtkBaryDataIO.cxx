@@ -8,6 +8,7 @@
 #include "vtkBaryMEDITReader.h"
 #include "vtkBaryTGFReader.h"
 
+#include "vtkBaryConversion.h"
 #include "vtkBaryErrorObserver.h"
 #include "vtkBaryFormatCheck.h"
 #include "vtkBaryLegacyVTK.h"
@@ -131,16 +132,6 @@ private:
   vtkNew<CaptureOutputWindow> Window;
 };
 
-/// A point id read from a file, for a message (whole, or as it is when it is not).
-std::string detail_id(double id)
-{
-  if (id == std::floor(id) && std::fabs(id) < 9e15)
-    return std::to_string(static_cast<long long>(id));
-  std::ostringstream out;
-  out << id;
-  return out.str();
-}
-
 /// The largest number of points of a data set whose points are implicit (an image's grid, a
 /// rectilinear grid): a header of a few bytes can announce 10^15 of them.
 constexpr vtkIdType kMaxImplicitPoints = vtkIdType(1) << 31;
@@ -175,7 +166,7 @@ vtkIdType check_cell_array(vtkCellArray* cells, vtkIdType np, vtkIdType least, c
     const double end = offsets->GetComponent(c + 1, 0);
     if (!(end - begin >= static_cast<double>(least)) || end > static_cast<double>(size))
       throw fail("cell " + std::to_string(first + c) + " (a " + kind + ") has " +
-        (end < begin ? std::string("a negative number of") : detail_id(end - begin)) +
+        (end < begin ? std::string("a negative number of") : vtkBaryConversion::CountText(end - begin)) +
         " points, fewer than the " + std::to_string(least) + " it needs");
     for (auto k = static_cast<vtkIdType>(begin); k < static_cast<vtkIdType>(end); ++k)
     {
@@ -183,7 +174,7 @@ vtkIdType check_cell_array(vtkCellArray* cells, vtkIdType np, vtkIdType least, c
       if (!(id >= 0.0 && id < static_cast<double>(np)))
         throw Error(ErrorCode::InvalidArgument,
           "cannot read '" + path + "': cell " + std::to_string(first + c) + " names point " +
-            detail_id(id) + ", but the file has " + std::to_string(np) + " points (0 to " +
+            vtkBaryConversion::CountText(id) + ", but the file has " + std::to_string(np) + " points (0 to " +
             std::to_string(np - 1) + ")");
     }
     begin = end;
@@ -395,16 +386,6 @@ vtkSmartPointer<vtkAlgorithm> make_reader(const std::string& ext, const std::str
     return r;
   }
   return nullptr;
-}
-
-/// A count of a header, for a message ("1e+30" as such, small ones whole).
-std::string detail_count(double n)
-{
-  if (n < 1e15)
-    return std::to_string(static_cast<long long>(n));
-  std::ostringstream out;
-  out << n;
-  return out.str();
 }
 
 /// @p data as read from @p path, once it is safe to use (validate_read) and has points.
@@ -680,8 +661,8 @@ Eigen::MatrixXd vtkBaryDataIO::ReadDMAT(const std::string& path)
   const double most = static_cast<double>(st.st_size) / 2.0;
   if (cols * rows > most || cols > 2147483647.0 || rows > 2147483647.0)
     throw Error(ErrorCode::Io,
-      "cannot read '" + path + "': its header announces " + detail_count(cols) + " columns by " +
-        detail_count(rows) + " rows, more values than a file of " + std::to_string(st.st_size) +
+      "cannot read '" + path + "': its header announces " + vtkBaryConversion::CountText(cols) + " columns by " +
+        vtkBaryConversion::CountText(rows) + " rows, more values than a file of " + std::to_string(st.st_size) +
         " bytes holds");
   // a matrix without values (0 rows, or 0 columns) is read without looping over the other
   // count, which may be anything (0 by 10^15 took forever)
