@@ -40,11 +40,13 @@ MeshPointLocator::MeshPointLocator(
   dim_ = static_cast<int>(V.cols());
   if (T.rows() == 0 || V.rows() == 0)
     throw Error(ErrorCode::EmptyInput, "the mesh has no elements; mesh the domain first");
-  if (T.cols() != dim_ + 1)
+  surface_ = dim_ == 3 && T.cols() == 3;
+  if (T.cols() != dim_ + 1 && !surface_)
     throw Error(ErrorCode::SizeMismatch,
-      "a " + std::to_string(dim_) + "D mesh needs " + std::to_string(dim_ + 1) +
-        " vertices per element (" + (dim_ == 2 ? "triangles" : "tetrahedra") + "), got " +
-        std::to_string(T.cols()));
+      "a " + std::to_string(dim_) + "D mesh needs " +
+        (dim_ == 2 ? "3 vertices per element (triangles)"
+                   : "4 vertices per element (tetrahedra) or 3 (surface triangles)") +
+        ", got " + std::to_string(T.cols()));
   if (!(tolerance >= 0.0 && tolerance <= 1e-3))
     throw Error(ErrorCode::InvalidArgument,
       "the locator tolerance must be in [0, 1e-3] (relative to the mesh size), got " +
@@ -73,7 +75,7 @@ MeshPointLocator::MeshPointLocator(
     for (int k = 0; k < dim_; ++k)
     {
       double lo = V_(T_(e, 0), k), hi = lo, sum = 0.0;
-      for (int c = 0; c <= dim_; ++c)
+      for (int c = 0; c < T_.cols(); ++c)
       {
         const double v = V_(T_(e, c), k);
         lo = std::min(lo, v);
@@ -82,7 +84,7 @@ MeshPointLocator::MeshPointLocator(
       }
       box_(e, k) = lo;
       box_(e, dim_ + k) = hi;
-      centroid[static_cast<std::size_t>(e * dim_ + k)] = sum / (dim_ + 1);
+      centroid[static_cast<std::size_t>(e * dim_ + k)] = sum / static_cast<double>(T_.cols());
     }
   order_.resize(static_cast<std::size_t>(nt));
   std::iota(order_.begin(), order_.end(), 0);
@@ -195,6 +197,18 @@ double MeshPointLocator::element_distance(
   }
 
   const Eigen::Vector3d p(x[0], x[1], x[2]);
+  if (surface_)
+  {
+    // A triangle in space: the closest point (a point counts as on it at distance 0 only when
+    // it lies exactly in it, so containment_only never answers).
+    if (containment_only)
+      return std::numeric_limits<double>::infinity();
+    const Eigen::Vector3d a = V_.row(T_(e, 0)).transpose(), b = V_.row(T_(e, 1)).transpose(),
+                          c = V_.row(T_(e, 2)).transpose();
+    const Eigen::Vector3d l = detail::closest_on_triangle(p, a, b, c);
+    lambda << l(0), l(1), l(2), 0.0;
+    return (l(0) * a + l(1) * b + l(2) * c - p).norm();
+  }
   const Eigen::Vector3d v[4] = { V_.row(T_(e, 0)).transpose(), V_.row(T_(e, 1)).transpose(),
     V_.row(T_(e, 2)).transpose(), V_.row(T_(e, 3)).transpose() };
   const Eigen::Vector3d e1 = v[1] - v[0], e2 = v[2] - v[0], e3 = v[3] - v[0], r = p - v[0];
@@ -253,8 +267,10 @@ MeshPointLocator::Location MeshPointLocator::locate(const double* x) const
   Eigen::Vector4d lambda;
 
   // 1. Containment (cheap barycentric test) in the elements whose boxes contain x: every
-  // element at distance 0 is among them, so the smallest such index is the answer.
-  stack[top++] = 0;
+  // element at distance 0 is among them, so the smallest such index is the answer. Surface
+  // triangles have no interior: they go straight to the nearest search.
+  if (!surface_)
+    stack[top++] = 0;
   while (top > 0)
   {
     const Node& node = nodes_[static_cast<std::size_t>(stack[--top])];
@@ -370,7 +386,7 @@ MeshPointLocator::Result MeshPointLocator::interpolate(const DenseWeights& mesh_
         continue;
       }
       result.W.row(p).setZero();
-      for (int k = 0; k <= dim_; ++k)
+      for (int k = 0; k < T_.cols(); ++k)
         if (loc.barycentric(k) != 0.0)
           result.W.row(p) += loc.barycentric(k) * mesh_weights.row(T_(loc.element, k));
     }

@@ -47,7 +47,9 @@ class MeshPointLocator
 {
 public:
   /// @param V #V by dim (2 or 3) vertex positions
-  /// @param T #T by dim+1 triangles (2D) or tetrahedra (3D), either orientation; degenerate
+  /// @param T #T by dim+1 triangles (2D) or tetrahedra (3D), or #T by 3 triangles of a surface
+  ///   in 3D (then every query is a closest-point query: the point is "inside" when it lies
+  ///   within the tolerance of the surface), either orientation; degenerate
   ///   (zero-measure) elements are allowed (they never contain a point but can be nearest)
   /// @param tolerance points farther than tolerance x (bounding-box diagonal of V) from every
   ///   element are outside; closer ones are inside, with the barycentric coordinates of the
@@ -117,6 +119,7 @@ private:
   double box_distance2(const Node& node, const double* x) const;
 
   int dim_ = 0;
+  bool surface_ = false; ///< triangles in 3D (a surface): only nearest-point queries
   double tol_ = 0.0;
   RowMatrixXd V_;
   RowMatrixXi T_;

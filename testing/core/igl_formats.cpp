@@ -150,4 +150,42 @@ Eigen::MatrixXd read_dmat(const std::string& path)
   return M;
 }
 
+ObjMesh read_obj(const std::string& path)
+{
+  std::ifstream in = open(path);
+  std::vector<double> v;
+  std::vector<int> f;
+  std::string line;
+  while (std::getline(in, line))
+  {
+    std::istringstream s(line);
+    std::string tag;
+    s >> tag;
+    if (tag == "v")
+    {
+      double x, y, z;
+      if (!(s >> x >> y >> z))
+        throw std::runtime_error(path + ": bad vertex line: " + line);
+      v.insert(v.end(), { x, y, z });
+    }
+    else if (tag == "f")
+    {
+      std::vector<int> ids;
+      std::string token;
+      while (s >> token)
+        ids.push_back(std::stoi(token.substr(0, token.find('/'))) - 1);
+      if (ids.size() < 3)
+        throw std::runtime_error(path + ": bad face line: " + line);
+      for (std::size_t k = 1; k + 1 < ids.size(); ++k)
+        f.insert(f.end(), { ids[0], ids[k], ids[k + 1] });
+    }
+  }
+  ObjMesh mesh;
+  mesh.V = Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>>(
+    v.data(), static_cast<Eigen::Index>(v.size() / 3), 3);
+  mesh.F = Eigen::Map<const Eigen::Matrix<int, Eigen::Dynamic, 3, Eigen::RowMajor>>(
+    f.data(), static_cast<Eigen::Index>(f.size() / 3), 3);
+  return mesh;
+}
+
 } // namespace bary::test

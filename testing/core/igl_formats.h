@@ -1,7 +1,8 @@
 #pragma once
 /// @file igl_formats.h
 /// Test-only readers for the libigl file formats of the shared oracle data
-/// (BARYLAB_SHARED_DIR/igl): MEDIT .mesh, skeleton .tgf and matrix .dmat. Written from the
+/// (BARYLAB_SHARED_DIR/igl): MEDIT .mesh, skeleton .tgf and matrix .dmat, and the triangle
+/// meshes of BARYLAB_SHARED_DIR/wa (.obj). Written from the
 /// format descriptions, not from libigl's code. They throw std::runtime_error naming the file and
 /// the line or token that could not be read.
 
@@ -36,5 +37,14 @@ TgfSkeleton read_tgf(const std::string& path);
 /// A dense matrix from a .dmat file: header "cols rows", then cols * rows values in
 /// column-major order.
 Eigen::MatrixXd read_dmat(const std::string& path);
+
+/// A triangle mesh from a Wavefront .obj file: "v x y z" and "f a b c" lines (1-based indices,
+/// "a/t/n" forms read as a; polygons fanned into triangles); other lines are skipped.
+struct ObjMesh
+{
+  Eigen::MatrixXd V; ///< #V by 3
+  Eigen::MatrixXi F; ///< #F by 3
+};
+ObjMesh read_obj(const std::string& path);
 
 } // namespace bary::test

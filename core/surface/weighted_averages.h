@@ -1,0 +1,133 @@
+#pragma once
+/// @file weighted_averages.h
+/// Weighted averages of points on a surface and their inverse (Panozzo et al., "Weighted
+/// averages on surfaces", ACM TOG 32(4), 2013, §3.3-3.4), on a surface with a Euclidean
+/// embedding (euclidean_embedding.h) and its Phong projection (phong_projection.h).
+///
+/// **Forward problem** (§3.3): anchors x_i on the surface and weights w_i (summing to 1) give
+/// ybar = sum_i w_i e(x_i) in R^D, whose Phong projection onto the embedded mesh is the average.
+/// The search is the paper's: a greedy walk on the edge graph towards ybar, from the vertex of
+/// the previous query's result (warm start) or from the heaviest anchor's nearest corner, until
+/// no neighbour is closer to ybar; then a breadth-first search over triangles from that vertex's
+/// triangles, stopping at the first triangle where a Phong projection exists. A query whose
+/// search finds none (within max_triangles) is reported as failed, never returned as a point.
+/// Search::BruteForce projects onto every triangle and keeps the projection closest to ybar
+/// (Definition 2), for validation.
+///
+/// **Inverse problem** (§3.4): for a point xhat on triangle t with barycentric coordinates xi,
+/// the weights minimise |D w|^2 subject to Psi(xi) (yhat - sum_i w_i y_i) = 0 and sum_i w_i = 1
+/// (Eq. 13), with D_ii = |v_T|^2 + gamma |v_O|^2, v_T and v_O the parts of y_i - yhat in and
+/// orthogonal to the tangent plane Psi(xi) (gamma = 10, the paper's). The solution is
+/// w = D^-2 A^T (A D^-2 A^T)^+ b with A = [P Y^T; 1^T], b = [P yhat; 1], P an orthonormal basis
+/// of Psi's rows (the pseudo-inverse drops directions of A D^-2 A^T below 1e-12 of its largest
+/// eigenvalue). When xhat is an anchor (D_ii = 0, up to 1e-24 of the squared embedding
+/// extent) its weight is 1 and the others 0: the weights interpolate.
+///
+/// Both are per-query: OpenMP over queries in fixed chunks; results do not depend on the
+/// thread count (a warm start only follows the previous query of the same chunk).
+
+#include "core/common/progress.h"
+#include "core/common/types.h"
+#include "core/surface/phong_projection.h"
+#include "core/surface/surface_mesh.h"
+
+#include <memory>
+#include <vector>
+
+namespace bary
+{
+
+/// Options of the forward problem.
+struct ForwardOptions
+{
+  enum class Search
+  {
+    Local,     ///< the paper's greedy walk and breadth-first search (default)
+    BruteForce ///< every triangle, the closest Phong projection (validation; O(#F) per query)
+  };
+  Search search = Search::Local;
+  /// Each query starts from the previous query's result (curves, animations: queries in an
+  /// order where consecutive ones are close); otherwise from the heaviest anchor. Default off.
+  bool warm_start = false;
+  /// Triangles the breadth-first search may try per query before it reports a failure;
+  /// 0 = every triangle. Range [0, 2^31). Default 0.
+  Index max_triangles = 0;
+  /// OpenMP threads (0 = OpenMP's default). Results do not depend on it. Default 0.
+  int threads = 0;
+};
+
+/// Options of the inverse problem.
+struct InverseOptions
+{
+  /// gamma of D_ii = |v_T|^2 + gamma |v_O|^2: how much more anchors off the tangent plane are
+  /// penalised. Range [1, 1e6]. Default 10 (the paper's, "for all examples").
+  double gamma = 10.0;
+  /// OpenMP threads (0 = OpenMP's default). Results do not depend on it. Default 0.
+  int threads = 0;
+};
+
+/// Result of a forward problem.
+struct ForwardResult
+{
+  std::vector<SurfacePoint> points; ///< per query: the triangle and barycentric coordinates
+  std::vector<char> valid;          ///< per query: 1 when a Phong projection was found
+  Eigen::MatrixXd positions;        ///< #queries by 3 points on the surface (NaN rows: failed)
+  Index failures = 0;               ///< queries without a projection
+  Index triangles_tried = 0;        ///< Phong projections attempted, all queries together
+  double seconds = 0;
+};
+
+/// A surface with its embedding, ready for forward and inverse problems. Copies share the
+/// precomputation; const methods are thread-safe.
+class WeightedAverages
+{
+public:
+  /// @param mesh the validated surface
+  /// @param E #V by D embedding of its vertices (euclidean_embedding, a file, or the vertices
+  ///   themselves for D = 3)
+  /// @throws the errors of PhongProjection (sizes, a non-finite entry, a degenerate one-ring)
+  WeightedAverages(SurfaceMesh mesh, const Eigen::MatrixXd& E);
+
+  /// Weighted averages of @p anchors, one query per row of @p W (#queries by #anchors).
+  /// @throws Error(EmptyInput) for no anchor; Error(SizeMismatch) when W's columns are not the
+  ///   anchors; Error(NonFinite) naming a row with a non-finite weight; Error(InvalidArgument)
+  ///   naming a row whose weights do not sum to 1 (within 1e-9 of the sum of their magnitudes),
+  ///   an anchor that is not a point of the surface, or an option out of range;
+  ///   Error(Cancelled) when @p progress returns false.
+  ForwardResult forward(const std::vector<SurfacePoint>& anchors, const DenseWeights& W,
+    const ForwardOptions& options = {}, const ProgressCallback& progress = {}) const;
+
+  /// Weights of @p points (#points by #anchors) w.r.t. @p anchors, each row summing to 1.
+  /// @throws Error(EmptyInput) for no anchor; Error(InvalidArgument) naming an anchor or point
+  ///   that is not a point of the surface, or an option out of range; Error(Cancelled).
+  DenseWeights inverse(const std::vector<SurfacePoint>& anchors,
+    const std::vector<SurfacePoint>& points, const InverseOptions& options = {},
+    const ProgressCallback& progress = {}) const;
+
+  /// Embedded positions of surface points (#points by D).
+  Eigen::MatrixXd embed(const std::vector<SurfacePoint>& points) const;
+
+  const SurfaceMesh& mesh() const noexcept { return *mesh_; }
+  const PhongProjection& phong() const noexcept { return *phong_; }
+  const Eigen::MatrixXd& embedding() const noexcept { return E_; }
+  int dimension() const noexcept { return static_cast<int>(E_.cols()); }
+
+private:
+  struct Workspace;
+  /// One forward query: ybar (D numbers), start vertex; true and @p out on success.
+  bool forward_local(const double* ybar, Index start, Index max_triangles, Workspace& ws,
+    SurfacePoint& out) const;
+  bool forward_brute(const double* ybar, Workspace& ws, SurfacePoint& out) const;
+
+  std::shared_ptr<const SurfaceMesh> mesh_;
+  std::shared_ptr<const PhongProjection> phong_;
+  Eigen::MatrixXd E_;
+};
+
+/// Checks surface points against a mesh: a face in range, finite barycentric coordinates, each
+/// >= -1e-9, summing to 1 within 1e-9. @p what names them in the message ("anchor", "point").
+/// @throws Error(InvalidArgument) naming the first bad one.
+void validate_surface_points(
+  const SurfaceMesh& mesh, const std::vector<SurfacePoint>& points, const char* what);
+
+} // namespace bary
