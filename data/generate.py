@@ -476,11 +476,11 @@ def face_normal(V, f):
     return cross(sub(b, a), sub(c, a))
 
 
-def check_closed_surface(V, F, name):
+def check_closed_surface(V, F, name, genus=0):
     directed = directed_edges_ok(F, name)
     vertex_manifold_ok(V, F, name)
     euler = len(V) - len(directed) // 2 + len(F)
-    assert euler == 2, "%s: Euler characteristic %d, not a sphere" % (name, euler)
+    assert euler == 2 - 2 * genus, "%s: Euler characteristic %d, not genus %d" % (name, euler, genus)
     for f, t in enumerate(F):
         assert norm(face_normal(V, t)) > 1e-10, "%s: face %d is degenerate" % (name, f)
     vol = signed_volume(V, F)
@@ -1057,6 +1057,53 @@ def gingerbread_picture(P):
         rows.append(row)
     return png_bytes(n, n, rows)
 
+# Weighted averages on surfaces: a bumpy torus ---------------------------------------------
+WA_TORUS_N = 72        # samples around the central circle (u)
+WA_TORUS_M = 28        # samples around the tube (v)
+WA_TORUS_R = 1.0       # central radius
+WA_TORUS_TUBE = 0.4    # tube radius before the bumps
+WA_TORUS_BUMP = 0.15   # relative bump height: tube radius x (1 + bump sin(3u) cos(2v))
+# Anchors: vertices (i, j) of the grid, a 3 x 3 patch on the outer side of the tube (j = 0 is the
+# outer equator), spaced 4 samples apart around the centre and 3 around the tube.
+WA_ANCHOR_GRID = [(i, j) for j in (WA_TORUS_M - 3, 0, 3) for i in (4, 8, 12)]
+
+
+def wa_torus():
+    V, F = [], []
+    for i in range(WA_TORUS_N):
+        u = 2 * math.pi * i / WA_TORUS_N
+        for j in range(WA_TORUS_M):
+            v = 2 * math.pi * j / WA_TORUS_M
+            r = WA_TORUS_TUBE * (1 + WA_TORUS_BUMP * math.sin(3 * u) * math.cos(2 * v))
+            V.append(((WA_TORUS_R + r * math.cos(v)) * math.cos(u),
+                      (WA_TORUS_R + r * math.cos(v)) * math.sin(u), r * math.sin(v)))
+    for i in range(WA_TORUS_N):
+        for j in range(WA_TORUS_M):
+            a = i * WA_TORUS_M + j
+            b = ((i + 1) % WA_TORUS_N) * WA_TORUS_M + j
+            c = i * WA_TORUS_M + (j + 1) % WA_TORUS_M
+            d = ((i + 1) % WA_TORUS_N) * WA_TORUS_M + (j + 1) % WA_TORUS_M
+            F.append((a, b, d))
+            F.append((a, d, c))
+    return V, F
+
+
+def wa_weights_text():
+    """Rows of weights for the 9 anchors (row-major 3 x 3 patch): the centre, the patch's
+    centroid, bilinear samples along its diagonal and one affine (extrapolating) row."""
+    rows = [[0, 0, 0, 0, 1, 0, 0, 0, 0], [1 / 9.0] * 9]
+    for k in range(1, 8):
+        t = k / 8.0
+        # bilinear weights of (t, t) on the 3 x 3 grid of nodes 0, 1/2, 1
+        def hat(x, node):
+            return max(0.0, 1 - abs(x - node) * 2)
+        w = [hat(t, a / 2.0) * hat(t, b / 2.0) for b in range(3) for a in range(3)]
+        rows.append(w)
+    rows.append([0, 0, 0, -0.1, 0.6, 0.5, 0, 0, 0])
+    for w in rows:
+        assert abs(sum(w) - 1) < 1e-12
+    return "".join(" ".join(repr(float(x)) for x in w) + "\n" for w in rows)
+
 
 def main(argv):
     out_dir = argv[1] if len(argv) > 1 else os.path.dirname(os.path.abspath(__file__))
@@ -1137,6 +1184,18 @@ def main(argv):
     summary.append("heart: %d vertices, %d triangles, volume %.4f, %d face pairs tested; %d controls "
                    "(14 active + 8 hull), min margin to their hull %.4f; %d heartbeat frames"
                    % (len(heart_V), len(heart_F), hvol, tested_h, len(controls), hmargin, HEART_FRAMES))
+
+    # Weighted averages on surfaces -----------------------------------------------------
+    wa_V, wa_F = wa_torus()
+    wa_V = [tuple(rnd(v) for v in p) for p in wa_V]
+    wvol = check_closed_surface(wa_V, wa_F, "wa_torus", genus=1)
+    tested_w = check_no_self_intersections(wa_V, wa_F, "wa_torus")
+    files["wa_torus.obj"] = obj_mesh3d_text(wa_V, wa_F)
+    files["wa_anchors.txt"] = "".join("%s %s %s\n" % tuple(fmt(x) for x in wa_V[i * WA_TORUS_M + j])
+                                      for i, j in WA_ANCHOR_GRID)
+    files["wa_weights.txt"] = wa_weights_text()
+    summary.append("wa_torus: %d vertices, %d triangles, volume %.4f (genus 1), %d face pairs "
+                   "tested; %d anchors" % (len(wa_V), len(wa_F), wvol, tested_w, len(WA_ANCHOR_GRID)))
 
     # Broken inputs -----------------------------------------------------------
     files.update(bad_files())

@@ -61,6 +61,8 @@ void ConfigureApp(CLI::App& app, Subcommands& subcommands)
   AddReduceCommand(subcommands);
   AddFieldsCommand(subcommands);
   AddMeshCommand(subcommands);
+  AddEmbedCommand(subcommands);
+  AddAverageCommand(subcommands);
   AddRenderCommand(subcommands);
   AddDemoCommand(subcommands);
 }
@@ -170,12 +172,14 @@ void check_output(const std::string& path, OutputKind kind, const std::vector<st
   const std::string ext = vtkBaryDataIO::Extension(path);
   const bool ok = kind == OutputKind::Data ? vtkBaryDataIO::CanWrite(path)
     : kind == OutputKind::Json             ? ext == ".json"
+    : kind == OutputKind::Text             ? ext == ".txt" || ext == ".vtp" || ext == ".vtu" || ext == ".vtk"
                                            : ext == ".png";
   if (!ok)
     throw bary::Error(bary::ErrorCode::Io,
       "cannot write '" + path + "': unknown file extension '" + ext + "' (" +
         (kind == OutputKind::Data ? "writable: .vtp, .vtu, .vtk, .obj, .stl, .ply, .off"
           : kind == OutputKind::Json ? "a summary is written as .json"
+          : kind == OutputKind::Text ? "written as text (.txt) or with point arrays (.vtp, .vtu, .vtk)"
                                      : "images are written as .png") +
         ")");
   const fs::path parent = fs::path(path).parent_path();

@@ -92,6 +92,8 @@ void AddStatsCommand(Subcommands& subcommands);
 void AddReduceCommand(Subcommands& subcommands);
 void AddFieldsCommand(Subcommands& subcommands);
 void AddMeshCommand(Subcommands& subcommands);
+void AddEmbedCommand(Subcommands& subcommands);
+void AddAverageCommand(Subcommands& subcommands);
 void AddRenderCommand(Subcommands& subcommands);
 void AddDemoCommand(Subcommands& subcommands);
 /// @}
@@ -128,7 +130,9 @@ enum class OutputKind
 {
   Data, ///< a data set: .vtp .vtu .vtk .obj .stl .ply .off
   Json,
-  Png
+  Png,
+  /// a text matrix or points as text (.txt), or a data set that keeps point arrays (.vtp .vtu .vtk)
+  Text
 };
 
 /// A CLI11 check for a number in [@p lo, @p hi] that is finite (CLI11's Range lets NaN through);

@@ -2,6 +2,7 @@
 
 #include "core/common/error.h"
 
+#include <Eigen/LU>
 #include <Eigen/SVD>
 
 #include <algorithm>
@@ -113,6 +114,8 @@ PhongProjection::PhongProjection(const SurfaceMesh& mesh, const Eigen::MatrixXd&
   C_.resize(14 * nf, D);
   CV_.resize(14 * nf, 3);
   scale_.resize(static_cast<std::size_t>(nf));
+  edges_.resize(2 * nf, D);
+  gram_.resize(nf, 5);
   auto frame = [&](Index v) {
     Frame T(2, D);
     T.row(0) = frames_.row(v).head(D);
@@ -149,6 +152,16 @@ PhongProjection::PhongProjection(const SurfaceMesh& mesh, const Eigen::MatrixXd&
     const Frame A1 = E12 * R12 * T1, A2 = E12 * T2, A3 = E23 * R23 * T2, A4 = E23 * T3,
                 A5 = E31 * R31 * T3, A6 = E31 * T1;
     const Frame B = 0.5 * ((A4 + A5) + (A6 + A1) + (A2 + A3));
+    {
+      const Eigen::RowVectorXd v3 = E_.row(F_(f, 2));
+      const Eigen::RowVectorXd e1 = E_.row(F_(f, 0)) - v3, e2 = E_.row(F_(f, 1)) - v3;
+      edges_.row(2 * f) = e1;
+      edges_.row(2 * f + 1) = e2;
+      Eigen::Matrix2d G;
+      G << e1.squaredNorm(), e1.dot(e2), e1.dot(e2), e2.squaredNorm();
+      const Eigen::Matrix2d Gi = G.inverse();
+      gram_.row(f) << Gi(0, 0), Gi(0, 1), Gi(1, 1), e1.dot(v3), e2.dot(v3);
+    }
     const Frame* coefficients[7] = { &A1, &A2, &A3, &A4, &A5, &A6, &B };
     for (int m = 0; m < 7; ++m)
       for (int r = 0; r < 2; ++r)
@@ -161,7 +174,25 @@ PhongProjection::PhongProjection(const SurfaceMesh& mesh, const Eigen::MatrixXd&
   }
 }
 
-bool PhongProjection::project(Index f, const double* y, Eigen::Vector3d& xi) const
+Eigen::Vector3d PhongProjection::euclidean_barycentric(Index f, const double* y) const
+{
+  const double* e1 = edges_.data() + 2 * f * D_;
+  const double* e2 = e1 + D_;
+  double r1 = 0, r2 = 0;
+  for (int d = 0; d < D_; ++d)
+  {
+    r1 += e1[d] * y[d];
+    r2 += e2[d] * y[d];
+  }
+  const double* g = gram_.data() + 5 * f;
+  r1 -= g[3];
+  r2 -= g[4];
+  const double a = g[0] * r1 + g[1] * r2, b = g[1] * r1 + g[2] * r2;
+  return { a, b, 1.0 - a - b };
+}
+
+bool PhongProjection::project(
+  Index f, const double* y, Eigen::Vector3d& xi, const Eigen::Vector3d& start) const
 {
   // p_m = C_m y (14 numbers), then H(a, b) = sum_m mono_m (a q_m1 + b q_m2 + c q_m3 - p_m) / s.
   double p[14];
@@ -175,7 +206,15 @@ bool PhongProjection::project(Index f, const double* y, Eigen::Vector3d& xi) con
   }
   const double* Q = CV_.data() + 14 * f * 3;
   const double residual_tolerance = 1e-14 * scale_[static_cast<std::size_t>(f)];
-  double a = 1.0 / 3, b = 1.0 / 3;
+  const double tolerance2 = residual_tolerance * residual_tolerance;
+  // Start inside the triangle (the blend's denominator vanishes at the corners).
+  double a = std::clamp(start(0), 0.02, 0.96), b = std::clamp(start(1), 0.02, 0.96);
+  if (a + b > 0.98)
+  {
+    const double excess = (a + b - 0.98) / 2;
+    a -= excess;
+    b -= excess;
+  }
   for (int it = 0; it < 30; ++it)
   {
     const double c = 1.0 - a - b;
@@ -230,7 +269,7 @@ bool PhongProjection::project(Index f, const double* y, Eigen::Vector3d& xi) con
     b += db;
     // Converged: the step is at rounding level, or the residual is (near a corner, where
     // Psi's limit depends on the direction, Newton converges only linearly).
-    if (std::abs(da) + std::abs(db) < 1e-13 || std::hypot(H[0], H[1]) <= residual_tolerance)
+    if (std::abs(da) + std::abs(db) < 1e-13 || H[0] * H[0] + H[1] * H[1] <= tolerance2)
     {
       double x[3] = { a, b, 1.0 - a - b };
       constexpr double tolerance = 1e-9;
@@ -251,6 +290,28 @@ bool PhongProjection::project(Index f, const double* y, Eigen::Vector3d& xi) con
   }
   xi = Eigen::Vector3d(a, b, 1.0 - a - b);
   return false;
+}
+
+void PhongProjection::psi(Index f, const Eigen::Vector3d& xi, double* out) const
+{
+  const double a = xi(0), b = xi(1), c = xi(2);
+  const double s = a * b + b * c + c * a;
+  const double* C = C_.data() + 14 * f * D_;
+  if (!(s > 1e-300))
+  {
+    const int m = a >= b && a >= c ? 0 : b >= c ? 2 : 4;
+    std::copy(C + 2 * m * D_, C + (2 * m + 2) * D_, out);
+    return;
+  }
+  const double mono[7] = { a * a * b, a * b * b, b * b * c, b * c * c, c * c * a, c * a * a, a * b * c };
+  std::fill(out, out + 2 * D_, 0.0);
+  for (int m = 0; m < 7; ++m)
+  {
+    const double k = mono[m] / s;
+    const double* row = C + 2 * m * D_;
+    for (int d = 0; d < 2 * D_; ++d)
+      out[d] += k * row[d];
+  }
 }
 
 Eigen::MatrixXd PhongProjection::psi(Index f, const Eigen::Vector3d& xi) const

@@ -57,11 +57,25 @@ public:
   /// Phong projection of @p y (D numbers) onto triangle @p f: true and its barycentric
   /// coordinates @p xi (>= 0, summing to 1) when Newton converges to a point of the triangle;
   /// false otherwise (xi then holds the last iterate). Never throws, no allocation.
-  bool project(Index f, const double* y, Eigen::Vector3d& xi) const;
+  bool project(Index f, const double* y, Eigen::Vector3d& xi) const
+  {
+    return project(f, y, xi, Eigen::Vector3d::Constant(1.0 / 3));
+  }
+  /// The same with Newton started at @p start (barycentric coordinates of a point of the
+  /// triangle, e.g. from euclidean_barycentric: fewer iterations than the centroid).
+  bool project(Index f, const double* y, Eigen::Vector3d& xi, const Eigen::Vector3d& start) const;
+
+  /// Barycentric coordinates (unclamped) of the Euclidean projection of @p y onto the affine
+  /// plane of triangle @p f in R^D: the cheap guess (2 dot products) that orders and starts the
+  /// search. No allocation.
+  Eigen::Vector3d euclidean_barycentric(Index f, const double* y) const;
 
   /// The interpolated tangent basis Psi(xi) of triangle @p f (2 by D; its rows span the tangent
   /// plane, not orthonormal). At a corner (xi = e_k) the limit is a basis of that vertex's plane.
   Eigen::MatrixXd psi(Index f, const Eigen::Vector3d& xi) const;
+  /// The same into @p out (2 D numbers, row-major: the two rows one after the other). No
+  /// allocation.
+  void psi(Index f, const Eigen::Vector3d& xi, double* out) const;
 
   /// Embedded position of a point of triangle f: sum_k xi_k E.row(F(f, k)).
   void position(Index f, const Eigen::Vector3d& xi, double* out) const;
@@ -85,6 +99,10 @@ private:
   /// Per triangle 14 by 3: each coefficient row dotted with the three embedded corners.
   RowMatrix CV_;             ///< (14 #F) by 3
   std::vector<double> scale_; ///< per triangle: its longest embedded edge
+  /// Per triangle: e1 = v1 - v3 and e2 = v2 - v3 (2 rows of D), and (G^-1 entries, e1.v3, e2.v3)
+  /// with G the Gram matrix of e1, e2: the Euclidean projection onto the triangle's plane.
+  RowMatrix edges_;           ///< (2 #F) by D
+  RowMatrix gram_;            ///< #F by 5: G^-1(0,0), G^-1(0,1), G^-1(1,1), e1.v3, e2.v3
 };
 
 } // namespace bary

@@ -222,6 +222,13 @@ SurfaceMesh::SurfaceMesh(const Eigen::MatrixXd& V_in, const Eigen::MatrixXi& F_i
   mean_edge_length = edge_sum / static_cast<double>(3 * nf);
 }
 
+void validate_surface_tolerance(double tolerance)
+{
+  if (!(tolerance >= 0 && tolerance <= 1))
+    throw Error(ErrorCode::InvalidArgument, "the surface tolerance must be in [0, 1] (a fraction "
+        "of the surface's bounding-box diagonal), got " + detail::format_number(tolerance));
+}
+
 std::vector<SurfacePoint> closest_surface_points(
   const SurfaceMesh& mesh, const Eigen::MatrixXd& P, std::vector<double>* distance)
 {

@@ -67,6 +67,14 @@ struct SurfacePoint
   Eigen::Vector3d barycentric = Eigen::Vector3d::Zero();
 };
 
+/// Default tolerance for points given on a surface (anchors, query points): farther than this
+/// fraction of the surface's bounding-box diagonal from it, a point is refused as off the
+/// surface.
+inline constexpr double kDefaultSurfaceTolerance = 1e-3;
+
+/// Checks a surface tolerance: range [0, 1]. @throws Error(InvalidArgument) naming the value.
+void validate_surface_tolerance(double tolerance);
+
 /// The closest point of the surface to each row of @p P (#P by 3), by MeshPointLocator's
 /// bounding-volume hierarchy; @p distance (optional) receives each point's distance to it.
 /// @throws Error(SizeMismatch) when P does not have 3 columns; Error(NonFinite) naming a

@@ -4,6 +4,7 @@
 #include "core/detail/format.h"
 #include "core/detail/parallel_for.h"
 
+#include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
 
 #include <algorithm>
@@ -18,6 +19,7 @@ struct WeightedAverages::Workspace
 {
   std::vector<int> stamp;  ///< per triangle: the query that last visited it
   std::vector<int> queue;  ///< breadth-first queue of triangles
+  std::vector<std::pair<double, int>> ring; ///< the start vertex's triangles, with their order
   int query = 0;
   Index tried = 0;         ///< Phong projections attempted
   Eigen::VectorXd ybar, point;
@@ -32,6 +34,16 @@ constexpr Index kChunk = 256; // queries per chunk: the unit of warm starts and 
 
 double squared_distance(const double* a, const double* b, int D)
 {
+  if (D == 8) // the default dimension: a fixed-length loop the compiler vectorises
+  {
+    double s = 0;
+    for (int d = 0; d < 8; ++d)
+    {
+      const double t = a[d] - b[d];
+      s += t * t;
+    }
+    return s;
+  }
   double s = 0;
   for (int d = 0; d < D; ++d)
   {
@@ -39,6 +51,43 @@ double squared_distance(const double* a, const double* b, int D)
     s += t * t;
   }
   return s;
+}
+
+/// lambda = M^+ b for the symmetric positive semidefinite 3 x 3 M of the inverse problem,
+/// b = (0, 0, 1): equilibrated to a unit diagonal, Cholesky when it is well conditioned (the
+/// usual case), else the eigen-decomposition's pseudo-inverse (directions below 1e-14 of the
+/// largest eigenvalue dropped: anchors that do not span the tangent plane); then one step of
+/// iterative refinement with the residual b - A w that @p residual(lambda) returns.
+template<class Residual>
+Eigen::Vector3d solve_constraints(const Eigen::Matrix3d& M, Residual&& residual)
+{
+  const Eigen::Vector3d scale = M.diagonal().cwiseMax(1e-300).cwiseSqrt().cwiseInverse();
+  const Eigen::Matrix3d Ms = scale.asDiagonal() * M * scale.asDiagonal();
+  const Eigen::LLT<Eigen::Matrix3d> llt(Ms);
+  const Eigen::Matrix3d L = llt.matrixL();
+  const bool cholesky = llt.info() == Eigen::Success && L.diagonal().minCoeff() > 1e-6;
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig;
+  if (!cholesky)
+    eig.compute(Ms);
+  auto solve = [&](const Eigen::Vector3d& rhs) {
+    const Eigen::Vector3d r = scale.asDiagonal() * rhs;
+    Eigen::Vector3d y;
+    if (cholesky)
+      y = llt.solve(r);
+    else
+    {
+      y.setZero();
+      const Eigen::Vector3d ev = eig.eigenvalues();
+      const double cutoff = 1e-14 * ev.cwiseAbs().maxCoeff();
+      for (int k = 0; k < 3; ++k)
+        if (ev(k) > cutoff)
+          y += eig.eigenvectors().col(k) * (eig.eigenvectors().col(k).dot(r) / ev(k));
+    }
+    return Eigen::Vector3d(scale.asDiagonal() * y);
+  };
+  Eigen::Vector3d lambda = solve(Eigen::Vector3d(0, 0, 1));
+  lambda += solve(residual(lambda));
+  return lambda;
 }
 
 /// The corner of a surface point with the largest barycentric coordinate.
@@ -50,6 +99,33 @@ int nearest_corner(const Eigen::MatrixXi& F, const SurfacePoint& p)
 }
 
 } // namespace
+
+void validate_forward_options(const ForwardOptions& options)
+{
+  if (options.max_triangles < 0 || options.max_triangles > std::numeric_limits<int>::max())
+    throw Error(ErrorCode::InvalidArgument, "the triangle cap must be in [0, 2^31), got " +
+        std::to_string(options.max_triangles));
+  if (options.threads < 0 || options.threads > 1024)
+    throw Error(ErrorCode::InvalidArgument,
+      "the thread count must be in [0, 1024], got " + std::to_string(options.threads));
+}
+
+void validate_round_trip_tolerance(double tolerance)
+{
+  if (!(tolerance > 0 && tolerance <= 1e6))
+    throw Error(ErrorCode::InvalidArgument, "the round-trip tolerance must be in (0, 1e6] (times "
+        "the mean edge length), got " + detail::format_number(tolerance));
+}
+
+void validate_inverse_options(const InverseOptions& options)
+{
+  if (!(options.gamma >= 1.0 && options.gamma <= 1e6))
+    throw Error(ErrorCode::InvalidArgument,
+      "gamma must be in [1, 1e6], got " + detail::format_number(options.gamma));
+  if (options.threads < 0 || options.threads > 1024)
+    throw Error(ErrorCode::InvalidArgument,
+      "the thread count must be in [0, 1024], got " + std::to_string(options.threads));
+}
 
 void validate_surface_points(
   const SurfaceMesh& mesh, const std::vector<SurfacePoint>& points, const char* what)
@@ -110,19 +186,26 @@ bool WeightedAverages::forward_local(const double* ybar, Index start, Index max_
   // Breadth-first search over triangles from v's triangles.
   const int query = ++ws.query;
   ws.queue.clear();
+  // v's triangles are tried in order of how far inside them the Euclidean projection of ybar
+  // onto their planes falls (the Phong projection is near it), ties by triangle index.
+  ws.ring.clear();
   for (int i = mesh.face_offsets[static_cast<std::size_t>(v)]; i < mesh.face_offsets[static_cast<std::size_t>(v + 1)]; ++i)
   {
     const int f = mesh.vertex_faces[static_cast<std::size_t>(i)];
     ws.stamp[static_cast<std::size_t>(f)] = query;
-    ws.queue.push_back(f);
+    ws.ring.emplace_back(-phong.euclidean_barycentric(f, ybar).minCoeff(), f);
   }
+  std::sort(ws.ring.begin(), ws.ring.end());
+  for (const auto& [score, f] : ws.ring)
+    ws.queue.push_back(f);
   const Index cap = max_triangles > 0 ? max_triangles : mesh.face_count();
   Eigen::Vector3d xi;
   for (std::size_t head = 0; head < ws.queue.size() && static_cast<Index>(head) < cap; ++head)
   {
     const int f = ws.queue[head];
     ++ws.tried;
-    if (phong.project(f, ybar, xi))
+    // Newton starts at the Euclidean projection (clamped into the triangle).
+    if (phong.project(f, ybar, xi, phong.euclidean_barycentric(f, ybar)))
     {
       out.face = f;
       out.barycentric = xi;
@@ -174,12 +257,7 @@ ForwardResult WeightedAverages::forward(const std::vector<SurfacePoint>& anchors
     throw Error(ErrorCode::SizeMismatch, "the weights have " + std::to_string(W.cols()) +
         " columns but there are " + std::to_string(anchors.size()) + " anchors",
       "give one weight per anchor in every row");
-  if (options.max_triangles < 0 || options.max_triangles > std::numeric_limits<int>::max())
-    throw Error(ErrorCode::InvalidArgument, "the triangle cap must be in [0, 2^31), got " +
-        std::to_string(options.max_triangles));
-  if (options.threads < 0 || options.threads > 1024)
-    throw Error(ErrorCode::InvalidArgument,
-      "the thread count must be in [0, 1024], got " + std::to_string(options.threads));
+  validate_forward_options(options);
   for (Index q = 0; q < W.rows(); ++q)
   {
     if (!W.row(q).allFinite())
@@ -192,6 +270,9 @@ ForwardResult WeightedAverages::forward(const std::vector<SurfacePoint>& anchors
 
   const int D = dimension();
   const RowMatrix Y = embed(anchors);
+  std::vector<Index> anchor_corners(anchors.size());
+  for (std::size_t i = 0; i < anchors.size(); ++i)
+    anchor_corners[i] = nearest_corner(mesh_->F, anchors[i]);
   const Index nq = W.rows();
   ForwardResult result;
   result.points.assign(static_cast<std::size_t>(nq), SurfacePoint{});
@@ -219,9 +300,21 @@ ForwardResult WeightedAverages::forward(const std::vector<SurfacePoint>& anchors
           start = nearest_corner(mesh_->F, result.points[static_cast<std::size_t>(q - 1)]);
         else
         {
-          Index heaviest;
-          W.row(q).maxCoeff(&heaviest);
-          start = nearest_corner(mesh_->F, anchors[static_cast<std::size_t>(heaviest)]);
+          // The anchor nearest to ybar in R^D (n distances; the paper starts from the heaviest
+          // anchor "if a better initial guess is not available": this one is closer, so the
+          // walk is shorter).
+          Index nearest = 0;
+          double best = std::numeric_limits<double>::infinity();
+          for (Index i = 0; i < Y.rows(); ++i)
+          {
+            const double d = squared_distance(Y.data() + i * D, ws.ybar.data(), D);
+            if (d < best)
+            {
+              best = d;
+              nearest = i;
+            }
+          }
+          start = anchor_corners[static_cast<std::size_t>(nearest)];
         }
         ok = forward_local(ws.ybar.data(), start, options.max_triangles, ws, out);
       }
@@ -260,12 +353,7 @@ DenseWeights WeightedAverages::inverse(const std::vector<SurfacePoint>& anchors,
     throw Error(ErrorCode::EmptyInput, "no anchors: weights need at least one");
   validate_surface_points(*mesh_, anchors, "anchor");
   validate_surface_points(*mesh_, points, "point");
-  if (!(options.gamma >= 1.0 && options.gamma <= 1e6))
-    throw Error(ErrorCode::InvalidArgument,
-      "gamma must be in [1, 1e6], got " + detail::format_number(options.gamma));
-  if (options.threads < 0 || options.threads > 1024)
-    throw Error(ErrorCode::InvalidArgument,
-      "the thread count must be in [0, 1024], got " + std::to_string(options.threads));
+  validate_inverse_options(options);
   const int D = dimension();
   const Index n = static_cast<Index>(anchors.size());
   const RowMatrix Y = embed(anchors);
@@ -276,38 +364,65 @@ DenseWeights WeightedAverages::inverse(const std::vector<SurfacePoint>& anchors,
   ProgressReporter reporter(progress, std::max<Index>(np, 1));
   struct State
   {
-    Eigen::VectorXd yhat, Dii, d;
-    Eigen::MatrixXd A;
+    std::vector<double> yhat, P, t0, t1, Dii, x;
   };
   auto make_state = [&] {
     State s;
-    s.yhat.resize(D);
-    s.Dii.resize(n);
-    s.d.resize(D);
-    s.A.resize(3, n);
+    s.yhat.resize(static_cast<std::size_t>(D));
+    s.P.resize(static_cast<std::size_t>(2 * D));
+    for (auto* v : { &s.t0, &s.t1, &s.Dii, &s.x })
+      v->resize(static_cast<std::size_t>(n));
     return s;
   };
+  const double gamma = options.gamma;
   auto body = [&](State& s, Index begin, Index end) {
+    double* yhat = s.yhat.data();
+    double* P0 = s.P.data();
+    double* P1 = P0 + D;
     for (Index q = begin; q < end; ++q)
     {
       const SurfacePoint& p = points[static_cast<std::size_t>(q)];
-      phong_->position(p.face, p.barycentric, s.yhat.data());
+      phong_->position(p.face, p.barycentric, yhat);
       // Orthonormal basis of the interpolated tangent plane.
-      Eigen::MatrixXd P = phong_->psi(p.face, p.barycentric);
-      P.row(0).normalize();
-      P.row(1) -= P.row(1).dot(P.row(0)) * P.row(0);
-      P.row(1).normalize();
+      phong_->psi(p.face, p.barycentric, P0);
+      double n0 = 0;
+      for (int d = 0; d < D; ++d)
+        n0 += P0[d] * P0[d];
+      n0 = 1.0 / std::sqrt(n0);
+      double dot = 0;
+      for (int d = 0; d < D; ++d)
+      {
+        P0[d] *= n0;
+        dot += P0[d] * P1[d];
+      }
+      double n1 = 0;
+      for (int d = 0; d < D; ++d)
+      {
+        P1[d] -= dot * P0[d];
+        n1 += P1[d] * P1[d];
+      }
+      n1 = 1.0 / std::sqrt(n1);
+      for (int d = 0; d < D; ++d)
+        P1[d] *= n1;
+      // D_ii = |v_T|^2 + gamma |v_O|^2 and the tangential coordinates of y_i - yhat.
       double smallest = std::numeric_limits<double>::infinity();
       for (Index i = 0; i < n; ++i)
       {
-        s.d = Y.row(i).transpose() - s.yhat;
-        const Eigen::Vector2d t = P * s.d;
-        const double n2 = s.d.squaredNorm(), t2 = t.squaredNorm();
-        s.Dii(i) = t2 + options.gamma * std::max(0.0, n2 - t2);
-        s.A(0, i) = t(0);
-        s.A(1, i) = t(1);
-        s.A(2, i) = 1.0;
-        smallest = std::min(smallest, s.Dii(i));
+        const double* y = Y.data() + i * D;
+        double a0 = 0, a1 = 0, n2 = 0;
+        for (int d = 0; d < D; ++d)
+        {
+          const double v = y[d] - yhat[d];
+          a0 += P0[d] * v;
+          a1 += P1[d] * v;
+          n2 += v * v;
+        }
+        const double t2 = a0 * a0 + a1 * a1;
+        s.t0[static_cast<std::size_t>(i)] = a0;
+        s.t1[static_cast<std::size_t>(i)] = a1;
+        const double dii = t2 + gamma * std::max(0.0, n2 - t2);
+        s.Dii[static_cast<std::size_t>(i)] = dii;
+        smallest = std::min(smallest, dii);
       }
       auto w = W.row(q);
       if (smallest <= coincide)
@@ -316,32 +431,102 @@ DenseWeights WeightedAverages::inverse(const std::vector<SurfacePoint>& anchors,
         w.setZero();
         Index count = 0;
         for (Index i = 0; i < n; ++i)
-          if (s.Dii(i) <= coincide)
-            ++count;
+          count += s.Dii[static_cast<std::size_t>(i)] <= coincide;
         for (Index i = 0; i < n; ++i)
-          if (s.Dii(i) <= coincide)
+          if (s.Dii[static_cast<std::size_t>(i)] <= coincide)
             w(i) = 1.0 / static_cast<double>(count);
         continue;
       }
-      // w = D^-2 A^T (A D^-2 A^T)^+ b, b = (0, 0, 1): the tangential constraint is written on
-      // y_i - yhat, which is equivalent given sum w = 1 and better conditioned.
-      const Eigen::ArrayXd inv = s.Dii.array().square().inverse();
-      const Eigen::MatrixXd AD = s.A.array().rowwise() * inv.transpose();
-      const Eigen::Matrix3d M = AD * s.A.transpose();
-      const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(M);
-      const Eigen::Vector3d ev = eig.eigenvalues();
-      const double cutoff = 1e-12 * ev.cwiseAbs().maxCoeff();
-      Eigen::Vector3d lambda = Eigen::Vector3d::Zero();
-      const Eigen::Vector3d b(0, 0, 1);
-      for (int k = 0; k < 3; ++k)
-        if (ev(k) > cutoff)
-          lambda += eig.eigenvectors().col(k) * (eig.eigenvectors().col(k).dot(b) / ev(k));
-      w = (AD.transpose() * lambda).transpose();
+      // w = D^-2 A^T (A D^-2 A^T)^+ b with A's rows (t0, t1, 1) and b = (0, 0, 1): the
+      // tangential constraint written on y_i - yhat (equivalent given sum w = 1, better
+      // conditioned). D^-2 is scaled to a largest entry of 1.
+      double largest = 0;
+      for (Index i = 0; i < n; ++i)
+      {
+        double& v = s.x[static_cast<std::size_t>(i)];
+        const double dii = s.Dii[static_cast<std::size_t>(i)];
+        v = 1.0 / (dii * dii);
+        largest = std::max(largest, v);
+      }
+      Eigen::Matrix3d M = Eigen::Matrix3d::Zero();
+      for (Index i = 0; i < n; ++i)
+      {
+        double& v = s.x[static_cast<std::size_t>(i)];
+        v /= largest; // now the weights of D^-2
+        const double a0 = s.t0[static_cast<std::size_t>(i)], a1 = s.t1[static_cast<std::size_t>(i)];
+        M(0, 0) += v * a0 * a0;
+        M(0, 1) += v * a0 * a1;
+        M(0, 2) += v * a0;
+        M(1, 1) += v * a1 * a1;
+        M(1, 2) += v * a1;
+        M(2, 2) += v;
+      }
+      M(1, 0) = M(0, 1);
+      M(2, 0) = M(0, 2);
+      M(2, 1) = M(1, 2);
+      const Eigen::Vector3d lambda = solve_constraints(M, [&](const Eigen::Vector3d& l) {
+        // residual b - A w for w = D^-2 A^T l
+        Eigen::Vector3d r(0, 0, 1);
+        for (Index i = 0; i < n; ++i)
+        {
+          const double a0 = s.t0[static_cast<std::size_t>(i)], a1 = s.t1[static_cast<std::size_t>(i)];
+          const double wi = s.x[static_cast<std::size_t>(i)] * (a0 * l(0) + a1 * l(1) + l(2));
+          r(0) -= a0 * wi;
+          r(1) -= a1 * wi;
+          r(2) -= wi;
+        }
+        return r;
+      });
+      for (Index i = 0; i < n; ++i)
+      {
+        const double a0 = s.t0[static_cast<std::size_t>(i)], a1 = s.t1[static_cast<std::size_t>(i)];
+        w(i) = s.x[static_cast<std::size_t>(i)] * (a0 * lambda(0) + a1 * lambda(1) + lambda(2));
+      }
     }
   };
   detail::parallel_for(np, kChunk, options.threads, reporter, "the inverse weighted averages",
     make_state, body, [](State&) {});
   return W;
+}
+
+RoundTrip WeightedAverages::round_trip(const std::vector<SurfacePoint>& anchors,
+  const std::vector<SurfacePoint>& points, const DenseWeights& W, double tolerance,
+  const ForwardOptions& options, const ProgressCallback& progress) const
+{
+  if (W.rows() != static_cast<Index>(points.size()))
+    throw Error(ErrorCode::SizeMismatch, "the weights have " + std::to_string(W.rows()) +
+        " rows but there are " + std::to_string(points.size()) + " points");
+  validate_round_trip_tolerance(tolerance);
+  validate_surface_points(*mesh_, points, "point");
+  const ForwardResult f = forward(anchors, W, options, progress);
+  const Eigen::MatrixXd X = surface_point_positions(mesh_->F, mesh_->V, points);
+  RoundTrip r;
+  r.error.resize(points.size());
+  r.returned.assign(points.size(), 0);
+  r.failures = f.failures;
+  const double limit = tolerance * mesh_->mean_edge_length;
+  std::vector<double> finite;
+  for (std::size_t p = 0; p < points.size(); ++p)
+  {
+    if (!f.valid[p])
+    {
+      r.error[p] = std::numeric_limits<double>::quiet_NaN();
+      ++r.not_returned;
+      continue;
+    }
+    r.error[p] = (f.positions.row(static_cast<Index>(p)) - X.row(static_cast<Index>(p))).norm();
+    finite.push_back(r.error[p]);
+    r.returned[p] = r.error[p] <= limit ? 1 : 0;
+    if (!r.returned[p])
+      ++r.not_returned;
+  }
+  if (!finite.empty())
+  {
+    r.max_error = *std::max_element(finite.begin(), finite.end());
+    std::nth_element(finite.begin(), finite.begin() + static_cast<std::ptrdiff_t>(finite.size() / 2), finite.end());
+    r.median_error = finite[finite.size() / 2];
+  }
+  return r;
 }
 
 } // namespace bary

@@ -7,8 +7,9 @@
 /// **Forward problem** (§3.3): anchors x_i on the surface and weights w_i (summing to 1) give
 /// ybar = sum_i w_i e(x_i) in R^D, whose Phong projection onto the embedded mesh is the average.
 /// The search is the paper's: a greedy walk on the edge graph towards ybar, from the vertex of
-/// the previous query's result (warm start) or from the heaviest anchor's nearest corner, until
-/// no neighbour is closer to ybar; then a breadth-first search over triangles from that vertex's
+/// the previous query's result (warm start) or from the nearest corner of the anchor nearest to
+/// ybar in R^D (the paper starts from the heaviest anchor when nothing better is known; the
+/// nearest one shortens the walk), until no neighbour is closer to ybar; then a breadth-first search over triangles from that vertex's
 /// triangles, stopping at the first triangle where a Phong projection exists. A query whose
 /// search finds none (within max_triangles) is reported as failed, never returned as a point.
 /// Search::BruteForce projects onto every triangle and keeps the projection closest to ybar
@@ -47,7 +48,8 @@ struct ForwardOptions
   };
   Search search = Search::Local;
   /// Each query starts from the previous query's result (curves, animations: queries in an
-  /// order where consecutive ones are close); otherwise from the heaviest anchor. Default off.
+  /// order where consecutive ones are close); otherwise from the anchor nearest to the average
+  /// in R^D. Default off.
   bool warm_start = false;
   /// Triangles the breadth-first search may try per query before it reports a failure;
   /// 0 = every triangle. Range [0, 2^31). Default 0.
@@ -65,6 +67,20 @@ struct InverseOptions
   /// OpenMP threads (0 = OpenMP's default). Results do not depend on it. Default 0.
   int threads = 0;
 };
+
+/// Result of WeightedAverages::round_trip (§4.4: a point whose forward(inverse) does not
+/// return to it is not a weighted average of the anchors; its weights are meaningless there).
+struct RoundTrip
+{
+  std::vector<double> error;  ///< per point: distance from forward(inverse(x)) to x (NaN: failed)
+  std::vector<char> returned; ///< per point: 1 when the error is within the tolerance
+  Index failures = 0;         ///< forward problems without a projection
+  Index not_returned = 0;     ///< points with returned = 0 (failures included)
+  double median_error = 0, max_error = 0; ///< over the points whose forward problem succeeded
+};
+
+/// Default round-trip tolerance, relative to the surface's mean edge length.
+inline constexpr double kDefaultRoundTripTolerance = 1e-6;
 
 /// Result of a forward problem.
 struct ForwardResult
@@ -104,6 +120,15 @@ public:
     const std::vector<SurfacePoint>& points, const InverseOptions& options = {},
     const ProgressCallback& progress = {}) const;
 
+  /// The round trip of §4.4 for @p points with weights @p W (from inverse()): forward problems
+  /// with W, compared with the points. @p tolerance is relative to the mean edge length,
+  /// range (0, 1e6]. @throws the errors of forward(); Error(SizeMismatch) when W does not have
+  /// a row per point.
+  RoundTrip round_trip(const std::vector<SurfacePoint>& anchors,
+    const std::vector<SurfacePoint>& points, const DenseWeights& W,
+    double tolerance = kDefaultRoundTripTolerance, const ForwardOptions& options = {},
+    const ProgressCallback& progress = {}) const;
+
   /// Embedded positions of surface points (#points by D).
   Eigen::MatrixXd embed(const std::vector<SurfacePoint>& points) const;
 
@@ -123,6 +148,13 @@ private:
   std::shared_ptr<const PhongProjection> phong_;
   Eigen::MatrixXd E_;
 };
+
+/// Checks the options' ranges (as forward() and inverse() do first).
+/// @throws Error(InvalidArgument) naming the option, its value and its range.
+void validate_forward_options(const ForwardOptions& options);
+void validate_inverse_options(const InverseOptions& options);
+/// Round-trip tolerance: range (0, 1e6] (relative to the mean edge length).
+void validate_round_trip_tolerance(double tolerance);
 
 /// Checks surface points against a mesh: a face in range, finite barycentric coordinates, each
 /// >= -1e-9, summing to 1 within 1e-9. @p what names them in the message ("anchor", "point").

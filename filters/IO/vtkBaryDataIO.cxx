@@ -753,6 +753,100 @@ Eigen::MatrixXi vtkBaryDataIO::ReadPseudoEdges(const std::string& path)
   return E;
 }
 
+Eigen::MatrixXd vtkBaryDataIO::ReadMatrix(const std::string& path, Eigen::Index columns)
+{
+  Eigen::MatrixXd M;
+  if (Extension(path) == ".dmat")
+    M = ReadDMAT(path);
+  else
+  {
+    std::ifstream in(path);
+    if (!in)
+      throw Error(ErrorCode::Io, "cannot read '" + path + "': no such file or not readable");
+    std::vector<double> values;
+    Eigen::Index width = -1, rows = 0;
+    long width_line = 0;
+    std::string line;
+    std::istringstream fields;
+    for (long number = 1; std::getline(in, line); ++number)
+    {
+      fields.clear();
+      fields.str(line.substr(0, line.find('#')));
+      std::string token;
+      Eigen::Index count = 0;
+      while (fields >> token)
+      {
+        double v = 0.0;
+        if (vtkbary::ParseDouble(token, v) != vtkbary::Parsed::Ok)
+          throw Error(ErrorCode::Io, "cannot read '" + path + "' line " + std::to_string(number) +
+              ": '" + vtkbary::Printable(token) + "' is not a number double precision holds");
+        if (!std::isfinite(v))
+          throw Error(ErrorCode::NonFinite,
+            "'" + path + "' line " + std::to_string(number) + " holds NaN or infinity");
+        values.push_back(v);
+        ++count;
+      }
+      if (count == 0)
+        continue;
+      if (width < 0)
+      {
+        width = count;
+        width_line = number;
+      }
+      else if (count != width)
+        throw Error(ErrorCode::Io, "cannot read '" + path + "' line " + std::to_string(number) +
+            ": it holds " + std::to_string(count) + " numbers but line " +
+            std::to_string(width_line) + " holds " + std::to_string(width) +
+            " (every row of a matrix has the same length)");
+      ++rows;
+    }
+    if (rows == 0)
+      throw Error(ErrorCode::EmptyInput, "'" + path + "' holds no numbers");
+    M = Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(
+      values.data(), rows, width);
+  }
+  if (M.size() == 0)
+    throw Error(ErrorCode::EmptyInput, "'" + path + "' holds no numbers");
+  if (columns > 0 && M.cols() != columns)
+    throw Error(ErrorCode::SizeMismatch, "'" + path + "' has " + std::to_string(M.cols()) +
+        " numbers a row; " + std::to_string(columns) + " expected");
+  return M;
+}
+
+void vtkBaryDataIO::WriteMatrix(const Eigen::MatrixXd& M, const std::string& path)
+{
+  const std::string tmp = path + ".tmp";
+  {
+    std::ofstream out(tmp);
+    if (!out)
+      throw Error(ErrorCode::Io, "cannot write '" + path + "' (is the folder writable?)");
+    char buffer[32];
+    for (Eigen::Index r = 0; r < M.rows(); ++r)
+    {
+      for (Eigen::Index c = 0; c < M.cols(); ++c)
+      {
+        const auto [end, ec] = std::to_chars(buffer, buffer + sizeof(buffer), M(r, c));
+        (void)ec;
+        if (c > 0)
+          out.put(' ');
+        out.write(buffer, end - buffer);
+      }
+      out.put('\n');
+    }
+    if (!out)
+    {
+      out.close();
+      std::remove(tmp.c_str());
+      throw Error(ErrorCode::Io, "cannot write '" + path + "' (disk full?)");
+    }
+  }
+  if (std::rename(tmp.c_str(), path.c_str()) != 0)
+  {
+    std::remove(tmp.c_str());
+    throw Error(ErrorCode::Io, "cannot write '" + path + "'");
+  }
+}
+
 void vtkBaryDataIO::WriteDMAT(const Eigen::MatrixXd& M, const std::string& path)
 {
   const std::string tmp = path + ".tmp";

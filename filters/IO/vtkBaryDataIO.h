@@ -61,6 +61,14 @@ public:
   /// A pseudo-edges file (BBW poses from moved point handles): one pair of point-handle
   /// indices (0-based) a line, '#' comments. @throws bary::Error(Io) naming the line.
   static Eigen::MatrixXi ReadPseudoEdges(const std::string& path);
+  /// A text matrix: one row a line, whitespace-separated numbers, '#' comments, blank lines
+  /// skipped (weights of weighted averages, embeddings, x y z points), or a libigl .dmat.
+  /// @param columns the required number of columns (0: any, but every row the same)
+  /// @throws bary::Error(Io) naming the line and token or a row of another length,
+  ///   (NonFinite) naming the line of a NaN/inf, (EmptyInput) for a file without numbers.
+  static Eigen::MatrixXd ReadMatrix(const std::string& path, Eigen::Index columns = 0);
+  /// Writes @p M as a text matrix, one row a line, shortest round-trip decimals, atomically.
+  static void WriteMatrix(const Eigen::MatrixXd& M, const std::string& path);
   /// Writes @p M as ASCII .dmat (shortest round-trip decimal representation), atomically.
   static void WriteDMAT(const Eigen::MatrixXd& M, const std::string& path);
 

@@ -1549,3 +1549,144 @@ TEST_F(CLI, ReadmeTutorialShowsWhatItSays)
   std::ifstream h(out("h.json"));
   EXPECT_EQ(nlohmann::json::parse(h)["solver"]["mesh_cells"].get<double>(), tets);
 }
+
+// ---------------------------------------------------------------------------------------------
+// Weighted averages on surfaces: barylab embed, barylab average (forward and --inverse).
+
+namespace
+{
+
+/// Rows of a text matrix written by barylab (numbers, "nan" allowed).
+std::vector<std::vector<double>> read_rows(const std::string& path)
+{
+  std::vector<std::vector<double>> rows;
+  std::ifstream in(path);
+  std::string line;
+  while (std::getline(in, line))
+  {
+    std::istringstream s(line);
+    std::vector<double> row;
+    std::string token;
+    while (s >> token)
+      row.push_back(std::stod(token));
+    if (!row.empty())
+      rows.push_back(row);
+  }
+  return rows;
+}
+
+} // namespace
+
+TEST_F(CLI, EmbedWritesOneLinePerVertex)
+{
+  const CommandResult r = run("embed --mesh " + data("wa_torus.obj") + " --output " +
+    out("e.txt") + " --dimension 5 --landmarks 150 --json " + out("e.json") + " -q");
+  ASSERT_EQ(r.code, 0) << r.output;
+  const auto rows = read_rows(out("e.txt"));
+  auto torus = vtkBaryDataIO::Read(data("wa_torus.obj"));
+  ASSERT_EQ(static_cast<vtkIdType>(rows.size()), torus->GetNumberOfPoints());
+  for (const auto& row : rows)
+    ASSERT_EQ(row.size(), 5u);
+  std::ifstream j(out("e.json"));
+  const nlohmann::json s = nlohmann::json::parse(j);
+  EXPECT_EQ(s["landmarks"].get<int>(), 150);
+  EXPECT_EQ(s["dimension"].get<int>(), 5);
+  EXPECT_LT(s["quality"]["mean_relative_error"].get<double>(), 0.2);
+  EXPECT_GT(s["quality"]["pairs"].get<int>(), 1000);
+  // With the surface: the .vtp keeps it as a point array.
+  ASSERT_EQ(run("embed --mesh " + data("wa_torus.obj") + " --output " + out("e.vtp") +
+              " --landmarks 150 -q").code, 0);
+  auto e = vtkBaryDataIO::Read(out("e.vtp"));
+  ASSERT_NE(e->GetPointData()->GetArray("Embedding"), nullptr);
+  EXPECT_EQ(e->GetPointData()->GetArray("Embedding")->GetNumberOfComponents(), 8);
+}
+
+TEST_F(CLI, AverageForwardInverseRoundTrip)
+{
+  const std::string mesh = data("wa_torus.obj"), anchors = data("wa_anchors.txt");
+  ASSERT_EQ(run("embed --mesh " + mesh + " --output " + out("e.txt") + " --landmarks 300 -q").code, 0);
+  // Forward: one point per row, the first (weight 1 on anchor 4) is anchor 4.
+  const CommandResult f = run("average --mesh " + mesh + " --embedding " + out("e.txt") +
+    " --anchors " + anchors + " --weights " + data("wa_weights.txt") + " --output " +
+    out("avg.txt") + " --json " + out("avg.json") + " -q");
+  ASSERT_EQ(f.code, 0) << f.output;
+  const auto avg = read_rows(out("avg.txt"));
+  const auto weights = read_rows(data("wa_weights.txt"));
+  const auto anchor_rows = read_rows(anchors);
+  ASSERT_EQ(avg.size(), weights.size());
+  for (int k = 0; k < 3; ++k)
+    EXPECT_NEAR(avg[0][k], anchor_rows[4][k], 1e-9);
+  std::ifstream fj(out("avg.json"));
+  const nlohmann::json fs = nlohmann::json::parse(fj);
+  EXPECT_EQ(fs["forward"]["failures"].get<int>(), 0);
+  EXPECT_EQ(fs["forward"]["queries"].get<int>(), static_cast<int>(weights.size()));
+  // The same as .vtp: FaceId, Barycentric and Valid point arrays.
+  ASSERT_EQ(run("average --mesh " + mesh + " --embedding " + out("e.txt") + " --anchors " +
+              anchors + " --weights " + data("wa_weights.txt") + " --output " + out("avg.vtp") +
+              " -q").code, 0);
+  auto points = vtkBaryDataIO::Read(out("avg.vtp"));
+  for (const char* name : { "FaceId", "Barycentric", "Valid" })
+    EXPECT_NE(points->GetPointData()->GetArray(name), nullptr) << name;
+
+  // Inverse of the forward results gives weights whose forward problem returns the points.
+  const CommandResult i = run("average --inverse --mesh " + mesh + " --embedding " +
+    out("e.txt") + " --anchors " + anchors + " --points " + out("avg.txt") + " --output " +
+    out("w.txt") + " --json " + out("inv.json") + " -q");
+  ASSERT_EQ(i.code, 0) << i.output;
+  const auto w = read_rows(out("w.txt"));
+  ASSERT_EQ(w.size(), avg.size());
+  for (const auto& row : w)
+  {
+    ASSERT_EQ(row.size(), 9u);
+    double sum = 0;
+    for (const double x : row)
+      sum += x;
+    EXPECT_NEAR(sum, 1.0, 1e-9);
+  }
+  for (int k = 0; k < 9; ++k) // at anchor 4 the weights interpolate
+    EXPECT_NEAR(w[0][k], k == 4 ? 1.0 : 0.0, 1e-9);
+  std::ifstream ij(out("inv.json"));
+  const nlohmann::json is = nlohmann::json::parse(ij);
+  EXPECT_EQ(is["inverse"]["round_trip"]["not_returned"].get<int>(), 0);
+  EXPECT_LT(is["inverse"]["round_trip"]["max_error"].get<double>(), 1e-8);
+  ASSERT_EQ(run("average --mesh " + mesh + " --embedding " + out("e.txt") + " --anchors " +
+              anchors + " --weights " + out("w.txt") + " --output " + out("back.txt") + " -q").code, 0);
+  const auto back = read_rows(out("back.txt"));
+  for (std::size_t q = 0; q < avg.size(); ++q)
+    for (int k = 0; k < 3; ++k)
+      EXPECT_NEAR(back[q][k], avg[q][k], 1e-8) << "query " << q;
+}
+
+TEST_F(CLI, AverageBadInputIsNamed)
+{
+  const std::string mesh = data("wa_torus.obj"), anchors = data("wa_anchors.txt");
+  ASSERT_EQ(run("embed --mesh " + mesh + " --output " + out("e.txt") + " --landmarks 100 -q").code, 0);
+  const std::string common = "average --mesh " + mesh + " --embedding " + out("e.txt") +
+    " --anchors " + anchors + " -q --output " + out("o.txt");
+  auto write = [&](const std::string& name, const std::string& text) {
+    std::ofstream(out(name)) << text;
+    return out(name);
+  };
+  ExpectError(run(common + " --weights " + write("cols.txt", "0.5 0.5\n")), "2 weights a row but there are 9 anchors");
+  ExpectError(run(common + " --weights " + write("sum.txt", "0.5 0.6 0 0 0 0 0 0 0\n")), "row 0 sums to 1.1");
+  ExpectError(run(common + " --weights " + write("nan.txt", "nan 1 0 0 0 0 0 0 0\n")), "NaN");
+  ExpectError(run(common + " --weights " + write("ragged.txt", "1 0 0 0 0 0 0 0 0\n1 0\n")), "line 2");
+  ExpectError(run("average --mesh " + mesh + " --embedding " + out("e.txt") + " --anchors " +
+                write("off.txt", "0 0 5\n") + " --weights " + write("one.txt", "1\n") + " -q --output " +
+                out("o.txt")),
+    "anchor 0");
+  ExpectError(run("average --mesh " + mesh + " --embedding " + write("short.txt", "1 2\n3 4\n") +
+                " --anchors " + anchors + " --weights " + data("wa_weights.txt") + " -q --output " +
+                out("o.txt")),
+    "2 lines but the surface has 2016 points");
+  ExpectError(run("embed --mesh " + data("cage2d.obj") + " --output " + out("x.txt") + " -q"), "no triangles");
+  // Command-line errors: exit 2.
+  EXPECT_EQ(run(common + " --inverse --weights " + data("wa_weights.txt")).code, 2);
+  EXPECT_EQ(run(common).code, 2);
+  EXPECT_EQ(run(common + " --weights " + data("wa_weights.txt") + " --gamma 0.5").code, 2);
+  EXPECT_EQ(run("embed --mesh " + mesh + " --output " + out("x.txt") + " --dimension 1 -q").code, 2);
+  EXPECT_EQ(run("embed --mesh " + mesh + " --output " + out("x.png") + " -q").code, 1);
+  // No partial outputs.
+  for (const char* name : { "o.txt", "x.txt" })
+    EXPECT_FALSE(fs::exists(out(name))) << name;
+}

@@ -1,0 +1,247 @@
+#include "barylabSurfacePipeline.h"
+
+#include "vtkBaryConversion.h"
+#include "vtkBaryDataIO.h"
+#include "vtkBarySurfaceData.h"
+#include "vtkBarySurfaceEmbedding.h"
+#include "vtkBarySurfaceWeights.h"
+#include "vtkBaryWeightedAverage.h"
+
+#include "core/common/error.h"
+
+#include "vtkCellArray.h"
+#include "vtkDataArray.h"
+#include "vtkDoubleArray.h"
+#include "vtkFieldData.h"
+#include "vtkPointData.h"
+#include "vtkPointSet.h"
+#include "vtkPoints.h"
+#include "vtkPolyData.h"
+
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+
+using bary::Error;
+using bary::ErrorCode;
+using nlohmann::json;
+
+namespace barylab
+{
+namespace
+{
+
+bool is_data_extension(const std::string& path)
+{
+  const std::string ext = vtkBaryDataIO::Extension(path);
+  return ext == ".vtp" || ext == ".vtu" || ext == ".vtk";
+}
+
+} // namespace
+
+vtkSmartPointer<vtkPolyData> ReadSurface(const std::string& path)
+{
+  return vtkBaryDataIO::ReadPolyData(path);
+}
+
+vtkSmartPointer<vtkPolyData> ReadSurfacePoints(const std::string& path)
+{
+  vtkNew<vtkPoints> points;
+  points->SetDataTypeToDouble();
+  if (vtkBaryDataIO::CanRead(path))
+  {
+    auto data = vtkBaryDataIO::Read(path);
+    const Eigen::MatrixXd P = vtkBaryConversion::PointsToMatrix(data, 3);
+    for (Eigen::Index i = 0; i < P.rows(); ++i)
+      points->InsertNextPoint(P(i, 0), P(i, 1), P(i, 2));
+  }
+  else
+  {
+    const Eigen::MatrixXd P = vtkBaryDataIO::ReadMatrix(path);
+    if (P.cols() != 3)
+      throw Error(ErrorCode::Io, "'" + path + "' has " + std::to_string(P.cols()) +
+          " numbers a line; points on a surface are written x y z, one a line");
+    for (Eigen::Index i = 0; i < P.rows(); ++i)
+      points->InsertNextPoint(P(i, 0), P(i, 1), P(i, 2));
+  }
+  auto result = vtkSmartPointer<vtkPolyData>::New();
+  result->SetPoints(points);
+  return result;
+}
+
+void WritePointsText(vtkPointSet* points, const std::string& path)
+{
+  Eigen::MatrixXd P(points->GetNumberOfPoints(), 3);
+  for (vtkIdType i = 0; i < points->GetNumberOfPoints(); ++i)
+  {
+    double x[3];
+    points->GetPoint(i, x);
+    P.row(i) << x[0], x[1], x[2];
+  }
+  vtkBaryDataIO::WriteMatrix(P, path);
+}
+
+vtkSmartPointer<vtkPolyData> ComputeEmbedding(vtkPolyData* surface,
+  const bary::EmbeddingOptions& options, const RunCallbacks& callbacks, json* summary)
+{
+  vtkNew<vtkBarySurfaceEmbedding> embed;
+  embed->SetInputData(surface);
+  embed->SetDimension(options.dimension);
+  embed->SetNumberOfLandmarks(options.landmarks);
+  embed->SetLandmarkMethod(options.landmark_method == bary::LandmarkMethod::Decimation
+      ? vtkBarySurfaceEmbedding::LANDMARKS_DECIMATION
+      : vtkBarySurfaceEmbedding::LANDMARKS_FARTHEST_POINT);
+  embed->SetStressTolerance(options.stress_tolerance);
+  embed->SetMaximumIterations(options.max_iterations);
+  embed->SetHeatTimeFactor(options.heat_time_factor);
+  embed->SetQualitySources(options.quality_sources);
+  embed->SetNumberOfThreads(options.threads);
+  RunAlgorithm(embed, callbacks);
+  vtkSmartPointer<vtkPolyData> result = embed->GetOutput();
+  if (summary)
+  {
+    json& s = *summary;
+    s["vertices"] = surface->GetNumberOfPoints();
+    s["triangles"] = surface->GetNumberOfPolys();
+    s["dimension"] = options.dimension;
+    s["landmarks"] = result->GetFieldData()->GetArray("Landmarks")->GetNumberOfTuples();
+    s["landmark_method"] =
+      options.landmark_method == bary::LandmarkMethod::Decimation ? "decimation" : "farthest-point";
+    s["stress"] = { { "classical_mds", embed->GetInitialStress() }, { "final", embed->GetStress() },
+      { "smacof_iterations", embed->GetSMACOFIterations() },
+      { "smacof_converged", embed->GetSMACOFConverged() } };
+    s["quality"] = { { "pairs", embed->GetNumberOfQualityPairs() },
+      { "mean_relative_error", embed->GetMeanRelativeError() },
+      { "median_relative_error", embed->GetMedianRelativeError() },
+      { "max_relative_error", embed->GetMaximumRelativeError() } };
+    json stages = json::object();
+    double total = 0;
+    for (int i = 0; i < embed->GetNumberOfStages(); ++i)
+    {
+      stages[embed->GetStageName(i)] = embed->GetStageSeconds(i);
+      total += embed->GetStageSeconds(i);
+    }
+    stages["total"] = total;
+    s["seconds"] = stages;
+  }
+  return result;
+}
+
+vtkSmartPointer<vtkPolyData> AttachEmbedding(vtkPolyData* surface, const std::string& path)
+{
+  auto result = vtkSmartPointer<vtkPolyData>::New();
+  result->ShallowCopy(surface);
+  const std::string name = vtkBarySurfaceData::DefaultEmbeddingName();
+  if (is_data_extension(path))
+  {
+    auto data = vtkBaryDataIO::Read(path);
+    vtkDataArray* array = data->GetPointData()->GetArray(name.c_str());
+    if (!array)
+      throw Error(ErrorCode::Io, "'" + path + "' has no point array '" + name + "'");
+    if (array->GetNumberOfTuples() != surface->GetNumberOfPoints())
+      throw Error(ErrorCode::SizeMismatch, "the embedding in '" + path + "' has " +
+          std::to_string(array->GetNumberOfTuples()) + " points but the surface has " +
+          std::to_string(surface->GetNumberOfPoints()));
+    result->GetPointData()->AddArray(array);
+    return result;
+  }
+  const Eigen::MatrixXd E = vtkBaryDataIO::ReadMatrix(path);
+  if (E.rows() != surface->GetNumberOfPoints())
+    throw Error(ErrorCode::SizeMismatch, "the embedding '" + path + "' has " +
+        std::to_string(E.rows()) + " lines but the surface has " +
+        std::to_string(surface->GetNumberOfPoints()) + " points (one line per point, in order)");
+  if (E.cols() < 2)
+    throw Error(ErrorCode::Io, "the embedding '" + path + "' has 1 number a line; at least 2 are needed");
+  vtkNew<vtkDoubleArray> array;
+  array->SetName(name.c_str());
+  array->SetNumberOfComponents(static_cast<int>(E.cols()));
+  array->SetNumberOfTuples(E.rows());
+  for (vtkIdType i = 0; i < E.rows(); ++i)
+    for (int d = 0; d < E.cols(); ++d)
+      array->SetTypedComponent(i, d, E(i, d));
+  result->GetPointData()->AddArray(array);
+  return result;
+}
+
+void WriteEmbedding(vtkPolyData* surface, const std::string& path)
+{
+  if (is_data_extension(path))
+  {
+    vtkBaryDataIO::Write(surface, path);
+    return;
+  }
+  vtkDataArray* array = surface->GetPointData()->GetArray(vtkBarySurfaceData::DefaultEmbeddingName());
+  if (!array)
+    throw Error(ErrorCode::Internal, "the surface has no embedding to write");
+  vtkBaryDataIO::WriteMatrix(vtkBaryConversion::ArrayToMatrix(array), path);
+}
+
+vtkSmartPointer<vtkPolyData> WeightedAverage(vtkPolyData* surface, vtkPointSet* anchors,
+  const bary::DenseWeights& W, const bary::ForwardOptions& options, double surface_tolerance,
+  const RunCallbacks& callbacks, json* summary)
+{
+  vtkNew<vtkDoubleArray> weights;
+  weights->SetNumberOfComponents(static_cast<int>(W.cols()));
+  weights->SetNumberOfTuples(W.rows());
+  std::copy(W.data(), W.data() + W.size(), weights->GetPointer(0));
+  vtkNew<vtkBaryWeightedAverage> average;
+  average->SetInputData(0, surface);
+  average->SetInputData(1, anchors);
+  average->SetWeights(weights);
+  average->SetBruteForce(options.search == bary::ForwardOptions::Search::BruteForce);
+  average->SetWarmStart(options.warm_start);
+  average->SetMaximumTriangles(options.max_triangles);
+  average->SetNumberOfThreads(options.threads);
+  average->SetSurfaceTolerance(surface_tolerance);
+  RunAlgorithm(average, callbacks);
+  if (summary)
+  {
+    json& s = *summary;
+    s["queries"] = W.rows();
+    s["anchors"] = W.cols();
+    s["failures"] = average->GetNumberOfFailures();
+    s["triangles_tried"] = average->GetTrianglesTried();
+    s["search"] = options.search == bary::ForwardOptions::Search::BruteForce ? "brute-force" : "local";
+    s["warm_start"] = options.warm_start;
+    s["seconds"] = average->GetQuerySeconds();
+    s["microseconds_per_query"] = W.rows() > 0 ? 1e6 * average->GetQuerySeconds() / static_cast<double>(W.rows()) : 0.0;
+  }
+  return average->GetOutput();
+}
+
+vtkSmartPointer<vtkPointSet> SurfaceWeights(vtkPointSet* points, vtkPolyData* surface,
+  vtkPointSet* anchors, const bary::InverseOptions& options, double surface_tolerance,
+  double round_trip_tolerance, const RunCallbacks& callbacks, json* summary)
+{
+  vtkNew<vtkBarySurfaceWeights> weights;
+  weights->SetInputData(0, points);
+  weights->SetInputData(1, surface);
+  weights->SetInputData(2, anchors);
+  weights->SetGamma(options.gamma);
+  weights->SetNumberOfThreads(options.threads);
+  weights->SetSurfaceTolerance(surface_tolerance);
+  weights->SetRoundTripTolerance(round_trip_tolerance);
+  RunAlgorithm(weights, callbacks);
+  vtkSmartPointer<vtkPointSet> result = vtkPointSet::SafeDownCast(weights->GetOutputDataObject(0));
+  if (summary)
+  {
+    json& s = *summary;
+    s["points"] = points->GetNumberOfPoints();
+    s["anchors"] = anchors->GetNumberOfPoints();
+    s["gamma"] = options.gamma;
+    s["seconds"] = weights->GetQuerySeconds();
+    s["microseconds_per_query"] = points->GetNumberOfPoints() > 0
+      ? 1e6 * weights->GetQuerySeconds() / static_cast<double>(points->GetNumberOfPoints())
+      : 0.0;
+    s["round_trip"] = { { "tolerance", round_trip_tolerance },
+      { "failures", weights->GetNumberOfRoundTripFailures() },
+      { "not_returned", weights->GetNumberOfUndefined() },
+      { "median_error", weights->GetMedianRoundTripError() },
+      { "max_error", weights->GetMaximumRoundTripError() },
+      { "seconds", weights->GetRoundTripSeconds() } };
+  }
+  return result;
+}
+
+} // namespace barylab
