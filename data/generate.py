@@ -1066,6 +1066,8 @@ WA_TORUS_BUMP = 0.15   # relative bump height: tube radius x (1 + bump sin(3u) c
 # Anchors: vertices (i, j) of the grid, a 3 x 3 patch on the outer side of the tube (j = 0 is the
 # outer equator), spaced 4 samples apart around the centre and 3 around the tube.
 WA_ANCHOR_GRID = [(i, j) for j in (WA_TORUS_M - 3, 0, 3) for i in (4, 8, 12)]
+# Control points of a closed B-spline around the anchors' patch (wider than it), in loop order.
+WA_CURVE_GRID = [(2, 24), (8, 23), (14, 24), (16, 0), (14, 4), (8, 5), (2, 4), (0, 0)]
 
 
 def wa_torus():
@@ -1194,6 +1196,8 @@ def main(argv):
     files["wa_anchors.txt"] = "".join("%s %s %s\n" % tuple(fmt(x) for x in wa_V[i * WA_TORUS_M + j])
                                       for i, j in WA_ANCHOR_GRID)
     files["wa_weights.txt"] = wa_weights_text()
+    files["wa_curve_controls.txt"] = "".join("%s %s %s\n" % tuple(fmt(x) for x in wa_V[i * WA_TORUS_M + j])
+                                             for i, j in WA_CURVE_GRID)
     summary.append("wa_torus: %d vertices, %d triangles, volume %.4f (genus 1), %d face pairs "
                    "tested; %d anchors" % (len(wa_V), len(wa_F), wvol, tested_w, len(WA_ANCHOR_GRID)))
 

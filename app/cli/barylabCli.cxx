@@ -63,6 +63,7 @@ void ConfigureApp(CLI::App& app, Subcommands& subcommands)
   AddMeshCommand(subcommands);
   AddEmbedCommand(subcommands);
   AddAverageCommand(subcommands);
+  AddCurveCommand(subcommands);
   AddRenderCommand(subcommands);
   AddDemoCommand(subcommands);
 }

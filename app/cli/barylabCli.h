@@ -12,6 +12,9 @@
 
 #include "barylabPipeline.h"
 
+#include "vtkPolyData.h"
+#include "vtkSmartPointer.h"
+
 #include <nlohmann/json.hpp>
 
 #include <functional>
@@ -94,6 +97,13 @@ void AddFieldsCommand(Subcommands& subcommands);
 void AddMeshCommand(Subcommands& subcommands);
 void AddEmbedCommand(Subcommands& subcommands);
 void AddAverageCommand(Subcommands& subcommands);
+void AddCurveCommand(Subcommands& subcommands);
+
+/// The surface of --mesh with its embedding: read from --embedding, or computed with the
+/// defaults (and written to --save-embedding when given); summary gets "mesh" and "embedding".
+/// Shared by barylab average and barylab curve.
+vtkSmartPointer<vtkPolyData> embedded_surface(const std::string& mesh, const std::string& embedding,
+  const std::string& save, bool quiet, nlohmann::json& summary);
 void AddRenderCommand(Subcommands& subcommands);
 void AddDemoCommand(Subcommands& subcommands);
 /// @}

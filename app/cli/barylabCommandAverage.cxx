@@ -28,6 +28,30 @@ namespace barylab
 {
 namespace cli
 {
+vtkSmartPointer<vtkPolyData> embedded_surface(const std::string& mesh,
+  const std::string& embedding, const std::string& save, bool quiet, json& summary)
+{
+  auto surface = ReadSurface(mesh);
+  summary["mesh"] = mesh;
+  if (!embedding.empty())
+  {
+    summary["embedding"] = { { "file", embedding } };
+    return AttachEmbedding(surface, embedding);
+  }
+  ProgressBar bar(!quiet, "embedding");
+  json e;
+  auto embedded = ComputeEmbedding(surface, bary::EmbeddingOptions{}, callbacks(bar, quiet), &e);
+  bar.done();
+  summary["embedding"] = e;
+  summary["embedding"]["file"] = save.empty() ? "(computed)" : save;
+  if (!save.empty())
+    WriteEmbedding(embedded, save);
+  else if (!quiet)
+    std::cerr << "barylab: note: the embedding was computed (" << e["seconds"]["total"].get<double>()
+              << " s); keep it with --save-embedding or barylab embed, and pass --embedding\n";
+  return embedded;
+}
+
 namespace
 {
 
@@ -71,30 +95,8 @@ int run_average(const AverageArgs& a)
   if (!a.save_embedding.empty())
     check_output(a.save_embedding, OutputKind::Text, inputs);
 
-  auto surface = ReadSurface(a.mesh);
   json summary;
-  summary["mesh"] = a.mesh;
-  vtkSmartPointer<vtkPolyData> embedded;
-  if (!a.embedding.empty())
-  {
-    embedded = AttachEmbedding(surface, a.embedding);
-    summary["embedding"] = { { "file", a.embedding } };
-  }
-  else
-  {
-    ProgressBar bar(!a.quiet, "embedding");
-    json e;
-    embedded = ComputeEmbedding(surface, bary::EmbeddingOptions{}, callbacks(bar, a.quiet), &e);
-    bar.done();
-    summary["embedding"] = e;
-    summary["embedding"]["file"] = a.save_embedding.empty() ? "(computed)" : a.save_embedding;
-    if (!a.save_embedding.empty())
-      WriteEmbedding(embedded, a.save_embedding);
-    else if (!a.quiet)
-      std::cerr << "barylab: note: the embedding was computed ("
-                << e["seconds"]["total"].get<double>()
-                << " s); keep it with --save-embedding or barylab embed, and pass --embedding\n";
-  }
+  auto embedded = embedded_surface(a.mesh, a.embedding, a.save_embedding, a.quiet, summary);
   auto anchors = ReadSurfacePoints(a.anchors);
   summary["anchors"] = { { "file", a.anchors }, { "count", anchors->GetNumberOfPoints() } };
 

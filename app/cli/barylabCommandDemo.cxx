@@ -18,6 +18,8 @@
 #include "vtkPointSet.h"
 #include "vtkPolyData.h"
 #include "vtkRenderWindow.h"
+#include "vtkRenderer.h"
+#include "vtkRendererCollection.h"
 
 #include <CLI/CLI.hpp>
 
@@ -418,6 +420,13 @@ json demo_surface(const DemoArgs& a)
   const std::string weights_out = (out / "torus_weights.vtp").string();
   vtkBaryDataIO::Write(weighted, weights_out);
   summary["inverse"]["output"] = weights_out;
+  // A closed cubic B-spline on the torus around the anchors (§4.1).
+  auto controls = barylab::ReadSurfacePoints((data / "wa_curve_controls.txt").string());
+  auto curve = barylab::SurfaceCurve(embedded, controls, 24, true, bary::kDefaultSurfaceTolerance,
+    a.threads, {}, &summary["curve"]);
+  const std::string curve_out = (out / "torus_curve.vtp").string();
+  vtkBaryDataIO::Write(curve, curve_out);
+  summary["curve"]["output"] = curve_out;
   std::cerr << "barylab: torus: embedding " << summary["embedding"]["seconds"]["total"].get<double>()
             << " s; " << summary["forward"]["queries"] << " averages ("
             << summary["forward"]["failures"] << " failed); weights of "
@@ -446,7 +455,11 @@ json demo_surface(const DemoArgs& a)
           w->SetComponent(p, c, std::numeric_limits<double>::quiet_NaN());
     }
     const std::string png = (out / "torus_weights.png").string();
-    barylab::WritePNG(barylab::WeightFieldWindow(shown, anchors, options), png);
+    auto window = barylab::WeightFieldWindow(shown, anchors, options);
+    const double yellow[3] = { 1.0, 0.85, 0.1 };
+    barylab::AddLines(window->GetRenderers()->GetFirstRenderer(), curve->GetPoints(),
+      curve->GetLines(), 4.0, yellow);
+    barylab::WritePNG(window, png);
     summary["images"] = { png };
   }
   return summary;

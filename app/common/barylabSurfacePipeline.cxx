@@ -2,6 +2,7 @@
 
 #include "vtkBaryConversion.h"
 #include "vtkBaryDataIO.h"
+#include "vtkBarySurfaceCurve.h"
 #include "vtkBarySurfaceData.h"
 #include "vtkBarySurfaceEmbedding.h"
 #include "vtkBarySurfaceWeights.h"
@@ -240,6 +241,31 @@ vtkSmartPointer<vtkPointSet> SurfaceWeights(vtkPointSet* points, vtkPolyData* su
       { "median_error", weights->GetMedianRoundTripError() },
       { "max_error", weights->GetMaximumRoundTripError() },
       { "seconds", weights->GetRoundTripSeconds() } };
+  }
+  return result;
+}
+
+vtkSmartPointer<vtkPolyData> SurfaceCurve(vtkPolyData* surface, vtkPointSet* controls,
+  int samples_per_segment, bool closed, double surface_tolerance, int threads,
+  const RunCallbacks& callbacks, json* summary)
+{
+  vtkNew<vtkBarySurfaceCurve> curve;
+  curve->SetInputData(0, surface);
+  curve->SetControlPointsData(controls);
+  curve->SetSamplesPerSegment(samples_per_segment);
+  curve->SetClosed(closed);
+  curve->SetSurfaceTolerance(surface_tolerance);
+  curve->SetNumberOfThreads(threads);
+  RunAlgorithm(curve, callbacks);
+  vtkSmartPointer<vtkPolyData> result = curve->GetOutput();
+  if (summary)
+  {
+    json& s = *summary;
+    s["control_points"] = controls->GetNumberOfPoints();
+    s["samples"] = result->GetNumberOfPoints();
+    s["closed"] = closed;
+    s["failures"] = curve->GetNumberOfFailures();
+    s["polylines"] = result->GetNumberOfLines();
   }
   return result;
 }

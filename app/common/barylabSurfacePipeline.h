@@ -60,4 +60,10 @@ vtkSmartPointer<vtkPointSet> SurfaceWeights(vtkPointSet* points, vtkPolyData* su
   double round_trip_tolerance, const RunCallbacks& callbacks = {},
   nlohmann::json* summary = nullptr);
 
+/// A cubic B-spline on the surface through forward problems (vtkBarySurfaceCurve): samples,
+/// polylines and FaceId, Barycentric, Valid.
+vtkSmartPointer<vtkPolyData> SurfaceCurve(vtkPolyData* surface, vtkPointSet* controls,
+  int samples_per_segment, bool closed, double surface_tolerance, int threads,
+  const RunCallbacks& callbacks = {}, nlohmann::json* summary = nullptr);
+
 } // namespace barylab

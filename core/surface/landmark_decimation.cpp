@@ -170,18 +170,23 @@ struct DisjointSets
 struct Candidate
 {
   double cost;
+  double length2; ///< squared length of the collapsed edge (the tie-break)
   int u;
   std::uint32_t version;
 };
 
-/// Orders the queue so that top() is the cheapest collapse, ties by u (one valid entry per u;
-/// each vertex picks its target by cost, then vertex id), then version.
+/// Orders the queue so that top() is the cheapest collapse; equal costs (a flat region, where
+/// every collapse costs 0) go to the shorter edge, so flat regions thin out evenly instead of
+/// in vertex-id order; then by u (one valid entry per u; each vertex picks its target by cost,
+/// then edge length, then vertex id), then version.
 struct CostlierThan
 {
   bool operator()(const Candidate& a, const Candidate& b) const
   {
     if (a.cost != b.cost)
       return a.cost > b.cost;
+    if (a.length2 != b.length2)
+      return a.length2 > b.length2;
     if (a.u != b.u)
       return a.u > b.u;
     return a.version > b.version;
@@ -714,19 +719,25 @@ void Decimator::update(int u)
   if (previous != neighbours_.end())
     std::iter_swap(neighbours_.begin(), previous);
   double best = std::numeric_limits<double>::infinity();
+  double best_length2 = std::numeric_limits<double>::infinity();
   int best_v = -1;
   for (int v : neighbours_)
   {
     Angle cost;
-    if (evaluate(u, v, best, cost) && (cost.key < best || (cost.key == best && v < best_v)))
+    if (!evaluate(u, v, best, cost))
+      continue;
+    const double length2 = (P_[static_cast<std::size_t>(v)] - P_[static_cast<std::size_t>(u)]).squaredNorm();
+    if (cost.key < best ||
+      (cost.key == best && (length2 < best_length2 || (length2 == best_length2 && v < best_v))))
     {
       best = cost.key;
+      best_length2 = length2;
       best_v = v;
     }
   }
   target_[u] = best_v;
   if (best_v >= 0)
-    push({ best, u, version_[u] });
+    push({ best, best_length2, u, version_[u] });
 }
 
 void Decimator::collapse(int u, int v, const Angle& cost)

@@ -3,6 +3,7 @@
 
 #include "vtkBaryDataIO.h"
 
+#include "vtkCell.h"
 #include "vtkDataArray.h"
 #include "vtkDataSet.h"
 #include "vtkDoubleArray.h"
@@ -1689,4 +1690,53 @@ TEST_F(CLI, AverageBadInputIsNamed)
   // No partial outputs.
   for (const char* name : { "o.txt", "x.txt" })
     EXPECT_FALSE(fs::exists(out(name))) << name;
+}
+
+TEST_F(CLI, CurveOnTheTorus)
+{
+  const std::string mesh = data("wa_torus.obj");
+  ASSERT_EQ(run("embed --mesh " + mesh + " --output " + out("e.txt") + " --landmarks 300 -q").code, 0);
+  const CommandResult r = run("curve --mesh " + mesh + " --embedding " + out("e.txt") +
+    " --controls " + data("wa_curve_controls.txt") + " --closed --samples 12 --output " +
+    out("c.vtp") + " --json " + out("c.json") + " -q");
+  ASSERT_EQ(r.code, 0) << r.output;
+  auto curve = vtkBaryDataIO::Read(out("c.vtp"));
+  EXPECT_EQ(curve->GetNumberOfPoints(), 8 * 12);
+  std::ifstream j(out("c.json"));
+  const nlohmann::json s = nlohmann::json::parse(j);
+  EXPECT_EQ(s["curve"]["failures"].get<int>(), 0);
+  // Every sample lies on the torus (its point is a barycentric combination of a triangle's).
+  auto torus = vtkBaryDataIO::Read(mesh);
+  vtkDataArray* face = curve->GetPointData()->GetArray("FaceId");
+  vtkDataArray* bary = curve->GetPointData()->GetArray("Barycentric");
+  ASSERT_TRUE(face && bary);
+  for (vtkIdType q = 0; q < curve->GetNumberOfPoints(); ++q)
+  {
+    vtkCell* cell = torus->GetCell(static_cast<vtkIdType>(face->GetComponent(q, 0)));
+    double p[3] = { 0, 0, 0 }, x[3];
+    for (int k = 0; k < 3; ++k)
+    {
+      double v[3];
+      torus->GetPoint(cell->GetPointId(k), v);
+      for (int d = 0; d < 3; ++d)
+        p[d] += bary->GetComponent(q, k) * v[d];
+    }
+    curve->GetPoint(q, x);
+    for (int d = 0; d < 3; ++d)
+      EXPECT_NEAR(p[d], x[d], 1e-9);
+  }
+  // Usage: fewer than 4 control points is an input error naming it; --samples 0 a usage error.
+  {
+    std::ifstream anchors(data("wa_anchors.txt"));
+    std::ofstream three(out("three.txt"));
+    std::string line;
+    for (int k = 0; k < 3 && std::getline(anchors, line); ++k)
+      three << line << "\n";
+  }
+  ExpectError(run("curve --mesh " + mesh + " --embedding " + out("e.txt") + " --controls " +
+                out("three.txt") + " --output " + out("x.vtp") + " -q"),
+    "at least 4 control points");
+  EXPECT_EQ(run("curve --mesh " + mesh + " --embedding " + out("e.txt") + " --controls " +
+              data("wa_curve_controls.txt") + " --samples 0 --output " + out("x.vtp") + " -q").code, 2);
+  EXPECT_FALSE(fs::exists(out("x.vtp")));
 }

@@ -56,7 +56,7 @@ TEST(EuclideanEmbedding, FlatPatchDistancesAreEuclidean)
 {
   const auto g = test::flat_grid(40);
   const SurfaceMesh m(g.V, g.F);
-  for (const auto method : { LandmarkMethod::FarthestPoint })
+  for (const auto method : { LandmarkMethod::Decimation, LandmarkMethod::FarthestPoint })
   {
     EmbeddingOptions options;
     options.landmarks = 300;

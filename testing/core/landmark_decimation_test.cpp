@@ -209,18 +209,19 @@ bool read_obj(const std::string& path, Mesh& mesh)
   return true;
 }
 
-/// What the tests check of a triangle mesh, computed from its faces alone.
+/// What the tests check of a triangle mesh, computed from its faces alone (boundary loops and
+/// vertex links assume consistently oriented faces).
 struct Topology
 {
   Index vertices = 0;          ///< distinct vertices used by the faces
   Index edges = 0;
+  Index faces = 0;
   bool edge_manifold = true;   ///< every edge in 1 or 2 faces
   bool oriented = true;        ///< no directed edge twice
   bool vertex_manifold = true; ///< every vertex's link is one path or one cycle
   int boundary_loops = 0;
   std::map<int, int> boundary_next; ///< boundary halfedges a -> b
   Index euler() const { return vertices - edges + faces; }
-  Index faces = 0;
 };
 
 Topology topology(const Eigen::MatrixXi& F)
