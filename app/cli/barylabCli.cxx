@@ -64,6 +64,7 @@ void ConfigureApp(CLI::App& app, Subcommands& subcommands)
   AddEmbedCommand(subcommands);
   AddAverageCommand(subcommands);
   AddCurveCommand(subcommands);
+  AddTransferCommand(subcommands);
   AddRenderCommand(subcommands);
   AddDemoCommand(subcommands);
 }

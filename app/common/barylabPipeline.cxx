@@ -259,30 +259,25 @@ vtkSmartPointer<vtkPointSet> Skin(vtkPointSet* weighted, const std::vector<Eigen
   return filter->GetOutput();
 }
 
-std::string WriteAnimation(vtkPointSet* weighted, vtkPolyData* rest_cage,
-  const std::vector<vtkSmartPointer<vtkPointSet>>& frames, const WeightsParameters& parameters,
-  const std::string& output_dir, const std::string& prefix, double period, nlohmann::json* summary)
+std::string WriteTimeSeries(const std::vector<vtkSmartPointer<vtkDataSet>>& frames,
+  const std::string& output_dir, const std::string& prefix, double period)
 {
   if (frames.empty())
-    throw bary::Error(bary::ErrorCode::EmptyInput, "no frames to animate");
+    throw bary::Error(bary::ErrorCode::EmptyInput, "no frames to write");
   namespace fs = std::filesystem;
   fs::create_directories(output_dir);
   std::ostringstream pvd;
   pvd << "<?xml version=\"1.0\"?>\n"
       << "<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
       << "  <Collection>\n";
-  std::vector<std::string> files;
-  const auto t0 = std::chrono::steady_clock::now();
   for (std::size_t f = 0; f < frames.size(); ++f)
   {
     char name[64];
     std::snprintf(name, sizeof(name), "_%03zu.vtp", f);
     const std::string file = prefix + name;
-    auto deformed = Deform(weighted, rest_cage, frames[f], parameters);
-    vtkBaryDataIO::Write(deformed, (fs::path(output_dir) / file).string());
+    vtkBaryDataIO::Write(frames[f], (fs::path(output_dir) / file).string());
     pvd << "    <DataSet timestep=\"" << period * static_cast<double>(f) / static_cast<double>(frames.size())
         << "\" group=\"\" part=\"0\" file=\"" << file << "\"/>\n";
-    files.push_back(file);
   }
   pvd << "  </Collection>\n</VTKFile>\n";
   const std::string path = (fs::path(output_dir) / (prefix + ".pvd")).string();
@@ -295,11 +290,25 @@ std::string WriteAnimation(vtkPointSet* weighted, vtkPolyData* rest_cage,
   }
   if (std::rename(tmp.c_str(), path.c_str()) != 0)
     throw bary::Error(bary::ErrorCode::Io, "cannot write '" + path + "'");
+  return path;
+}
+
+std::string WriteAnimation(vtkPointSet* weighted, vtkPolyData* rest_cage,
+  const std::vector<vtkSmartPointer<vtkPointSet>>& frames, const WeightsParameters& parameters,
+  const std::string& output_dir, const std::string& prefix, double period, nlohmann::json* summary)
+{
+  if (frames.empty())
+    throw bary::Error(bary::ErrorCode::EmptyInput, "no frames to animate");
+  const auto t0 = std::chrono::steady_clock::now();
+  std::vector<vtkSmartPointer<vtkDataSet>> deformed;
+  for (const auto& frame : frames)
+    deformed.push_back(Deform(weighted, rest_cage, frame, parameters));
+  const std::string path = WriteTimeSeries(deformed, output_dir, prefix, period);
   if (summary)
   {
-    (*summary)["frames"] = files.size();
+    (*summary)["frames"] = frames.size();
     (*summary)["pvd"] = path;
-    (*summary)["seconds_per_frame"] = seconds_since(t0) / static_cast<double>(files.size());
+    (*summary)["seconds_per_frame"] = seconds_since(t0) / static_cast<double>(frames.size());
   }
   return path;
 }

@@ -95,6 +95,11 @@ vtkSmartPointer<vtkPointSet> Deform(vtkPointSet* model, vtkPolyData* rest_cage,
 /// <prefix>_NNN.vtp files in @p output_dir plus <prefix>.pvd (ParaView's collection of the frames,
 /// time = frame / #frames * @p period). Weights are computed once (by the caller) and reused.
 /// Returns the .pvd path; fills @p summary with the frames written and the time per frame.
+/// Writes @p frames as <prefix>_NNN.vtp in @p output_dir plus <prefix>.pvd (ParaView's
+/// collection, time = frame / #frames * @p period); returns the .pvd path.
+std::string WriteTimeSeries(const std::vector<vtkSmartPointer<vtkDataSet>>& frames,
+  const std::string& output_dir, const std::string& prefix, double period = 1.0);
+
 std::string WriteAnimation(vtkPointSet* weighted, vtkPolyData* rest_cage,
   const std::vector<vtkSmartPointer<vtkPointSet>>& frames, const WeightsParameters& parameters,
   const std::string& output_dir, const std::string& prefix, double period = 1.0,

@@ -2,6 +2,7 @@
 
 #include "vtkBaryConversion.h"
 #include "vtkBaryDataIO.h"
+#include "vtkBarySurfaceCorrespondence.h"
 #include "vtkBarySurfaceCurve.h"
 #include "vtkBarySurfaceData.h"
 #include "vtkBarySurfaceEmbedding.h"
@@ -268,6 +269,68 @@ vtkSmartPointer<vtkPolyData> SurfaceCurve(vtkPolyData* surface, vtkPointSet* con
     s["polylines"] = result->GetNumberOfLines();
   }
   return result;
+}
+
+vtkSmartPointer<vtkPolyData> Transfer(vtkPolyData* target, vtkPointSet* target_anchors,
+  vtkPolyData* source, vtkPointSet* source_anchors, const std::vector<std::string>& arrays,
+  const bary::CorrespondenceOptions& options, double surface_tolerance,
+  const RunCallbacks& callbacks, json* summary)
+{
+  vtkNew<vtkBarySurfaceCorrespondence> map;
+  map->SetInputData(0, target);
+  map->SetTargetAnchorsData(target_anchors);
+  map->SetSourceData(source);
+  map->SetSourceAnchorsData(source_anchors);
+  for (const std::string& a : arrays)
+    map->AddArrayName(a.c_str());
+  map->SetGamma(options.inverse.gamma);
+  map->SetRoundTripTolerance(options.round_trip_tolerance);
+  map->SetSurfaceTolerance(surface_tolerance);
+  map->SetNumberOfThreads(options.inverse.threads);
+  RunAlgorithm(map, callbacks);
+  if (summary)
+  {
+    json& s = *summary;
+    s["target_points"] = target->GetNumberOfPoints();
+    s["anchors"] = target_anchors->GetNumberOfPoints();
+    s["undefined"] = map->GetNumberOfUndefined();
+    s["flipped_triangles"] = map->GetNumberOfFlipped();
+    s["flipped_area_fraction"] = map->GetFlippedAreaFraction();
+    s["stretch"] = { { "all", map->GetStretch() }, { "best_95_percent", map->GetStretchBest95() } };
+  }
+  return map->GetOutput();
+}
+
+std::string WriteMorph(vtkPolyData* transferred, int frames, const std::string& output_dir,
+  const std::string& prefix)
+{
+  if (frames < 1)
+    throw Error(ErrorCode::InvalidArgument, "a morph needs at least 1 frame, got " + std::to_string(frames));
+  vtkDataArray* image = transferred->GetPointData()->GetArray("SourcePosition");
+  if (!image)
+    throw Error(ErrorCode::Internal, "the transferred surface has no SourcePosition");
+  std::vector<vtkSmartPointer<vtkDataSet>> series;
+  for (int f = 0; f <= frames; ++f)
+  {
+    const double t = static_cast<double>(f) / frames;
+    auto frame = vtkSmartPointer<vtkPolyData>::New();
+    frame->ShallowCopy(transferred);
+    vtkNew<vtkPoints> points;
+    points->SetDataTypeToDouble();
+    points->SetNumberOfPoints(transferred->GetNumberOfPoints());
+    for (vtkIdType v = 0; v < transferred->GetNumberOfPoints(); ++v)
+    {
+      double x[3], y[3];
+      transferred->GetPoint(v, x);
+      image->GetTuple(v, y);
+      for (int c = 0; c < 3; ++c)
+        x[c] = std::isnan(y[c]) ? x[c] : (1 - t) * x[c] + t * y[c];
+      points->SetPoint(v, x);
+    }
+    frame->SetPoints(points);
+    series.push_back(frame);
+  }
+  return WriteTimeSeries(series, output_dir, prefix, 1.0);
 }
 
 } // namespace barylab

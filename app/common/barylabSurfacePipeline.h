@@ -7,6 +7,7 @@
 #include "barylabPipeline.h"
 
 #include "core/surface/euclidean_embedding.h"
+#include "core/surface/correspondence.h"
 #include "core/surface/weighted_averages.h"
 
 #include "vtkSmartPointer.h"
@@ -14,6 +15,7 @@
 #include <nlohmann/json.hpp>
 
 #include <string>
+#include <vector>
 
 class vtkPointSet;
 class vtkPolyData;
@@ -65,5 +67,20 @@ vtkSmartPointer<vtkPointSet> SurfaceWeights(vtkPointSet* points, vtkPolyData* su
 vtkSmartPointer<vtkPolyData> SurfaceCurve(vtkPolyData* surface, vtkPointSet* controls,
   int samples_per_segment, bool closed, double surface_tolerance, int threads,
   const RunCallbacks& callbacks = {}, nlohmann::json* summary = nullptr);
+
+/// The target with the source's point arrays transferred through corresponding anchors
+/// (vtkBarySurfaceCorrespondence): transferred arrays, SourcePosition, SourceFaceId,
+/// SourceBarycentric, RoundTripError, Defined; cell data Stretch, Flipped. @p arrays empty:
+/// every point array of the source but the embedding.
+vtkSmartPointer<vtkPolyData> Transfer(vtkPolyData* target, vtkPointSet* target_anchors,
+  vtkPolyData* source, vtkPointSet* source_anchors, const std::vector<std::string>& arrays,
+  const bary::CorrespondenceOptions& options, double surface_tolerance,
+  const RunCallbacks& callbacks = {}, nlohmann::json* summary = nullptr);
+
+/// A morph from the target (t = 0) to its image on the source (t = 1, SourcePosition of
+/// @p transferred) in @p frames + 1 frames, linear in space; undefined points stay put. Written
+/// with WriteTimeSeries; returns the .pvd path.
+std::string WriteMorph(vtkPolyData* transferred, int frames, const std::string& output_dir,
+  const std::string& prefix);
 
 } // namespace barylab

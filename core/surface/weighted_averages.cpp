@@ -477,10 +477,28 @@ DenseWeights WeightedAverages::inverse(const std::vector<SurfacePoint>& anchors,
         }
         return r;
       });
+      double sum = 0;
       for (Index i = 0; i < n; ++i)
       {
         const double a0 = s.t0[static_cast<std::size_t>(i)], a1 = s.t1[static_cast<std::size_t>(i)];
         w(i) = s.x[static_cast<std::size_t>(i)] * (a0 * lambda(0) + a1 * lambda(1) + lambda(2));
+        sum += w(i);
+      }
+      // Partition of unity exactly: the tangential constraint sum w_i (y_i - yhat) = 0 is
+      // homogeneous, so scaling the row keeps it. It matters where the anchors do not span the
+      // tangent plane and the pseudo-inverse satisfies the constraints only in the least-squares
+      // sense. A row that sums to (almost) 0 has no such scaling: it falls back to the anchor
+      // nearest in the metric of D (the round trip then tells whether the point is reached).
+      if (std::abs(sum) > 1e-12)
+        w /= sum;
+      else
+      {
+        Index nearest = 0;
+        for (Index i = 1; i < n; ++i)
+          if (s.Dii[static_cast<std::size_t>(i)] < s.Dii[static_cast<std::size_t>(nearest)])
+            nearest = i;
+        w.setZero();
+        w(nearest) = 1.0;
       }
     }
   };

@@ -21,7 +21,9 @@
 /// orthogonal to the tangent plane Psi(xi) (gamma = 10, the paper's). The solution is
 /// w = D^-2 A^T (A D^-2 A^T)^+ b with A = [P Y^T; 1^T], b = [P yhat; 1], P an orthonormal basis
 /// of Psi's rows (the pseudo-inverse drops directions of A D^-2 A^T below 1e-12 of its largest
-/// eigenvalue). When xhat is an anchor (D_ii = 0, up to 1e-24 of the squared embedding
+/// eigenvalue; where that leaves the partition of unity inexact, the row is scaled to sum to 1,
+/// which keeps the homogeneous tangential constraint; a row summing to 0 falls back to the
+/// anchor with the smallest D_ii). When xhat is an anchor (D_ii = 0, up to 1e-24 of the squared embedding
 /// extent) its weight is 1 and the others 0: the weights interpolate.
 ///
 /// Both are per-query: OpenMP over queries in fixed chunks; results do not depend on the

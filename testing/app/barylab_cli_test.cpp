@@ -10,6 +10,7 @@
 #include "vtkNew.h"
 #include "vtkPointData.h"
 #include "vtkPointSet.h"
+#include "vtkPoints.h"
 #include "vtkPolyData.h"
 
 #include <gtest/gtest.h>
@@ -1738,5 +1739,68 @@ TEST_F(CLI, CurveOnTheTorus)
     "at least 4 control points");
   EXPECT_EQ(run("curve --mesh " + mesh + " --embedding " + out("e.txt") + " --controls " +
               data("wa_curve_controls.txt") + " --samples 0 --output " + out("x.vtp") + " -q").code, 2);
+  EXPECT_FALSE(fs::exists(out("x.vtp")));
+}
+
+TEST_F(CLI, TransferToAScaledCopyAndMorph)
+{
+  // Source: the torus with an array; target: the torus scaled by 2, anchors scaled alike. Their
+  // embeddings are computed independently; the map is the scaling where it is defined.
+  auto torus = vtkBaryDataIO::Read(data("wa_torus.obj"));
+  vtkNew<vtkDoubleArray> height;
+  height->SetName("Height");
+  height->SetNumberOfTuples(torus->GetNumberOfPoints());
+  for (vtkIdType i = 0; i < torus->GetNumberOfPoints(); ++i)
+    height->SetValue(i, torus->GetPoint(i)[2]);
+  torus->GetPointData()->AddArray(height);
+  vtkBaryDataIO::Write(torus, out("source.vtp"));
+  auto scaled = vtkBaryDataIO::Read(data("wa_torus.obj"));
+  vtkPoints* p = vtkPointSet::SafeDownCast(scaled)->GetPoints();
+  for (vtkIdType i = 0; i < p->GetNumberOfPoints(); ++i)
+  {
+    double x[3];
+    p->GetPoint(i, x);
+    p->SetPoint(i, 2 * x[0], 2 * x[1], 2 * x[2]);
+  }
+  vtkBaryDataIO::Write(scaled, out("target.vtp"));
+  {
+    std::ifstream in(data("wa_anchors.txt"));
+    std::ofstream a2(out("anchors2.txt"));
+    double x, y, z;
+    while (in >> x >> y >> z)
+      a2 << 2 * x << " " << 2 * y << " " << 2 * z << "\n";
+  }
+  for (const char* s : { "source", "target" })
+    ASSERT_EQ(run("embed --mesh " + out(std::string(s) + ".vtp") + " --output " +
+                out(std::string(s) + "_e.txt") + " --landmarks 300 -q").code, 0);
+  const CommandResult r = run("transfer --source " + out("source.vtp") + " --source-embedding " +
+    out("source_e.txt") + " --source-anchors " + data("wa_anchors.txt") + " --target " +
+    out("target.vtp") + " --target-embedding " + out("target_e.txt") + " --target-anchors " +
+    out("anchors2.txt") + " --output " + out("t.vtp") + " --morph 3 --morph-dir " + out("morph") +
+    " --json " + out("t.json") + " -q");
+  ASSERT_EQ(r.code, 0) << r.output;
+  auto t = vtkBaryDataIO::Read(out("t.vtp"));
+  vtkDataArray* h = t->GetPointData()->GetArray("Height");
+  vtkDataArray* defined = t->GetPointData()->GetArray("Defined");
+  ASSERT_TRUE(h && defined);
+  std::vector<double> errors;
+  for (vtkIdType i = 0; i < t->GetNumberOfPoints(); ++i)
+    if (defined->GetComponent(i, 0) != 0)
+      errors.push_back(std::abs(h->GetComponent(i, 0) - t->GetPoint(i)[2] / 2));
+  ASSERT_GT(errors.size(), 300u);
+  std::sort(errors.begin(), errors.end());
+  EXPECT_LT(errors[errors.size() / 2], 1e-4);
+  EXPECT_LT(errors[errors.size() * 95 / 100], 1e-3);
+  std::ifstream j(out("t.json"));
+  const nlohmann::json s = nlohmann::json::parse(j);
+  EXPECT_LT(s["transfer"]["stretch"]["best_95_percent"].get<double>(), 1.01);
+  EXPECT_TRUE(fs::exists(out("morph/morph.pvd")));
+  EXPECT_TRUE(fs::exists(out("morph/morph_003.vtp")));
+  // An array the source does not have is named; nothing is written.
+  ExpectError(run("transfer --source " + out("source.vtp") + " --source-embedding " +
+                out("source_e.txt") + " --source-anchors " + data("wa_anchors.txt") + " --target " +
+                out("target.vtp") + " --target-embedding " + out("target_e.txt") +
+                " --target-anchors " + out("anchors2.txt") + " --array Nope --output " + out("x.vtp") + " -q"),
+    "no point array 'Nope'");
   EXPECT_FALSE(fs::exists(out("x.vtp")));
 }
