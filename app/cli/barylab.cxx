@@ -16,6 +16,13 @@
 //   barylab reduce  --input WEIGHTS_FILE [--cage CAGE] --output OUT [--threshold T]
 //                   [--renormalize rowsum|affine|none] [--keep-dense] [--json]
 //   barylab mesh    --cage CAGE [--points MODEL] [--max-volume V | --cells N] --output DOMAIN
+//   barylab embed   --mesh SURFACE --output E.txt [--dimension D] [--landmarks L]
+//   barylab average --mesh SURFACE [--embedding E.txt] --anchors A --weights W --output OUT
+//   barylab average --inverse --mesh SURFACE [--embedding E.txt] --anchors A --points Q
+//                   --output W.txt
+//   barylab curve   --mesh SURFACE [--embedding E.txt] --controls C --output CURVE [--closed]
+//   barylab transfer --source A --source-anchors AA --target B --target-anchors BA --output OUT
+//                   [--source-embedding EA] [--target-embedding EB] [--morph N --morph-dir DIR]
 //   barylab render  --input WEIGHTS_FILE [--cage CAGE] --output PNG [--control I]
 //   barylab demo    [--output-dir DIR]
 //

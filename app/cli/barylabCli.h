@@ -102,9 +102,14 @@ void AddTransferCommand(Subcommands& subcommands);
 
 /// The surface of --mesh with its embedding: read from --embedding, or computed with the
 /// defaults (and written to --save-embedding when given); summary gets "mesh" and "embedding".
-/// Shared by barylab average and barylab curve.
+/// Shared by barylab average, curve and transfer.
 vtkSmartPointer<vtkPolyData> embedded_surface(const std::string& mesh, const std::string& embedding,
   const std::string& save, bool quiet, nlohmann::json& summary);
+
+/// check_output for a surface command's output (text or point data), its --json and its
+/// --save-embedding (each when given).
+void check_surface_outputs(const std::string& output, const std::string& json_path,
+  const std::string& save, const std::vector<std::string>& inputs);
 void AddRenderCommand(Subcommands& subcommands);
 void AddDemoCommand(Subcommands& subcommands);
 /// @}

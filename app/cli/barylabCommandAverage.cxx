@@ -28,6 +28,16 @@ namespace barylab
 {
 namespace cli
 {
+void check_surface_outputs(const std::string& output, const std::string& json_path,
+  const std::string& save, const std::vector<std::string>& inputs)
+{
+  check_output(output, OutputKind::Text, inputs);
+  if (!json_path.empty())
+    check_output(json_path, OutputKind::Json, inputs);
+  if (!save.empty())
+    check_output(save, OutputKind::Text, inputs);
+}
+
 vtkSmartPointer<vtkPolyData> embedded_surface(const std::string& mesh,
   const std::string& embedding, const std::string& save, bool quiet, json& summary)
 {
@@ -88,12 +98,8 @@ int run_average(const AverageArgs& a)
   {
     throw UsageError(e.what());
   }
-  const std::vector<std::string> inputs = { a.mesh, a.embedding, a.anchors, a.weights, a.points };
-  check_output(a.output, OutputKind::Text, inputs);
-  if (!a.json_path.empty())
-    check_output(a.json_path, OutputKind::Json, inputs);
-  if (!a.save_embedding.empty())
-    check_output(a.save_embedding, OutputKind::Text, inputs);
+  check_surface_outputs(a.output, a.json_path, a.save_embedding,
+    { a.mesh, a.embedding, a.anchors, a.weights, a.points });
 
   json summary;
   auto embedded = embedded_surface(a.mesh, a.embedding, a.save_embedding, a.quiet, summary);

@@ -48,12 +48,7 @@ int run_curve(const CurveArgs& a)
   {
     throw UsageError(e.what());
   }
-  const std::vector<std::string> inputs = { a.mesh, a.embedding, a.controls };
-  check_output(a.output, OutputKind::Text, inputs);
-  if (!a.json_path.empty())
-    check_output(a.json_path, OutputKind::Json, inputs);
-  if (!a.save_embedding.empty())
-    check_output(a.save_embedding, OutputKind::Text, inputs);
+  check_surface_outputs(a.output, a.json_path, a.save_embedding, { a.mesh, a.embedding, a.controls });
   json summary;
   auto embedded = embedded_surface(a.mesh, a.embedding, a.save_embedding, a.quiet, summary);
   auto controls = ReadSurfacePoints(a.controls);

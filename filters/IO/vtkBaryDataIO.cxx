@@ -813,26 +813,20 @@ Eigen::MatrixXd vtkBaryDataIO::ReadMatrix(const std::string& path, Eigen::Index 
   return M;
 }
 
-void vtkBaryDataIO::WriteMatrix(const Eigen::MatrixXd& M, const std::string& path)
+namespace
+{
+
+/// Writes text through @p write to a temporary file beside @p path and renames it: a failed
+/// write leaves no partial file.
+template<class Write>
+void write_text_atomically(const std::string& path, Write&& write)
 {
   const std::string tmp = path + ".tmp";
   {
     std::ofstream out(tmp);
     if (!out)
       throw Error(ErrorCode::Io, "cannot write '" + path + "' (is the folder writable?)");
-    char buffer[32];
-    for (Eigen::Index r = 0; r < M.rows(); ++r)
-    {
-      for (Eigen::Index c = 0; c < M.cols(); ++c)
-      {
-        const auto [end, ec] = std::to_chars(buffer, buffer + sizeof(buffer), M(r, c));
-        (void)ec;
-        if (c > 0)
-          out.put(' ');
-        out.write(buffer, end - buffer);
-      }
-      out.put('\n');
-    }
+    write(out);
     if (!out)
     {
       out.close();
@@ -847,34 +841,44 @@ void vtkBaryDataIO::WriteMatrix(const Eigen::MatrixXd& M, const std::string& pat
   }
 }
 
+/// The shortest decimal that reads back as @p x.
+void write_number(std::ostream& out, double x)
+{
+  char buffer[32];
+  const auto [end, ec] = std::to_chars(buffer, buffer + sizeof(buffer), x);
+  (void)ec;
+  out.write(buffer, end - buffer);
+}
+
+} // namespace
+
+void vtkBaryDataIO::WriteMatrix(const Eigen::MatrixXd& M, const std::string& path)
+{
+  write_text_atomically(path, [&](std::ostream& out) {
+    for (Eigen::Index r = 0; r < M.rows(); ++r)
+    {
+      for (Eigen::Index c = 0; c < M.cols(); ++c)
+      {
+        if (c > 0)
+          out.put(' ');
+        write_number(out, M(r, c));
+      }
+      out.put('\n');
+    }
+  });
+}
+
 void vtkBaryDataIO::WriteDMAT(const Eigen::MatrixXd& M, const std::string& path)
 {
-  const std::string tmp = path + ".tmp";
-  {
-    std::ofstream out(tmp);
-    if (!out)
-      throw Error(ErrorCode::Io, "cannot write '" + path + "' (is the folder writable?)");
+  write_text_atomically(path, [&](std::ostream& out) {
     out << M.cols() << ' ' << M.rows() << '\n';
-    char buffer[32];
     for (Eigen::Index c = 0; c < M.cols(); ++c)
       for (Eigen::Index r = 0; r < M.rows(); ++r)
       {
-        const auto [end, ec] = std::to_chars(buffer, buffer + sizeof(buffer), M(r, c));
-        (void)ec;
-        out.write(buffer, end - buffer).put('\n');
+        write_number(out, M(r, c));
+        out.put('\n');
       }
-    if (!out)
-    {
-      out.close();
-      std::remove(tmp.c_str());
-      throw Error(ErrorCode::Io, "cannot write '" + path + "' (disk full?)");
-    }
-  }
-  if (std::rename(tmp.c_str(), path.c_str()) != 0)
-  {
-    std::remove(tmp.c_str());
-    throw Error(ErrorCode::Io, "cannot write '" + path + "'");
-  }
+  });
 }
 
 

@@ -173,7 +173,10 @@ ObjMesh read_obj(const std::string& path)
       std::vector<int> ids;
       std::string token;
       while (s >> token)
-        ids.push_back(std::stoi(token.substr(0, token.find('/'))) - 1);
+      {
+        const int i = std::stoi(token.substr(0, token.find('/')));
+        ids.push_back(i > 0 ? i - 1 : static_cast<int>(v.size() / 3) + i); // negative: relative
+      }
       if (ids.size() < 3)
         throw std::runtime_error(path + ": bad face line: " + line);
       for (std::size_t k = 1; k + 1 < ids.size(); ++k)

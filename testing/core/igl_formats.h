@@ -39,7 +39,8 @@ TgfSkeleton read_tgf(const std::string& path);
 Eigen::MatrixXd read_dmat(const std::string& path);
 
 /// A triangle mesh from a Wavefront .obj file: "v x y z" and "f a b c" lines (1-based indices,
-/// "a/t/n" forms read as a; polygons fanned into triangles); other lines are skipped.
+/// negative ones relative to the vertices so far, "a/t/n" forms read as a; polygons fanned into
+/// triangles); other lines are skipped.
 struct ObjMesh
 {
   Eigen::MatrixXd V; ///< #V by 3

@@ -12,6 +12,8 @@
 #include "error_matchers.h"
 
 #include <Eigen/Geometry>
+#include "igl_formats.h"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -171,41 +173,14 @@ Mesh torus(int n, int m)
   return from_lists(points, faces);
 }
 
-/// The `v` and `f` lines of an OBJ file (1-based or negative indices; "a/b/c" corners; polygons
-/// fanned). False if the file cannot be opened.
+/// An OBJ file through the tests' reader (igl_formats.h). False if the file does not exist.
 bool read_obj(const std::string& path, Mesh& mesh)
 {
-  std::ifstream in(path);
-  if (!in)
+  if (!std::ifstream(path))
     return false;
-  std::vector<Eigen::Vector3d> points;
-  std::vector<std::array<int, 3>> faces;
-  std::string line;
-  while (std::getline(in, line))
-  {
-    std::istringstream s(line);
-    std::string tag;
-    s >> tag;
-    if (tag == "v")
-    {
-      Eigen::Vector3d p;
-      s >> p.x() >> p.y() >> p.z();
-      points.push_back(p);
-    }
-    else if (tag == "f")
-    {
-      std::vector<int> corners;
-      std::string token;
-      while (s >> token)
-      {
-        const int i = std::stoi(token.substr(0, token.find('/')));
-        corners.push_back(i > 0 ? i - 1 : static_cast<int>(points.size()) + i);
-      }
-      for (std::size_t k = 1; k + 1 < corners.size(); ++k)
-        faces.push_back({ corners[0], corners[k], corners[k + 1] });
-    }
-  }
-  mesh = from_lists(points, faces);
+  const bary::test::ObjMesh obj = bary::test::read_obj(path);
+  mesh.V = obj.V;
+  mesh.F = obj.F;
   return true;
 }
 
