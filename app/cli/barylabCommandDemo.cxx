@@ -436,29 +436,9 @@ json demo_surface(const DemoArgs& a)
   if (a.render)
   {
     barylab::RenderOptions options;
-    options.free_points = true;
     options.component = 4; // the centre anchor
-    // Drawn only where the weights mean something (§4.4): where the round trip returns and no
-    // weight is below -1 (the paper also drops "large negative weights"); the rest of the
-    // torus is beyond what the 9 anchors reach and is left uncoloured (NaN).
-    auto shown = vtkSmartPointer<vtkPolyData>::New();
-    shown->DeepCopy(weighted);
-    vtkDataArray* w = shown->GetPointData()->GetArray("Weights");
-    vtkDataArray* defined = shown->GetPointData()->GetArray("Defined");
-    for (vtkIdType p = 0; p < w->GetNumberOfTuples(); ++p)
-    {
-      bool shown_here = defined->GetComponent(p, 0) != 0;
-      for (int c = 0; c < w->GetNumberOfComponents(); ++c)
-        shown_here = shown_here && w->GetComponent(p, c) >= -1.0;
-      if (!shown_here)
-        for (int c = 0; c < w->GetNumberOfComponents(); ++c)
-          w->SetComponent(p, c, std::numeric_limits<double>::quiet_NaN());
-    }
     const std::string png = (out / "torus_weights.png").string();
-    auto window = barylab::WeightFieldWindow(shown, anchors, options);
-    const double yellow[3] = { 1.0, 0.85, 0.1 };
-    barylab::AddLines(window->GetRenderers()->GetFirstRenderer(), curve->GetPoints(),
-      curve->GetLines(), 4.0, yellow);
+    auto window = barylab::SurfaceWeightsWindow(vtkPolyData::SafeDownCast(weighted), anchors, curve, options);
     barylab::WritePNG(window, png);
     summary["images"] = { png };
   }

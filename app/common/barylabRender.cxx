@@ -26,6 +26,7 @@
 #include "vtkProperty.h"
 #include "vtkRenderWindow.h"
 #include "vtkRenderer.h"
+#include "vtkRendererCollection.h"
 #include "vtkScalarBarActor.h"
 #include "vtkSphereSource.h"
 #include "vtkTextActor.h"
@@ -36,6 +37,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <limits>
 
 namespace barylab
 {
@@ -569,6 +571,38 @@ void WritePNG(vtkRenderWindow* window, const std::string& path)
     std::remove(tmp.c_str());
     throw Error(ErrorCode::Io, "cannot write image '" + path + "'");
   }
+}
+
+vtkSmartPointer<vtkRenderWindow> SurfaceWeightsWindow(vtkPolyData* weighted, vtkPointSet* anchors,
+  vtkPolyData* curve, const RenderOptions& options)
+{
+  auto shown = vtkSmartPointer<vtkPolyData>::New();
+  shown->DeepCopy(weighted);
+  vtkDataArray* w = shown->GetPointData()->GetArray(options.weights_name.c_str());
+  vtkDataArray* defined = shown->GetPointData()->GetArray("Defined");
+  if (!w || !defined)
+    throw bary::Error(bary::ErrorCode::InvalidArgument,
+      "the surface has no '" + options.weights_name + "' and 'Defined' point arrays (vtkBarySurfaceWeights' output)");
+  for (vtkIdType p = 0; p < w->GetNumberOfTuples(); ++p)
+  {
+    bool shown_here = defined->GetComponent(p, 0) != 0;
+    for (int c = 0; c < w->GetNumberOfComponents(); ++c)
+      shown_here = shown_here && w->GetComponent(p, c) >= -1.0;
+    if (!shown_here)
+      for (int c = 0; c < w->GetNumberOfComponents(); ++c)
+        w->SetComponent(p, c, std::numeric_limits<double>::quiet_NaN());
+  }
+  vtkNew<vtkPolyData> anchor_points;
+  anchor_points->SetPoints(anchors->GetPoints());
+  RenderOptions o = options;
+  o.free_points = true;
+  auto window = WeightFieldWindow(shown, anchor_points, o);
+  if (curve && curve->GetNumberOfLines() > 0)
+  {
+    const double yellow[3] = { 1.0, 0.85, 0.1 };
+    AddLines(window->GetRenderers()->GetFirstRenderer(), curve->GetPoints(), curve->GetLines(), 4.0, yellow);
+  }
+  return window;
 }
 
 } // namespace barylab

@@ -54,6 +54,14 @@ struct RenderOptions
 vtkSmartPointer<vtkRenderWindow> WeightFieldWindow(
   vtkDataSet* data, vtkPolyData* cage, const RenderOptions& options);
 
+/// Weights on a surface w.r.t. anchors (vtkBarySurfaceWeights' output: `Weights`, `Defined`):
+/// the weight of anchor options.component as WeightFieldWindow draws it, but only where the
+/// weights mean something (Panozzo et al. 2013, §4.4: the round trip returns and no weight is
+/// below -1, the paper's "large negative weights"); the rest is left uncoloured (NaN colour).
+/// @p curve (optional): polylines drawn over it in yellow (a B-spline on the surface).
+vtkSmartPointer<vtkRenderWindow> SurfaceWeightsWindow(vtkPolyData* weighted, vtkPointSet* anchors,
+  vtkPolyData* curve, const RenderOptions& options);
+
 /// Rest pose (left) and deformed pose (right) side by side, each with its cage; both coloured
 /// by the weight of options.component when the data carry the weights array.
 vtkSmartPointer<vtkRenderWindow> DeformationWindow(vtkDataSet* rest, vtkPolyData* rest_cage,

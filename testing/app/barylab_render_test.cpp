@@ -7,6 +7,7 @@
 
 #include "barylabPipeline.h"
 #include "barylabRender.h"
+#include "barylabSurfacePipeline.h"
 
 #include "vtkBaryConversion.h"
 #include "vtkBaryDataIO.h"
@@ -267,4 +268,23 @@ TEST(RenderImages, LBCWeightField3D)
   options.influence_level = true;
   options.title = "local barycentric coordinate of control point 36; blue: w = 1e-3/72";
   ExpectMatchesBaseline(barylab::WeightFieldWindow(weighted, cage, options), "lbc_weight_field_3d");
+}
+
+TEST(RenderImages, WeightedAveragesOnATorus)
+{
+  // Weighted averages on a surface: the bundled torus's embedding, the weights of every vertex
+  // w.r.t. the 9 bundled anchors (drawn where the round trip returns), the centre anchor's
+  // weight, and the closed B-spline of the bundled control points (the demo's picture).
+  auto surface = barylab::ReadSurface(data("wa_torus.obj"));
+  auto embedded = barylab::ComputeEmbedding(surface, bary::EmbeddingOptions{});
+  auto anchors = barylab::ReadSurfacePoints(data("wa_anchors.txt"));
+  auto weighted = barylab::SurfaceWeights(embedded, embedded, anchors, bary::InverseOptions{},
+    bary::kDefaultSurfaceTolerance, bary::kDefaultRoundTripTolerance);
+  auto curve = barylab::SurfaceCurve(embedded, barylab::ReadSurfacePoints(data("wa_curve_controls.txt")),
+    24, true, bary::kDefaultSurfaceTolerance, 0);
+  barylab::RenderOptions options;
+  options.component = 4;
+  ExpectMatchesBaseline(
+    barylab::SurfaceWeightsWindow(vtkPolyData::SafeDownCast(weighted), anchors, curve, options),
+    "surface_weights_torus");
 }
