@@ -67,7 +67,7 @@ namespace
 
 struct AverageArgs
 {
-  std::string mesh, embedding, save_embedding, anchors, weights, points, output, json_path;
+  std::string mesh, embedding, save_embedding, anchors, weights, points, output, json_path, anchor_uv;
   bool inverse = false, brute_force = false, quiet = false;
   bary::ForwardOptions forward;
   bary::InverseOptions inverse_options;
@@ -85,6 +85,9 @@ int run_average(const AverageArgs& a)
     throw UsageError("give --weights (one row of weights per query), or --inverse with --points");
   if (!a.inverse && !a.points.empty())
     throw UsageError("--points is for --inverse; the forward problem takes --weights");
+  if (!a.anchor_uv.empty() && (!a.inverse || vtkBaryDataIO::Extension(a.output) == ".txt"))
+    throw UsageError("--anchor-uv is for --inverse with a .vtp/.vtu/.vtk output (the points "
+                     "carry the TCoords array)");
   bary::InverseOptions inverse_options = a.inverse_options;
   inverse_options.threads = a.forward.threads;
   try
@@ -99,7 +102,7 @@ int run_average(const AverageArgs& a)
     throw UsageError(e.what());
   }
   check_surface_outputs(a.output, a.json_path, a.save_embedding,
-    { a.mesh, a.embedding, a.anchors, a.weights, a.points });
+    { a.mesh, a.embedding, a.anchors, a.weights, a.points, a.anchor_uv });
 
   json summary;
   auto embedded = embedded_surface(a.mesh, a.embedding, a.save_embedding, a.quiet, summary);
@@ -141,8 +144,17 @@ int run_average(const AverageArgs& a)
   auto points = ReadSurfacePoints(a.points);
   ProgressBar bar(!a.quiet, "weights");
   json inv;
+  Eigen::MatrixXd uv;
+  if (!a.anchor_uv.empty())
+  {
+    uv = vtkBaryDataIO::ReadMatrix(a.anchor_uv);
+    if (uv.cols() != 2 || uv.rows() != anchors->GetNumberOfPoints())
+      throw bary::Error(bary::ErrorCode::SizeMismatch, "'" + a.anchor_uv + "' has " +
+          std::to_string(uv.rows()) + " lines of " + std::to_string(uv.cols()) + " numbers; " +
+          std::to_string(anchors->GetNumberOfPoints()) + " lines 'u v' are needed, one per anchor");
+  }
   auto result = SurfaceWeights(points, embedded, anchors, inverse_options, a.surface_tolerance,
-    a.round_trip_tolerance, callbacks(bar, a.quiet), &inv);
+    a.round_trip_tolerance, callbacks(bar, a.quiet), &inv, a.anchor_uv.empty() ? nullptr : &uv);
   bar.done();
   if (ext == ".txt")
     vtkBaryDataIO::WriteMatrix(
@@ -195,6 +207,9 @@ void AddAverageCommand(Subcommands& subcommands)
     "where a query failed); --inverse: .txt (one row of weights per point) or .vtp/.vtu/.vtk "
     "(the points with Weights, FaceId, Barycentric, RoundTripError, Defined)")
     ->required();
+  command->add_option("--anchor-uv", a->anchor_uv,
+    "--inverse: the anchors' texture coordinates (text, 'u v' a line, one per anchor): the "
+    "output gets TCoords = sum w_i uv_i, a local parametrisation / decal (NaN where not Defined)");
   command->add_flag("--brute-force", a->brute_force,
     "forward: project onto every triangle and keep the closest (validation; slow)");
   command->add_flag("--warm-start", a->forward.warm_start,

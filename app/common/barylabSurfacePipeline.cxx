@@ -214,9 +214,20 @@ vtkSmartPointer<vtkPolyData> WeightedAverage(vtkPolyData* surface, vtkPointSet* 
 
 vtkSmartPointer<vtkPointSet> SurfaceWeights(vtkPointSet* points, vtkPolyData* surface,
   vtkPointSet* anchors, const bary::InverseOptions& options, double surface_tolerance,
-  double round_trip_tolerance, const RunCallbacks& callbacks, json* summary)
+  double round_trip_tolerance, const RunCallbacks& callbacks, json* summary,
+  const Eigen::MatrixXd* anchor_uv)
 {
   vtkNew<vtkBarySurfaceWeights> weights;
+  if (anchor_uv)
+  {
+    vtkNew<vtkDoubleArray> uv;
+    uv->SetNumberOfComponents(2);
+    uv->SetNumberOfTuples(anchor_uv->rows());
+    for (vtkIdType i = 0; i < anchor_uv->rows(); ++i)
+      for (int c = 0; c < 2; ++c)
+        uv->SetComponent(i, c, (*anchor_uv)(i, c));
+    weights->SetAnchorTextureCoordinates(uv);
+  }
   weights->SetInputData(0, points);
   weights->SetInputData(1, surface);
   weights->SetInputData(2, anchors);

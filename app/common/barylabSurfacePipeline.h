@@ -57,10 +57,12 @@ vtkSmartPointer<vtkPolyData> WeightedAverage(vtkPolyData* surface, vtkPointSet* 
 
 /// Inverse problems (vtkBarySurfaceWeights) with the round trip: @p points with `Weights`,
 /// `FaceId`, `Barycentric`, `RoundTripError`, `Defined`.
+/// @p anchor_uv (optional, #anchors by 2): the anchors' texture coordinates; the result then
+/// has `TCoords` (a local parametrisation / decal, §4.2; NaN where not Defined).
 vtkSmartPointer<vtkPointSet> SurfaceWeights(vtkPointSet* points, vtkPolyData* surface,
   vtkPointSet* anchors, const bary::InverseOptions& options, double surface_tolerance,
   double round_trip_tolerance, const RunCallbacks& callbacks = {},
-  nlohmann::json* summary = nullptr);
+  nlohmann::json* summary = nullptr, const Eigen::MatrixXd* anchor_uv = nullptr);
 
 /// A cubic B-spline on the surface through forward problems (vtkBarySurfaceCurve): samples,
 /// polylines and FaceId, Barycentric, Valid.

@@ -11,18 +11,44 @@
 #include "vtkPointData.h"
 #include "vtkPointSet.h"
 #include "vtkPolyData.h"
+#include "vtkSmartPointer.h"
 #include "vtkUnsignedCharArray.h"
 
 #include "core/surface/weighted_averages.h"
 
+#include <algorithm>
 #include <chrono>
+#include <limits>
 
 vtkStandardNewMacro(vtkBarySurfaceWeights);
 
 struct vtkBarySurfaceWeights::Internals
 {
   vtkBarySurfaceData::Cache Cache;
+  vtkSmartPointer<vtkDataArray> AnchorUV;
 };
+
+void vtkBarySurfaceWeights::SetAnchorTextureCoordinates(vtkDataArray* uv)
+{
+  if (this->Internal->AnchorUV != uv)
+  {
+    this->Internal->AnchorUV = uv;
+    this->Modified();
+  }
+}
+
+vtkDataArray* vtkBarySurfaceWeights::GetAnchorTextureCoordinates()
+{
+  return this->Internal->AnchorUV;
+}
+
+vtkMTimeType vtkBarySurfaceWeights::GetMTime()
+{
+  vtkMTimeType t = this->Superclass::GetMTime();
+  if (this->Internal->AnchorUV)
+    t = std::max(t, this->Internal->AnchorUV->GetMTime());
+  return t;
+}
 
 vtkBarySurfaceWeights::vtkBarySurfaceWeights()
   : Internal(new Internals)
@@ -120,6 +146,36 @@ int vtkBarySurfaceWeights::RequestData(
       this->MedianRoundTripError = r.median_error;
       this->MaximumRoundTripError = r.max_error;
       this->RoundTripSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() - this->QuerySeconds;
+    }
+    if (vtkDataArray* uv = this->Internal->AnchorUV)
+    {
+      if (uv->GetNumberOfComponents() != 2 || uv->GetNumberOfTuples() != W.cols())
+        throw bary::Error(bary::ErrorCode::SizeMismatch, "the anchors' texture coordinates have " +
+            std::to_string(uv->GetNumberOfTuples()) + " tuples of " +
+            std::to_string(uv->GetNumberOfComponents()) + " components; " +
+            std::to_string(W.cols()) + " tuples of 2 (u, v) are needed, one per anchor");
+      if (!this->RoundTrip)
+        throw bary::Error(bary::ErrorCode::InvalidArgument,
+          "texture coordinates need the round trip (RoundTrip on): they are not placed where the "
+          "weights are meaningless");
+      vtkDataArray* defined = output->GetPointData()->GetArray("Defined");
+      vtkNew<vtkDoubleArray> tcoords;
+      tcoords->SetName("TCoords");
+      tcoords->SetNumberOfComponents(2);
+      tcoords->SetNumberOfTuples(W.rows());
+      for (vtkIdType p = 0; p < W.rows(); ++p)
+        for (int c = 0; c < 2; ++c)
+        {
+          double value = std::numeric_limits<double>::quiet_NaN();
+          if (defined->GetComponent(p, 0) != 0)
+          {
+            value = 0;
+            for (vtkIdType i = 0; i < W.cols(); ++i)
+              value += W(p, i) * uv->GetComponent(i, c);
+          }
+          tcoords->SetComponent(p, c, value);
+        }
+      output->GetPointData()->SetTCoords(tcoords);
     }
     return 1;
   }

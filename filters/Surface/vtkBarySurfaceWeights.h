@@ -20,6 +20,12 @@
  *
  * Gamma (default 10, the paper's) weighs the anchors' distance off the tangent plane.
  *
+ * Local parametrisation and decals (§4.2): with SetAnchorTextureCoordinates(array) (one tuple
+ * of 2 components per anchor: where each anchor sits in texture space, e.g. the corners of the
+ * unit square for four anchors around a decal), the output also gets `TCoords` = sum_i w_i uv_i,
+ * set as the active texture coordinates, with NaN where the point is not `Defined` (needs
+ * RoundTrip) so that no texel is placed where the weights are meaningless.
+ *
  * @sa vtkBaryWeightedAverage vtkBarySurfaceEmbedding vtkBarySurfaceData
  */
 #ifndef vtkBarySurfaceWeights_h
@@ -27,6 +33,8 @@
 
 #include "BaryLabSurfaceModule.h" // for export macro
 #include "vtkPointSetAlgorithm.h"
+
+class vtkDataArray;
 
 #include <memory> // for the cache
 
@@ -58,6 +66,10 @@ public:
   vtkGetMacro(RoundTripTolerance, double);
   vtkSetMacro(NumberOfThreads, int);
   vtkGetMacro(NumberOfThreads, int);
+  /// Texture coordinates of the anchors (2 components, one tuple per anchor), or null.
+  void SetAnchorTextureCoordinates(vtkDataArray* uv);
+  vtkDataArray* GetAnchorTextureCoordinates();
+  vtkMTimeType GetMTime() override;
 
   vtkGetMacro(NumberOfUndefined, vtkIdType);
   vtkGetMacro(NumberOfRoundTripFailures, vtkIdType);

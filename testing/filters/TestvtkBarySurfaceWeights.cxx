@@ -67,3 +67,50 @@ TEST(vtkBarySurfaceWeights, BadInputIsNamed)
   EXPECT_EQ(RunPipeline(filter), 0);
   EXPECT_TRUE(observer->HasError("gamma must be in [1, 1e6]")) << observer->AllErrors();
 }
+
+// A decal (§4.2): anchors at the corners of a square with texture coordinates that are an
+// affine function of their positions; on a plane the weights reproduce positions, so the
+// texture coordinates are that affine function of every defined point, exactly.
+TEST(vtkBarySurfaceWeights, DecalTextureCoordinatesOnAPlane)
+{
+  auto square = FlatSquare(10);
+  EmbedAsIs(square, 5);
+  auto anchors = MakePointCloud({ { -0.5, -0.5, 0 }, { 0.5, -0.5, 0 }, { 0.5, 0.5, 0 }, { -0.5, 0.5, 0 } });
+  vtkNew<vtkDoubleArray> uv;
+  uv->SetNumberOfComponents(2);
+  const double corners[4][2] = { { 0, 0 }, { 1, 0 }, { 1, 1 }, { 0, 1 } };
+  for (const auto& c : corners)
+    uv->InsertNextTuple(c);
+  vtkNew<vtkBarySurfaceWeights> filter;
+  vtkNew<ErrorObserver> observer;
+  observer->Attach(filter);
+  filter->SetInputData(0, square);
+  filter->SetSurfaceData(square);
+  filter->SetAnchorsData(anchors);
+  filter->SetAnchorTextureCoordinates(uv);
+  ASSERT_EQ(RunPipeline(filter), 1) << observer->AllErrors();
+  auto* out = vtkPointSet::SafeDownCast(filter->GetOutputDataObject(0));
+  vtkDataArray* t = out->GetPointData()->GetTCoords();
+  ASSERT_NE(t, nullptr);
+  EXPECT_STREQ(t->GetName(), "TCoords");
+  vtkDataArray* defined = out->GetPointData()->GetArray("Defined");
+  int count = 0;
+  for (vtkIdType p = 0; p < out->GetNumberOfPoints(); ++p)
+  {
+    if (defined->GetComponent(p, 0) == 0)
+    {
+      EXPECT_TRUE(std::isnan(t->GetComponent(p, 0)));
+      continue;
+    }
+    ++count;
+    const double* x = out->GetPoint(p);
+    EXPECT_NEAR(t->GetComponent(p, 0), x[0] + 0.5, 1e-10);
+    EXPECT_NEAR(t->GetComponent(p, 1), x[1] + 0.5, 1e-10);
+  }
+  EXPECT_EQ(count, out->GetNumberOfPoints()); // a plane: every point is an affine combination
+  // One pair of texture coordinates too few is named.
+  uv->SetNumberOfTuples(3);
+  uv->Modified();
+  EXPECT_EQ(RunPipeline(filter), 0);
+  EXPECT_TRUE(observer->HasError("3 tuples of 2 components; 4 tuples of 2")) << observer->AllErrors();
+}
