@@ -1067,6 +1067,9 @@ WA_TORUS_BUMP = 0.15   # relative bump height: tube radius x (1 + bump sin(3u) c
 # outer equator), spaced 4 samples apart around the centre and 3 around the tube.
 WA_ANCHOR_GRID = [(i, j) for j in (WA_TORUS_M - 3, 0, 3) for i in (4, 8, 12)]
 # Control points of a closed B-spline around the anchors' patch (wider than it), in loop order.
+# A coarse quad layout of the whole torus for semiregular remeshing: every 9th sample around
+# the centre, every 7th around the tube (8 x 4 vertices, 32 quads).
+WA_QUAD_STEP = (9, 7)
 WA_CURVE_GRID = [(2, 24), (8, 23), (14, 24), (16, 0), (14, 4), (8, 5), (2, 4), (0, 0)]
 
 
@@ -1196,6 +1199,12 @@ def main(argv):
     files["wa_anchors.txt"] = "".join("%s %s %s\n" % tuple(fmt(x) for x in wa_V[i * WA_TORUS_M + j])
                                       for i, j in WA_ANCHOR_GRID)
     files["wa_weights.txt"] = wa_weights_text()
+    ni, nj = WA_TORUS_N // WA_QUAD_STEP[0], WA_TORUS_M // WA_QUAD_STEP[1]
+    quad_v = [wa_V[(a * WA_QUAD_STEP[0]) * WA_TORUS_M + b * WA_QUAD_STEP[1]] for a in range(ni) for b in range(nj)]
+    quads = [(a * nj + b, ((a + 1) % ni) * nj + b, ((a + 1) % ni) * nj + (b + 1) % nj, a * nj + (b + 1) % nj)
+             for a in range(ni) for b in range(nj)]
+    files["wa_quads.obj"] = ("".join("v %s %s %s\n" % tuple(fmt(x) for x in v) for v in quad_v) +
+                             "".join("f %d %d %d %d\n" % tuple(k + 1 for k in q) for q in quads))
     files["wa_curve_controls.txt"] = "".join("%s %s %s\n" % tuple(fmt(x) for x in wa_V[i * WA_TORUS_M + j])
                                              for i, j in WA_CURVE_GRID)
     summary.append("wa_torus: %d vertices, %d triangles, volume %.4f (genus 1), %d face pairs "

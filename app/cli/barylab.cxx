@@ -21,6 +21,7 @@
 //   barylab average --inverse --mesh SURFACE [--embedding E.txt] --anchors A --points Q
 //                   --output W.txt
 //   barylab curve   --mesh SURFACE [--embedding E.txt] --controls C --output CURVE [--closed]
+//   barylab remesh  --mesh SURFACE [--embedding E.txt] --coarse QUADS --output OUT [--levels L]
 //   barylab transfer --source A --source-anchors AA --target B --target-anchors BA --output OUT
 //                   [--source-embedding EA] [--target-embedding EB] [--morph N --morph-dir DIR]
 //   barylab render  --input WEIGHTS_FILE [--cage CAGE] --output PNG [--control I]

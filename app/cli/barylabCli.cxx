@@ -65,6 +65,7 @@ void ConfigureApp(CLI::App& app, Subcommands& subcommands)
   AddAverageCommand(subcommands);
   AddCurveCommand(subcommands);
   AddTransferCommand(subcommands);
+  AddRemeshCommand(subcommands);
   AddRenderCommand(subcommands);
   AddDemoCommand(subcommands);
 }

@@ -427,6 +427,15 @@ json demo_surface(const DemoArgs& a)
   const std::string curve_out = (out / "torus_curve.vtp").string();
   vtkBaryDataIO::Write(curve, curve_out);
   summary["curve"]["output"] = curve_out;
+  // Semiregular remeshing from the bundled coarse quad layout (§4.1, Fig. 7).
+  auto coarse = vtkBaryDataIO::ReadPolyData((data / "wa_quads.obj").string());
+  bary::RemeshOptions remesh;
+  remesh.threads = a.threads;
+  auto quads = barylab::Remesh(embedded, coarse, remesh, bary::kDefaultSurfaceTolerance, {},
+    &summary["remesh"]);
+  const std::string quads_out = (out / "torus_quads.vtp").string();
+  vtkBaryDataIO::Write(quads, quads_out);
+  summary["remesh"]["output"] = quads_out;
   std::cerr << "barylab: torus: embedding " << summary["embedding"]["seconds"]["total"].get<double>()
             << " s; " << summary["forward"]["queries"] << " averages ("
             << summary["forward"]["failures"] << " failed); weights of "

@@ -5,6 +5,7 @@
 #include "vtkBarySurfaceCorrespondence.h"
 #include "vtkBarySurfaceCurve.h"
 #include "vtkBarySurfaceData.h"
+#include "vtkBarySurfaceRemesh.h"
 #include "vtkBarySurfaceEmbedding.h"
 #include "vtkBarySurfaceWeights.h"
 #include "vtkBaryWeightedAverage.h"
@@ -278,6 +279,33 @@ vtkSmartPointer<vtkPolyData> SurfaceCurve(vtkPolyData* surface, vtkPointSet* con
     s["closed"] = closed;
     s["failures"] = curve->GetNumberOfFailures();
     s["polylines"] = result->GetNumberOfLines();
+  }
+  return result;
+}
+
+vtkSmartPointer<vtkPolyData> Remesh(vtkPolyData* surface, vtkPolyData* coarse,
+  const bary::RemeshOptions& options, double surface_tolerance, const RunCallbacks& callbacks,
+  json* summary)
+{
+  vtkNew<vtkBarySurfaceRemesh> remesh;
+  remesh->SetInputData(0, surface);
+  remesh->SetCoarseMeshData(coarse);
+  remesh->SetLevels(options.levels);
+  remesh->SetSmoothingSteps(options.smoothing_steps);
+  remesh->SetNumberOfThreads(options.threads);
+  remesh->SetSurfaceTolerance(surface_tolerance);
+  RunAlgorithm(remesh, callbacks);
+  vtkSmartPointer<vtkPolyData> result = remesh->GetOutput();
+  if (summary)
+  {
+    json& s = *summary;
+    s["coarse_vertices"] = coarse->GetNumberOfPoints();
+    s["coarse_quads"] = coarse->GetNumberOfPolys();
+    s["levels"] = options.levels;
+    s["smoothing_steps"] = options.smoothing_steps;
+    s["vertices"] = result->GetNumberOfPoints();
+    s["quads"] = result->GetNumberOfPolys();
+    s["failures"] = remesh->GetNumberOfFailures();
   }
   return result;
 }

@@ -8,6 +8,7 @@
 
 #include "core/surface/euclidean_embedding.h"
 #include "core/surface/correspondence.h"
+#include "core/surface/remeshing.h"
 #include "core/surface/weighted_averages.h"
 
 #include "vtkSmartPointer.h"
@@ -69,6 +70,11 @@ vtkSmartPointer<vtkPointSet> SurfaceWeights(vtkPointSet* points, vtkPolyData* su
 vtkSmartPointer<vtkPolyData> SurfaceCurve(vtkPolyData* surface, vtkPointSet* controls,
   int samples_per_segment, bool closed, double surface_tolerance, int threads,
   const RunCallbacks& callbacks = {}, nlohmann::json* summary = nullptr);
+
+/// Semiregular remeshing from a coarse quad layout on the surface (vtkBarySurfaceRemesh).
+vtkSmartPointer<vtkPolyData> Remesh(vtkPolyData* surface, vtkPolyData* coarse,
+  const bary::RemeshOptions& options, double surface_tolerance, const RunCallbacks& callbacks = {},
+  nlohmann::json* summary = nullptr);
 
 /// The target with the source's point arrays transferred through corresponding anchors
 /// (vtkBarySurfaceCorrespondence): transferred arrays, SourcePosition, SourceFaceId,

@@ -249,20 +249,58 @@ bool WeightedAverages::forward_brute(const double* ybar, Workspace& ws, SurfaceP
 ForwardResult WeightedAverages::forward(const std::vector<SurfacePoint>& anchors,
   const DenseWeights& W, const ForwardOptions& options, const ProgressCallback& progress) const
 {
-  const auto t0 = std::chrono::steady_clock::now();
-  if (anchors.empty())
-    throw Error(ErrorCode::EmptyInput, "no anchors: a weighted average needs at least one");
-  validate_surface_points(*mesh_, anchors, "anchor");
   if (W.cols() != static_cast<Index>(anchors.size()))
     throw Error(ErrorCode::SizeMismatch, "the weights have " + std::to_string(W.cols()) +
         " columns but there are " + std::to_string(anchors.size()) + " anchors",
       "give one weight per anchor in every row");
+  return forward_rows(anchors, W.rows(),
+    [&W](Index q, auto&& visit) {
+      for (Index i = 0; i < W.cols(); ++i)
+        visit(i, W(q, i));
+    },
+    false, options, progress, nullptr);
+}
+
+ForwardResult WeightedAverages::forward(const std::vector<SurfacePoint>& anchors,
+  const SparseWeights& W, const ForwardOptions& options, const ProgressCallback& progress,
+  const std::vector<SurfacePoint>* hints) const
+{
+  if (W.cols() != static_cast<Index>(anchors.size()))
+    throw Error(ErrorCode::SizeMismatch, "the weights have " + std::to_string(W.cols()) +
+        " columns but there are " + std::to_string(anchors.size()) + " anchors",
+      "give one weight per anchor in every row");
+  if (hints && static_cast<Index>(hints->size()) != W.rows())
+    throw Error(ErrorCode::SizeMismatch, "there are " + std::to_string(hints->size()) +
+        " start hints for " + std::to_string(W.rows()) + " queries");
+  return forward_rows(anchors, W.rows(),
+    [&W](Index q, auto&& visit) {
+      for (SparseWeights::InnerIterator it(W, q); it; ++it)
+        visit(it.col(), it.value());
+    },
+    true, options, progress, hints);
+}
+
+template<class Rows>
+ForwardResult WeightedAverages::forward_rows(const std::vector<SurfacePoint>& anchors, Index nq,
+  Rows&& rows, bool sparse, const ForwardOptions& options, const ProgressCallback& progress,
+  const std::vector<SurfacePoint>* hints) const
+{
+  const auto t0 = std::chrono::steady_clock::now();
+  if (anchors.empty())
+    throw Error(ErrorCode::EmptyInput, "no anchors: a weighted average needs at least one");
+  validate_surface_points(*mesh_, anchors, "anchor");
   validate_forward_options(options);
-  for (Index q = 0; q < W.rows(); ++q)
+  for (Index q = 0; q < nq; ++q)
   {
-    if (!W.row(q).allFinite())
+    double sum = 0, magnitude = 0;
+    bool finite = true;
+    rows(q, [&](Index, double w) {
+      finite = finite && std::isfinite(w);
+      sum += w;
+      magnitude += std::abs(w);
+    });
+    if (!finite)
       throw Error(ErrorCode::NonFinite, "weights row " + std::to_string(q) + " has a non-finite weight");
-    const double sum = W.row(q).sum(), magnitude = W.row(q).cwiseAbs().sum();
     if (!(std::abs(sum - 1.0) <= 1e-9 * std::max(1.0, magnitude)))
       throw Error(ErrorCode::InvalidArgument, "weights row " + std::to_string(q) + " sums to " +
           detail::format_number(sum, 15) + ", not 1", "weights of an average must sum to 1");
@@ -273,7 +311,6 @@ ForwardResult WeightedAverages::forward(const std::vector<SurfacePoint>& anchors
   std::vector<Index> anchor_corners(anchors.size());
   for (std::size_t i = 0; i < anchors.size(); ++i)
     anchor_corners[i] = nearest_corner(mesh_->F, anchors[i]);
-  const Index nq = W.rows();
   ForwardResult result;
   result.points.assign(static_cast<std::size_t>(nq), SurfacePoint{});
   result.valid.assign(static_cast<std::size_t>(nq), 0);
@@ -288,35 +325,43 @@ ForwardResult WeightedAverages::forward(const std::vector<SurfacePoint>& anchors
   auto body = [&](Workspace& ws, Index begin, Index end) {
     for (Index q = begin; q < end; ++q)
     {
-      ws.ybar.noalias() = (W.row(q) * Y).transpose();
+      ws.ybar.setZero();
+      rows(q, [&](Index i, double w) {
+        if (w != 0.0)
+          ws.ybar += w * Y.row(i).transpose();
+      });
       SurfacePoint& out = result.points[static_cast<std::size_t>(q)];
       bool ok;
       if (options.search == ForwardOptions::Search::BruteForce)
         ok = forward_brute(ws.ybar.data(), ws, out);
       else
       {
-        Index start;
+        Index start = -1;
         if (options.warm_start && q > begin && result.valid[static_cast<std::size_t>(q - 1)])
           start = nearest_corner(mesh_->F, result.points[static_cast<std::size_t>(q - 1)]);
+        else if (hints && (*hints)[static_cast<std::size_t>(q)].face >= 0)
+          start = nearest_corner(mesh_->F, (*hints)[static_cast<std::size_t>(q)]);
         else
         {
-          // The anchor nearest to ybar in R^D (n distances; the paper starts from the heaviest
-          // anchor "if a better initial guess is not available": this one is closer, so the
-          // walk is shorter).
-          Index nearest = 0;
+          // The anchor nearest to ybar in R^D (among the row's anchors for sparse weights; the
+          // paper starts from the heaviest anchor "if a better initial guess is not
+          // available": this one is closer, so the walk is shorter).
           double best = std::numeric_limits<double>::infinity();
-          for (Index i = 0; i < Y.rows(); ++i)
-          {
+          auto consider = [&](Index i) {
             const double d = squared_distance(Y.data() + i * D, ws.ybar.data(), D);
             if (d < best)
             {
               best = d;
-              nearest = i;
+              start = anchor_corners[static_cast<std::size_t>(i)];
             }
-          }
-          start = anchor_corners[static_cast<std::size_t>(nearest)];
+          };
+          if (sparse)
+            rows(q, [&](Index i, double) { consider(i); });
+          else
+            for (Index i = 0; i < Y.rows(); ++i)
+              consider(i);
         }
-        ok = forward_local(ws.ybar.data(), start, options.max_triangles, ws, out);
+        ok = start >= 0 && forward_local(ws.ybar.data(), start, options.max_triangles, ws, out);
       }
       result.valid[static_cast<std::size_t>(q)] = ok ? 1 : 0;
       if (!ok)

@@ -115,6 +115,15 @@ public:
   ForwardResult forward(const std::vector<SurfacePoint>& anchors, const DenseWeights& W,
     const ForwardOptions& options = {}, const ProgressCallback& progress = {}) const;
 
+  /// The same with sparse weights (only the nonzeros are read: averages of a few anchors among
+  /// many, as in subdivision). Without a warm start, a query starts from @p hints (optional, one
+  /// surface point per row, face -1 for none: e.g. where the point was before a smoothing step)
+  /// or else from the nearest of its row's anchors.
+  /// @throws as above; Error(SizeMismatch) when @p hints does not have one entry per row.
+  ForwardResult forward(const std::vector<SurfacePoint>& anchors, const SparseWeights& W,
+    const ForwardOptions& options, const ProgressCallback& progress = {},
+    const std::vector<SurfacePoint>* hints = nullptr) const;
+
   /// Weights of @p points (#points by #anchors) w.r.t. @p anchors, each row summing to 1.
   /// @throws Error(EmptyInput) for no anchor; Error(InvalidArgument) naming an anchor or point
   ///   that is not a point of the surface, or an option out of range; Error(Cancelled).
@@ -145,6 +154,11 @@ private:
   bool forward_local(const double* ybar, Index start, Index max_triangles, Workspace& ws,
     SurfacePoint& out) const;
   bool forward_brute(const double* ybar, Workspace& ws, SurfacePoint& out) const;
+  /// Both forward problems: rows(q, visit) calls visit(anchor, weight) for row q's weights.
+  template<class Rows>
+  ForwardResult forward_rows(const std::vector<SurfacePoint>& anchors, Index queries, Rows&& rows,
+    bool sparse, const ForwardOptions& options, const ProgressCallback& progress,
+    const std::vector<SurfacePoint>* hints) const;
 
   std::shared_ptr<const SurfaceMesh> mesh_;
   std::shared_ptr<const PhongProjection> phong_;

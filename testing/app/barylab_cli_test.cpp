@@ -1804,3 +1804,24 @@ TEST_F(CLI, TransferToAScaledCopyAndMorph)
     "no point array 'Nope'");
   EXPECT_FALSE(fs::exists(out("x.vtp")));
 }
+
+TEST_F(CLI, RemeshTheTorus)
+{
+  const std::string mesh = data("wa_torus.obj");
+  ASSERT_EQ(run("embed --mesh " + mesh + " --output " + out("e.txt") + " --landmarks 300 -q").code, 0);
+  const CommandResult r = run("remesh --mesh " + mesh + " --embedding " + out("e.txt") +
+    " --coarse " + data("wa_quads.obj") + " --levels 2 --output " + out("q.vtp") + " --json " +
+    out("q.json") + " -q");
+  ASSERT_EQ(r.code, 0) << r.output;
+  auto q = vtkBaryDataIO::Read(out("q.vtp"));
+  EXPECT_EQ(q->GetNumberOfCells(), 32 * 16);
+  EXPECT_EQ(q->GetNumberOfPoints(), 32 * 16); // a closed quad mesh of genus 1: V = F
+  std::ifstream j(out("q.json"));
+  EXPECT_EQ(nlohmann::json::parse(j)["remesh"]["failures"].get<int>(), 0);
+  EXPECT_EQ(run("remesh --mesh " + mesh + " --embedding " + out("e.txt") + " --coarse " +
+              data("wa_quads.obj") + " --levels 9 --output " + out("x.vtp") + " -q").code, 2);
+  ExpectError(run("remesh --mesh " + mesh + " --embedding " + out("e.txt") + " --coarse " +
+                data("wa_torus.obj") + " --output " + out("x.vtp") + " -q"),
+    "not 4");
+  EXPECT_FALSE(fs::exists(out("x.vtp")));
+}
