@@ -1093,6 +1093,37 @@ def wa_torus():
     return V, F
 
 
+# The correspondence target (§4.3 of the weighted-averages paper): another torus, meshed
+# differently (54 samples around the centre, triangles split along the other diagonal) and
+# shaped differently (elliptical centre line, thinner tube, two bumps instead of three). Its
+# anchors are its vertices at the same (u, v) as the torus's anchors (i * 54 / 72 is whole for
+# i = 4, 8, 12), so the two anchor sets correspond in order.
+WA_TARGET_N = 54
+WA_TARGET_STRETCH = 1.3    # x scale of the centre line
+WA_TARGET_TUBE = 0.33
+WA_TARGET_BUMP = 0.2
+
+
+def wa_torus_target():
+    V, F = [], []
+    for i in range(WA_TARGET_N):
+        u = 2 * math.pi * i / WA_TARGET_N
+        for j in range(WA_TORUS_M):
+            v = 2 * math.pi * j / WA_TORUS_M
+            r = WA_TARGET_TUBE * (1 + WA_TARGET_BUMP * math.sin(2 * u) * math.cos(v))
+            V.append((WA_TARGET_STRETCH * (WA_TORUS_R + r * math.cos(v)) * math.cos(u),
+                      (WA_TORUS_R + r * math.cos(v)) * math.sin(u), r * math.sin(v)))
+    for i in range(WA_TARGET_N):
+        for j in range(WA_TORUS_M):
+            a = i * WA_TORUS_M + j
+            b = ((i + 1) % WA_TARGET_N) * WA_TORUS_M + j
+            c = i * WA_TORUS_M + (j + 1) % WA_TORUS_M
+            d = ((i + 1) % WA_TARGET_N) * WA_TORUS_M + (j + 1) % WA_TORUS_M
+            F.append((a, b, c))
+            F.append((b, d, c))
+    return V, F
+
+
 def wa_weights_text():
     """Rows of weights for the 9 anchors (row-major 3 x 3 patch): the centre, the patch's
     centroid, bilinear samples along its diagonal and one affine (extrapolating) row."""
@@ -1199,6 +1230,17 @@ def main(argv):
     files["wa_anchors.txt"] = "".join("%s %s %s\n" % tuple(fmt(x) for x in wa_V[i * WA_TORUS_M + j])
                                       for i, j in WA_ANCHOR_GRID)
     files["wa_weights.txt"] = wa_weights_text()
+    wt_V, wt_F = wa_torus_target()
+    wt_V = [tuple(rnd(v) for v in p) for p in wt_V]
+    wtvol = check_closed_surface(wt_V, wt_F, "wa_torus_target", genus=1)
+    tested_t = check_no_self_intersections(wt_V, wt_F, "wa_torus_target")
+    files["wa_torus_target.obj"] = obj_mesh3d_text(wt_V, wt_F)
+    assert all(i * WA_TARGET_N % WA_TORUS_N == 0 for i, _ in WA_ANCHOR_GRID)
+    files["wa_target_anchors.txt"] = "".join(
+        "%s %s %s\n" % tuple(fmt(x) for x in wt_V[(i * WA_TARGET_N // WA_TORUS_N) * WA_TORUS_M + j])
+        for i, j in WA_ANCHOR_GRID)
+    summary.append("wa_torus_target: %d vertices, %d triangles, volume %.4f (genus 1), %d face "
+                   "pairs tested" % (len(wt_V), len(wt_F), wtvol, tested_t))
     ni, nj = WA_TORUS_N // WA_QUAD_STEP[0], WA_TORUS_M // WA_QUAD_STEP[1]
     quad_v = [wa_V[(a * WA_QUAD_STEP[0]) * WA_TORUS_M + b * WA_QUAD_STEP[1]] for a in range(ni) for b in range(nj)]
     quads = [(a * nj + b, ((a + 1) % ni) * nj + b, ((a + 1) % ni) * nj + (b + 1) % nj, a * nj + (b + 1) % nj)

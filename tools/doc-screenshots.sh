@@ -32,6 +32,8 @@ shot viewer_compare_mvc_harmonic.png "$DATA/cage2d.obj" "$DATA/model2d.obj" --co
   --control 14 --locality "$OUT/viewer_locality_mvc_harmonic"
 rm -f "$OUT/viewer_locality_mvc_harmonic_P.csv" "$OUT/viewer_locality_mvc_harmonic_Q.csv"
 shot viewer_gingerbread_image.png --example gingerbread-image --pose example
+shot viewer_surface_torus.png --example torus-averages --field weight --control 4
+shot viewer_surface_decal.png --example torus-averages --field decal
 TETS=$(mktemp -d)/kidney_tets.vtu
 "$BARYLAB" mesh --cage "$DATA/cage3d.obj" --cells 20000 --output "$TETS" --quiet
 shot viewer_kidney_tets_sliced.png "$DATA/cage3d.obj" "$TETS" --method harmonic --control 36 \

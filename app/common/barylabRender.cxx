@@ -573,16 +573,15 @@ void WritePNG(vtkRenderWindow* window, const std::string& path)
   }
 }
 
-vtkSmartPointer<vtkRenderWindow> SurfaceWeightsWindow(vtkPolyData* weighted, vtkPointSet* anchors,
-  vtkPolyData* curve, const RenderOptions& options)
+vtkSmartPointer<vtkPolyData> MeaningfulSurfaceWeights(vtkPolyData* weighted, const std::string& name)
 {
   auto shown = vtkSmartPointer<vtkPolyData>::New();
   shown->DeepCopy(weighted);
-  vtkDataArray* w = shown->GetPointData()->GetArray(options.weights_name.c_str());
+  vtkDataArray* w = shown->GetPointData()->GetArray(name.c_str());
   vtkDataArray* defined = shown->GetPointData()->GetArray("Defined");
   if (!w || !defined)
     throw bary::Error(bary::ErrorCode::InvalidArgument,
-      "the surface has no '" + options.weights_name + "' and 'Defined' point arrays (vtkBarySurfaceWeights' output)");
+      "the surface has no '" + name + "' and 'Defined' point arrays (vtkBarySurfaceWeights' output)");
   for (vtkIdType p = 0; p < w->GetNumberOfTuples(); ++p)
   {
     bool shown_here = defined->GetComponent(p, 0) != 0;
@@ -592,6 +591,13 @@ vtkSmartPointer<vtkRenderWindow> SurfaceWeightsWindow(vtkPolyData* weighted, vtk
       for (int c = 0; c < w->GetNumberOfComponents(); ++c)
         w->SetComponent(p, c, std::numeric_limits<double>::quiet_NaN());
   }
+  return shown;
+}
+
+vtkSmartPointer<vtkRenderWindow> SurfaceWeightsWindow(vtkPolyData* weighted, vtkPointSet* anchors,
+  vtkPolyData* curve, const RenderOptions& options)
+{
+  auto shown = MeaningfulSurfaceWeights(weighted, options.weights_name);
   vtkNew<vtkPolyData> anchor_points;
   anchor_points->SetPoints(anchors->GetPoints());
   RenderOptions o = options;

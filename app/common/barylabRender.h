@@ -54,6 +54,12 @@ struct RenderOptions
 vtkSmartPointer<vtkRenderWindow> WeightFieldWindow(
   vtkDataSet* data, vtkPolyData* cage, const RenderOptions& options);
 
+/// A deep copy of vtkBarySurfaceWeights' output with the weights array @p name set to NaN where
+/// they mean nothing (Panozzo et al. 2013, §4.4: the round trip does not return — `Defined` 0 —
+/// or a weight is below -1, the paper's "large negative weights"): what is drawn of them here
+/// and in the viewer. @throws bary::Error(InvalidArgument) without the arrays.
+vtkSmartPointer<vtkPolyData> MeaningfulSurfaceWeights(vtkPolyData* weighted, const std::string& name);
+
 /// Weights on a surface w.r.t. anchors (vtkBarySurfaceWeights' output: `Weights`, `Defined`):
 /// the weight of anchor options.component as WeightFieldWindow draws it, but only where the
 /// weights mean something (Panozzo et al. 2013, §4.4: the round trip returns and no weight is

@@ -2,11 +2,16 @@
 //
 //   barylab-viewer [CONTROLS MODEL [DOMAIN]] [--example NAME] [--method M] [--compare M]
 //                  [--control I] [--pose FILE] [--session FILE] [--screenshot PNG]
+//   barylab-viewer --surface MESH [--embedding E] [--anchors A] [--weights W] [--curve C]
+//                  [--target MESH --target-anchors A] [--picture P] [--field none|weight|decal]
+//                  [--control I] [--screenshot PNG]           (the surface mode; also
+//                  --example torus-averages)
 //
 // With --screenshot the viewer computes synchronously, writes the window to PNG and exits
 // (0 on success, 1 with a message on stderr on any error).
 
 #include "barylabViewerParameters.h"
+#include "barylabViewerSurfaceMode.h"
 #include "barylabViewerWindow.h"
 
 #include <QApplication>
@@ -18,6 +23,74 @@
 
 #include <iostream>
 #include <string>
+
+namespace
+{
+/// The surface mode (weighted averages on surfaces): its window, what the command line asks of
+/// it, and in batch mode the screenshot. Exit codes as main's.
+int run_surface_mode(const QCommandLineParser& parser, bool batch)
+{
+  using barylab::viewer::SurfaceField;
+  using barylab::viewer::SurfaceWindow;
+  SurfaceWindow window;
+  window.setInteractive(!batch);
+  window.resize(1400, 800);
+  QStringList errors;
+  QObject::connect(&window, &SurfaceWindow::errorReported,
+    [&errors](const QString& message) { errors << message; });
+  window.show();
+  QApplication::processEvents();
+  const auto value = [&](const char* name) { return parser.value(name); };
+  if (parser.isSet("field") && value("field") != "none" && value("field") != "weight" &&
+    value("field") != "decal")
+  {
+    std::cerr << "barylab-viewer: error: --field " << value("field").toStdString()
+              << ": the surface mode shows none, weight or decal\n";
+    return 2;
+  }
+  if (parser.isSet("example"))
+    window.loadExample(value("example"));
+  else
+  {
+    window.openSurface(value("surface"), value("embedding")) &&
+      (!parser.isSet("anchors") || window.openAnchors(value("anchors"))) &&
+      (!parser.isSet("weights") || window.openWeights(value("weights"))) &&
+      (!parser.isSet("curve") || window.openCurve(value("curve"))) &&
+      (!parser.isSet("picture") || window.openPicture(value("picture"))) &&
+      (!parser.isSet("target") ||
+        window.openTarget(value("target"), value("target-anchors"), value("target-embedding")));
+  }
+  if (parser.isSet("field"))
+  {
+    const QString f = value("field"); // checked above
+    window.setField(f == "none" ? SurfaceField::None
+        : f == "decal"          ? SurfaceField::Decal
+                                : SurfaceField::AnchorWeight);
+  }
+  if (parser.isSet("control"))
+  {
+    bool whole = false;
+    const int id = value("control").toInt(&whole);
+    if (!whole || id < 0 || id >= window.anchorCount())
+    {
+      std::cerr << "barylab-viewer: error: --control " << value("control").toStdString()
+                << ": not an anchor (0 to " << window.anchorCount() - 1 << ")\n";
+      return 2;
+    }
+    window.selectAnchor(id);
+  }
+  if (!batch)
+    return QApplication::exec();
+  if (errors.isEmpty() && !window.saveScreenshot(value("screenshot")))
+    errors << "cannot write " + value("screenshot");
+  if (!errors.isEmpty())
+  {
+    std::cerr << "barylab-viewer: error: " << errors.join("; ").toStdString() << "\n";
+    return 1;
+  }
+  return 0;
+}
+} // namespace
 
 int main(int argc, char* argv[])
 {
@@ -40,7 +113,9 @@ int main(int argc, char* argv[])
                                         "cage: image mode); for a skeleton the domain",
     "[CONTROLS MODEL [DOMAIN]]");
   QCommandLineOption example("example",
-    "open a bundled example: " + barylab::viewer::ViewerWindow::ExampleNames().join(", "), "NAME");
+    "open a bundled example: " + barylab::viewer::ViewerWindow::ExampleNames().join(", ") + ", " +
+      barylab::viewer::SurfaceWindow::ExampleNames().join(", "),
+    "NAME");
   QCommandLineOption method("method", "coordinate method: " + methods, "M");
   QCommandLineOption compare("compare", "second method, side by side", "M");
   QCommandLineOption control("control", "control (weights component) to show", "I");
@@ -48,7 +123,7 @@ int main(int argc, char* argv[])
                                   "BBW transforms); 'example' for the example's pose",
     "FILE");
   QCommandLineOption session("session", "load a saved session", "FILE");
-  QCommandLineOption field("field", "weight | gradient | image", "F");
+  QCommandLineOption field("field", "weight | gradient | image (surface mode: none | weight | decal)", "F");
   QCommandLineOption logScale("log", "logarithmic colour scale");
   QCommandLineOption clip("clip", "clip 3D models by a plane normal to x");
   QCommandLineOption screenshot("screenshot", "compute, write the window to PNG and quit", "PNG");
@@ -56,11 +131,29 @@ int main(int argc, char* argv[])
     "with --screenshot: also write the locality charts P(t), Q(k) to PREFIX.png and the curves "
     "to PREFIX_P.csv, PREFIX_Q.csv",
     "PREFIX");
+  QCommandLineOption surface("surface",
+    "surface mode (weighted averages on surfaces): the triangle surface; with --embedding, "
+    "--anchors, --weights (first row), --curve, --picture, --target and --target-anchors "
+    "(a second surface and its corresponding anchors), --field none|weight|decal, --control "
+    "(the anchor shown)",
+    "MESH");
+  QCommandLineOption embedding("embedding", "surface mode: the surface's embedding (else computed)", "FILE");
+  QCommandLineOption anchors("anchors", "surface mode: anchors on the surface", "FILE");
+  QCommandLineOption weights("weights", "surface mode: weights, first row used", "FILE");
+  QCommandLineOption curve("curve", "surface mode: B-spline control points on the surface", "FILE");
+  QCommandLineOption picture("picture", "surface mode: the decal's picture", "FILE");
+  QCommandLineOption target("target", "surface mode: correspondence target surface", "MESH");
+  QCommandLineOption targetAnchors("target-anchors", "surface mode: the target's anchors", "FILE");
+  QCommandLineOption targetEmbedding("target-embedding", "surface mode: the target's embedding", "FILE");
   parser.addOptions({ example, method, compare, control, pose, session, field, logScale, clip,
-    screenshot, locality });
+    screenshot, locality, surface, embedding, anchors, weights, curve, picture, target,
+    targetAnchors, targetEmbedding });
   parser.process(app);
 
   const bool batch = parser.isSet(screenshot);
+  if (parser.isSet(surface) ||
+    (parser.isSet(example) && barylab::viewer::SurfaceWindow::IsExample(parser.value(example))))
+    return run_surface_mode(parser, batch);
   barylab::viewer::ViewerWindow window;
   window.setInteractive(!batch);
   window.setSynchronous(batch);

@@ -3,6 +3,7 @@
 #include "barylabViewerExamples.h"
 #include "barylabViewerMode.h"
 #include "barylabViewerSession.h"
+#include "barylabViewerSurfaceMode.h"
 #include "barylabViewerWindow.h"
 
 #include <QDialog>
@@ -47,6 +48,14 @@ void BuildMenus(ViewerWindow& window)
   QMenu* examples = file->addMenu("Open &example");
   for (const QString& name : ExampleNames())
     examples->addAction(name, w, [w, name]() { w->loadExample(name); });
+  file->addAction("Weighted averages on a &surface...", w, []() {
+    // the surface mode: a window of its own, with the torus example
+    auto* surface = new SurfaceWindow;
+    surface->setAttribute(Qt::WA_DeleteOnClose);
+    surface->resize(1400, 800);
+    surface->show();
+    surface->loadExample(SurfaceWindow::ExampleNames().front());
+  });
   file->addSeparator();
   file->addAction("&Load session...", w, [w]() { LoadSessionDialog(*w); }, QKeySequence("Ctrl+L"));
   file->addAction("&Save session...", w, [w]() { SaveSessionDialog(*w); }, QKeySequence::Save);

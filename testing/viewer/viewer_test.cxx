@@ -4,9 +4,11 @@
 // missing baseline fails and leaves the image in BARYLAB_TEST_OUTPUT_DIR/images.
 
 #include "barylabPipeline.h"
+#include "barylabSurfacePipeline.h"
 #include "barylabViewerLocality.h"
 #include "barylabViewerParameters.h"
 #include "barylabViewerScene.h"
+#include "barylabViewerSurfaceMode.h"
 #include "barylabViewerWindow.h"
 
 #include "vtkBaryConversion.h"
@@ -18,7 +20,9 @@
 #include <QElapsedTimer>
 #include <QFileInfo>
 #include <QImage>
+#include <QLabel>
 #include <QListWidget>
+#include <QSlider>
 #include <QProcess>
 #include <QSignalSpy>
 #include <QSurfaceFormat>
@@ -39,6 +43,8 @@
 #include "vtkRenderer.h"
 #include "vtkProbeFilter.h"
 #include "vtkCamera.h"
+#include "vtkCellLocator.h"
+#include "vtkCellArray.h"
 #include "vtkDataArray.h"
 #include "vtkGenericOpenGLRenderWindow.h"
 #include "vtkNew.h"
@@ -151,6 +157,41 @@ class ViewerTest : public QObject
     QVERIFY(w->saveScreenshot(QString::fromStdString(outdir + "/" + name + "_window.png")));
     QVERIFY2(result == vtkTesting::PASSED,
       qPrintable(QString::fromStdString("image differs from " + baseline + " (see " + outdir + ")")));
+  }
+
+  using SurfaceWindow = barylab::viewer::SurfaceWindow;
+
+  std::unique_ptr<SurfaceWindow> makeSurfaceWindow()
+  {
+    auto s = std::make_unique<SurfaceWindow>();
+    s->setInteractive(false);
+    s->resize(1400, 800);
+    s->show();
+    [[maybe_unused]] const bool exposed = QTest::qWaitForWindowExposed(s.get());
+    return s;
+  }
+
+  /// Distance from @p p to @p surface (its closest point, vtkCellLocator). The .obj reader gives
+  /// the surface float points while the data files' points are read as doubles: they differ by
+  /// ~3e-8 on the torus (3 units across), so 1e-6 below means "on the surface".
+  static double off_surface(vtkPolyData* surface, const double p[3])
+  {
+    vtkNew<vtkCellLocator> locator;
+    locator->SetDataSet(surface);
+    locator->BuildLocator();
+    double closest[3], d2 = 0.0;
+    vtkIdType cell = -1;
+    int sub = 0;
+    locator->FindClosestPoint(p, closest, cell, sub, d2);
+    return std::sqrt(d2);
+  }
+
+  /// Display coordinates of world point @p p in @p renderer.
+  static void to_display(vtkRenderer* renderer, const double p[3], double d[3])
+  {
+    renderer->SetWorldPoint(p[0], p[1], p[2], 1.0);
+    renderer->WorldToDisplay();
+    renderer->GetDisplayPoint(d);
   }
 
 private slots:
@@ -978,6 +1019,312 @@ private slots:
     // linked cameras: one camera object
     QCOMPARE(w->compareRenderer()->GetActiveCamera(), w->renderer()->GetActiveCamera());
     compareImage("viewer_side_by_side", true);
+  }
+
+  // --- the surface mode (weighted averages on surfaces) -------------------------------------
+
+  void surfaceModeAverages()
+  {
+    auto s = makeSurfaceWindow();
+    QVERIFY2(s->loadExample("torus-averages"), qPrintable(s->errors().join("; ")));
+    vtkPolyData* torus = s->surface();
+    QVERIFY(torus && torus->GetPointData()->GetArray("Embedding"));
+    QCOMPARE(s->anchorCount(), 9);
+    // row 1 of wa_weights.txt: the centroid of the patch
+    for (double w : s->normalizedWeights())
+      QVERIFY(std::abs(w - 1.0 / 9.0) < 1e-12);
+    QVERIFY(s->average().valid);
+    QVERIFY(off_surface(torus, s->average().point) < 1e-6);
+    // by symmetry of the 3 x 3 patch the centroid lies near the centre anchor (4)
+    QVERIFY(distance(s->average().point, s->anchors()->GetPoint(4)) < 0.1);
+
+    // interpolation at the anchors: weight 1 on anchor k gives anchor k
+    for (int k : { 0, 4, 8 })
+    {
+      std::vector<double> w(9, 0.0);
+      w[static_cast<std::size_t>(k)] = 1.0;
+      QVERIFY(s->setWeights(w));
+      QVERIFY(s->average().valid);
+      QVERIFY2(distance(s->average().point, s->anchors()->GetPoint(k)) < 1e-6,
+        qPrintable(QString::number(distance(s->average().point, s->anchors()->GetPoint(k)))));
+    }
+    // the sliders edit the weights (raw values; the average uses them over their sum)
+    auto* slider = s->findChild<QSlider*>("surface_weight_2");
+    QVERIFY(slider);
+    slider->setValue(1000);
+    QCOMPARE(s->weights()[2], 1.0);
+    QCOMPARE(s->normalizedWeights()[2], 0.5);
+    // a path of weights from anchor 0 to anchor 2 moves the average smoothly (no jump larger
+    // than a few times the step)
+    double previous[3];
+    double longest = 0.0;
+    for (int t = 0; t <= 20; ++t)
+    {
+      std::vector<double> w(9, 0.0);
+      w[0] = 1.0 - t / 20.0;
+      w[2] = t / 20.0;
+      QVERIFY(s->setWeights(w));
+      QVERIFY(s->average().valid);
+      if (t > 0)
+        longest = std::max(longest, distance(previous, s->average().point));
+      std::copy(s->average().point, s->average().point + 3, previous);
+    }
+    double a0[3], a2[3]; // vtkPoints::GetPoint(i) returns one shared buffer: copies
+    s->anchors()->GetPoint(0, a0);
+    s->anchors()->GetPoint(2, a2);
+    const double span = distance(a0, a2);
+    QVERIFY2(longest < 3.0 * span / 20.0, qPrintable(QString::number(longest / span)));
+
+    // the field: the selected anchor's weight, 1 at its vertex, weights summing to 1
+    s->selectAnchor(4);
+    vtkPolyData* field = s->field();
+    QVERIFY(field);
+    vtkDataArray* weights = field->GetPointData()->GetArray("Weights");
+    vtkDataArray* defined = field->GetPointData()->GetArray("Defined");
+    QVERIFY(weights && defined);
+    QCOMPARE(weights->GetNumberOfComponents(), 9);
+    const vtkIdType vertex = torus->FindPoint(s->anchors()->GetPoint(4));
+    QVERIFY(std::abs(weights->GetComponent(vertex, 4) - 1.0) < 1e-6);
+    vtkIdType shown = 0;
+    for (vtkIdType p = 0; p < field->GetNumberOfPoints(); ++p)
+    {
+      if (defined->GetComponent(p, 0) == 0)
+        continue;
+      ++shown;
+      double sum = 0.0;
+      for (int c = 0; c < 9; ++c)
+        sum += weights->GetComponent(p, c);
+      QVERIFY(std::abs(sum - 1.0) < 1e-9);
+    }
+    QVERIFY(shown > 100);
+
+    // bad input: weights summing to 0, wrong count, NaN, an anchor off the surface
+    QVERIFY(s->setWeights(std::vector<double>(9, 0.0)));
+    QVERIFY(!s->average().valid);
+    QVERIFY(s->findChild<QLabel*>("surface_average")->text().contains("sum to 0"));
+    const int before = static_cast<int>(s->errors().size());
+    QVERIFY(!s->setWeights({ 1.0, 0.0 }));
+    QVERIFY(!s->setWeight(0, std::nan("")));
+    QCOMPARE(s->addAnchor(10.0, 10.0, 10.0), -1);
+    QVERIFY(s->errors().size() == before + 3);
+    QVERIFY(s->errors().last().contains("anchor"));
+    QCOMPARE(s->anchorCount(), 9);
+    QVERIFY(!s->openSurface(data("bad/open_cage.obj")));
+    QVERIFY(!s->openWeights(data("wa_weights.txt"), 99));
+  }
+
+  void surfaceModeDragging()
+  {
+    auto s = makeSurfaceWindow();
+    QVERIFY(s->openSurface(data("wa_torus.obj"), data("wa_torus_embedding.txt")));
+    QCOMPARE(s->anchorCount(), 0);
+    vtkPolyData* torus = s->surface();
+    vtkRenderWindowInteractor* interactor = s->view()->interactor();
+    // Ctrl + click on three vertices facing the camera adds three anchors there
+    const auto click = [&](const double p[3], bool ctrl) {
+      double d[3];
+      to_display(s->renderer(), p, d);
+      interactor->SetEventInformation(static_cast<int>(std::lround(d[0])), static_cast<int>(std::lround(d[1])), ctrl ? 1 : 0, 0);
+      interactor->InvokeEvent(vtkCommand::LeftButtonPressEvent);
+      interactor->InvokeEvent(vtkCommand::LeftButtonReleaseEvent);
+    };
+    // the example's anchors are on the outer side of the tube around u = 40 degrees: look there
+    vtkCamera* camera = s->renderer()->GetActiveCamera();
+    camera->SetFocalPoint(0.0, 0.0, 0.0);
+    camera->SetPosition(0.77, 0.64, 0.58);
+    camera->SetViewUp(0.0, 0.0, 1.0);
+    s->renderer()->ResetCamera();
+    s->view()->renderWindow()->Render();
+    const auto anchors = barylab::ReadSurfacePoints(data("wa_anchors.txt").toStdString());
+    // (anchors 3, 5 on the outer equator, 7 above it: well inside the silhouette)
+    const int clicked[3] = { 3, 5, 7 };
+    for (int k : clicked)
+      click(anchors->GetPoint(k), true);
+    QVERIFY2(s->anchorCount() == 3, qPrintable(QString::number(s->anchorCount()) + " " + s->errors().join("; ")));
+    for (int k = 0; k < 3; ++k)
+    {
+      double p[3];
+      s->anchors()->GetPoint(k, p);
+      QVERIFY2(off_surface(torus, p) < 1e-6, qPrintable(QString::number(off_surface(torus, p))));
+      // the picked point is the surface under the pixel: within two mean edge lengths (~0.09)
+      QVERIFY(distance(p, anchors->GetPoint(clicked[k])) < 0.1);
+    }
+    // a click without Ctrl moves the camera, adds nothing
+    click(anchors->GetPoint(4), false);
+    QCOMPARE(s->anchorCount(), 3);
+    QVERIFY(s->average().valid);
+    for (double w : s->normalizedWeights())
+      QVERIFY(std::abs(w - 1.0 / 3.0) < 1e-12);
+
+    // dragging anchor 1: it stays on the surface and the average follows
+    double a1[3], d[3], avg[3];
+    s->anchors()->GetPoint(1, a1);
+    std::copy(s->average().point, s->average().point + 3, avg);
+    to_display(s->renderer(), a1, d);
+    interactor->SetEventInformation(static_cast<int>(std::lround(d[0])), static_cast<int>(std::lround(d[1])));
+    interactor->InvokeEvent(vtkCommand::LeftButtonPressEvent);
+    QCOMPARE(s->selectedAnchor(), 1);
+    interactor->SetEventInformation(static_cast<int>(std::lround(d[0])) + 25, static_cast<int>(std::lround(d[1])) + 15);
+    interactor->InvokeEvent(vtkCommand::MouseMoveEvent);
+    interactor->InvokeEvent(vtkCommand::LeftButtonReleaseEvent);
+    const double* moved = s->anchors()->GetPoint(1);
+    QVERIFY(distance(moved, a1) > 0.02);
+    QVERIFY(off_surface(torus, moved) < 1e-6);
+    QVERIFY(s->average().valid);
+    QVERIFY(distance(s->average().point, avg) > 1e-3);
+    QVERIFY(off_surface(torus, s->average().point) < 1e-6);
+
+    // a B-spline: curve points added by Ctrl + click in curve mode, then dragged
+    s->setEditing(barylab::viewer::SurfaceEdit::Curve);
+    const auto controls = barylab::ReadSurfacePoints(data("wa_curve_controls.txt").toStdString());
+    for (vtkIdType k = 3; k < 7; ++k) // those on the upper side, in view
+      click(controls->GetPoint(k), true);
+    QCOMPARE(s->anchorCount(), 3);
+    QCOMPARE(static_cast<int>(s->curveControls()->GetNumberOfPoints()), 4);
+    QVERIFY(s->curve());
+    s->setCurveClosed(false);
+    s->setCurveSamples(8);
+    vtkPolyData* curve = s->curve();
+    QCOMPARE(static_cast<int>(curve->GetNumberOfPoints()), 9); // one segment, 8 samples + end
+    for (vtkIdType k = 0; k < curve->GetNumberOfPoints(); ++k)
+      QVERIFY(off_surface(torus, curve->GetPoint(k)) < 1e-6);
+    // the open uniform cubic B-spline starts at the weighted average of its first three control
+    // points with weights (1, 4, 1) / 6: the forward problem, computed apart
+    vtkNew<vtkPoints> first;
+    for (vtkIdType k = 0; k < 3; ++k)
+      first->InsertNextPoint(s->curveControls()->GetPoint(k));
+    vtkNew<vtkPolyData> firstData;
+    firstData->SetPoints(first);
+    bary::DenseWeights W(1, 3);
+    W << 1.0 / 6.0, 4.0 / 6.0, 1.0 / 6.0;
+    auto start = barylab::WeightedAverage(s->surface(), firstData, W, bary::ForwardOptions{},
+      bary::kDefaultSurfaceTolerance);
+    double a[3], b[3];
+    start->GetPoint(0, a);
+    curve->GetPoint(0, b);
+    QVERIFY2(distance(a, b) < 1e-6, qPrintable(QString::number(distance(a, b))));
+    // closed with its 4 points: 4 segments
+    s->setCurveClosed(true);
+    QCOMPARE(static_cast<int>(s->curve()->GetNumberOfPoints()), 32);
+    // moved to another surface point; off the surface it is refused and stays
+    double c7[3], c2[3];
+    controls->GetPoint(7, c7);
+    QVERIFY(s->moveCurvePoint(2, c7[0], c7[1], c7[2]));
+    s->curveControls()->GetPoint(2, c2);
+    QVERIFY2(distance(c2, c7) < 1e-6, qPrintable(QString::number(distance(c2, c7))));
+    QVERIFY(!s->moveCurvePoint(2, c7[0], c7[1], c7[2] + 0.5));
+    s->curveControls()->GetPoint(2, c2);
+    QVERIFY(distance(c2, c7) < 1e-6);
+    QVERIFY(s->saveCurve(output("surface_curve.vtp")));
+    auto saved = vtkBaryDataIO::ReadPolyData(output("surface_curve.vtp").toStdString());
+    QCOMPARE(saved->GetNumberOfPoints(), s->curve()->GetNumberOfPoints());
+    QVERIFY(s->removeCurvePoint(0));
+    QVERIFY(!s->curve()); // 3 points: no cubic B-spline
+  }
+
+  void surfaceModeCorrespondence()
+  {
+    auto s = makeSurfaceWindow();
+    QVERIFY2(s->loadExample("torus-averages"), qPrintable(s->errors().join("; ")));
+    QVERIFY(s->target());
+    QVERIFY(s->targetView()->isVisible());
+    QVERIFY(s->targetAverage().valid);
+    auto target_anchors = barylab::ReadSurfacePoints(data("wa_target_anchors.txt").toStdString());
+    // the same weights on corresponding anchors: weight 1 on anchor k gives target anchor k
+    for (int k : { 1, 5 })
+    {
+      std::vector<double> w(9, 0.0);
+      w[static_cast<std::size_t>(k)] = 1.0;
+      QVERIFY(s->setWeights(w));
+      QVERIFY(s->targetAverage().valid);
+      QVERIFY(distance(s->targetAverage().point, target_anchors->GetPoint(k)) < 1e-6);
+    }
+    // the weight field transferred: at target anchor k, anchor k's weight is 1
+    s->selectAnchor(5);
+    vtkPolyData* moved = s->transferred();
+    QVERIFY(moved);
+    vtkDataArray* weights = moved->GetPointData()->GetArray("Weights");
+    QVERIFY(weights);
+    const vtkIdType vertex = s->target()->FindPoint(target_anchors->GetPoint(5));
+    QVERIFY2(std::abs(weights->GetComponent(vertex, 5) - 1.0) < 1e-6,
+      qPrintable(QString::number(weights->GetComponent(vertex, 5))));
+    // the second torus is shaped differently and 9 anchors in a patch say little about the far
+    // side: a few flips there, none near the anchors' patch is asserted by the core tests
+    QVERIFY(s->transferSummary()["flipped"].get<long long>() < s->target()->GetNumberOfPolys() / 100);
+    QVERIFY(s->transferSummary()["stretch_best_95_percent"].get<double>() >= 1.0);
+    QVERIFY(s->findChild<QLabel*>("surface_target")->text().contains("flipped triangles"));
+
+    // the decal: texture coordinates from the anchors' uv, transferred to the target with
+    // their picture; regression image of both views
+    s->setField(barylab::viewer::SurfaceField::Decal);
+    vtkPolyData* field = s->field();
+    QVERIFY(field && field->GetPointData()->GetArray("TCoords"));
+    vtkDataArray* uv = field->GetPointData()->GetArray("TCoords");
+    // the anchors' uv span [0.1, 0.9] (the decal fills 80% of the picture's square)
+    double range_u[2], range_v[2];
+    uv->GetRange(range_u, 0);
+    uv->GetRange(range_v, 1);
+    QVERIFY(range_u[0] < 0.1 + 1e-9 && range_u[1] > 0.9 - 1e-9);
+    QVERIFY(s->transferred()->GetPointData()->GetArray("TCoords"));
+    std::vector<double> w(9, 1.0 / 9.0);
+    QVERIFY(s->setWeights(w));
+    s->resetCamera();
+    auto window = s->snapshot(1200, 600);
+    const std::string outdir = std::string(BARYLAB_TEST_OUTPUT_DIR) + "/images";
+    QDir().mkpath(QString::fromStdString(outdir));
+    const std::string baseline = std::string(BARYLAB_BASELINE_DIR) + "/viewer_surface_decal.png";
+    vtkNew<vtkTesting> testing;
+    testing->AddArgument("-V");
+    testing->AddArgument(baseline.c_str());
+    testing->AddArgument("-T");
+    testing->AddArgument(outdir.c_str());
+    testing->SetRenderWindow(window);
+    const int result = testing->RegressionTest(10.0);
+    QVERIFY(s->saveScreenshot(QString::fromStdString(outdir + "/viewer_surface_decal_window.png")));
+    QVERIFY2(result == vtkTesting::PASSED, qPrintable(QString::fromStdString("image differs from " + baseline)));
+
+    // a target whose anchors do not correspond in number is refused; closing it hides the view
+    QVERIFY(!s->openTarget(data("wa_torus_target.obj"), data("wa_curve_controls.txt"),
+      data("wa_torus_target_embedding.txt")) || s->transferSummary().empty());
+    s->closeTarget();
+    QVERIFY(!s->target());
+    QVERIFY(!s->targetView()->isVisible());
+    QVERIFY(!s->loadExample("no-such-example"));
+  }
+
+  void surfaceModeCommandLine()
+  {
+    const QString png = output("viewer_surface_cli.png");
+    QFile::remove(png);
+    QProcess run;
+    run.start(BARYLAB_VIEWER_EXE, { "--example", "torus-averages", "--field", "weight", "--control", "4",
+                                    "--screenshot", png });
+    QVERIFY(run.waitForFinished(60000));
+    QVERIFY2(run.exitCode() == 0, run.readAllStandardError().constData());
+    QVERIFY(!QImage(png).isNull());
+    // files as the command line gives them
+    QProcess files;
+    files.start(BARYLAB_VIEWER_EXE, { "--surface", data("wa_torus.obj"), "--embedding",
+                                      data("wa_torus_embedding.txt"), "--anchors", data("wa_anchors.txt"),
+                                      "--weights", data("wa_weights.txt"), "--screenshot", png });
+    QVERIFY(files.waitForFinished(60000));
+    QVERIFY2(files.exitCode() == 0, files.readAllStandardError().constData());
+    // bad: an unknown field, a control that is not an anchor, an unreadable mesh
+    QProcess badField;
+    badField.start(BARYLAB_VIEWER_EXE, { "--example", "torus-averages", "--field", "gradient", "--screenshot", output("never.png") });
+    QVERIFY(badField.waitForFinished(60000));
+    QCOMPARE(badField.exitCode(), 2);
+    QProcess badControl;
+    badControl.start(BARYLAB_VIEWER_EXE, { "--example", "torus-averages", "--control", "9", "--screenshot", output("never.png") });
+    QVERIFY(badControl.waitForFinished(60000));
+    QCOMPARE(badControl.exitCode(), 2);
+    QVERIFY(badControl.readAllStandardError().contains("--control 9"));
+    QProcess badMesh;
+    badMesh.start(BARYLAB_VIEWER_EXE, { "--surface", data("no_such_mesh.obj"), "--screenshot", output("never.png") });
+    QVERIFY(badMesh.waitForFinished(60000));
+    QCOMPARE(badMesh.exitCode(), 1);
+    QVERIFY(badMesh.readAllStandardError().contains("no_such_mesh.obj"));
+    QVERIFY(!QFileInfo::exists(output("never.png")));
   }
 
   void scriptableStart()
