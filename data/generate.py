@@ -1074,7 +1074,7 @@ WA_CURVE_GRID = [(2, 24), (8, 23), (14, 24), (16, 0), (14, 4), (8, 5), (2, 4), (
 
 
 def wa_torus():
-    V, F = [], []
+    V = []
     for i in range(WA_TORUS_N):
         u = 2 * math.pi * i / WA_TORUS_N
         for j in range(WA_TORUS_M):
@@ -1082,15 +1082,26 @@ def wa_torus():
             r = WA_TORUS_TUBE * (1 + WA_TORUS_BUMP * math.sin(3 * u) * math.cos(2 * v))
             V.append(((WA_TORUS_R + r * math.cos(v)) * math.cos(u),
                       (WA_TORUS_R + r * math.cos(v)) * math.sin(u), r * math.sin(v)))
-    for i in range(WA_TORUS_N):
-        for j in range(WA_TORUS_M):
-            a = i * WA_TORUS_M + j
-            b = ((i + 1) % WA_TORUS_N) * WA_TORUS_M + j
-            c = i * WA_TORUS_M + (j + 1) % WA_TORUS_M
-            d = ((i + 1) % WA_TORUS_N) * WA_TORUS_M + (j + 1) % WA_TORUS_M
-            F.append((a, b, d))
-            F.append((a, d, c))
-    return V, F
+    return V, torus_grid_triangles(WA_TORUS_N, WA_TORUS_M, other_diagonal=False)
+
+
+def torus_grid_triangles(n, m, other_diagonal):
+    """Two triangles per quad of an n x m periodic grid (vertex i * m + j), split along the
+    (i, j)-(i+1, j+1) diagonal or the other one."""
+    F = []
+    for i in range(n):
+        for j in range(m):
+            a = i * m + j
+            b = ((i + 1) % n) * m + j
+            c = i * m + (j + 1) % m
+            d = ((i + 1) % n) * m + (j + 1) % m
+            if other_diagonal:
+                F.append((a, b, c))
+                F.append((b, d, c))
+            else:
+                F.append((a, b, d))
+                F.append((a, d, c))
+    return F
 
 
 # The correspondence target (§4.3 of the weighted-averages paper): another torus, meshed
@@ -1105,7 +1116,7 @@ WA_TARGET_BUMP = 0.2
 
 
 def wa_torus_target():
-    V, F = [], []
+    V = []
     for i in range(WA_TARGET_N):
         u = 2 * math.pi * i / WA_TARGET_N
         for j in range(WA_TORUS_M):
@@ -1113,15 +1124,7 @@ def wa_torus_target():
             r = WA_TARGET_TUBE * (1 + WA_TARGET_BUMP * math.sin(2 * u) * math.cos(v))
             V.append((WA_TARGET_STRETCH * (WA_TORUS_R + r * math.cos(v)) * math.cos(u),
                       (WA_TORUS_R + r * math.cos(v)) * math.sin(u), r * math.sin(v)))
-    for i in range(WA_TARGET_N):
-        for j in range(WA_TORUS_M):
-            a = i * WA_TORUS_M + j
-            b = ((i + 1) % WA_TARGET_N) * WA_TORUS_M + j
-            c = i * WA_TORUS_M + (j + 1) % WA_TORUS_M
-            d = ((i + 1) % WA_TARGET_N) * WA_TORUS_M + (j + 1) % WA_TORUS_M
-            F.append((a, b, c))
-            F.append((b, d, c))
-    return V, F
+    return V, torus_grid_triangles(WA_TARGET_N, WA_TORUS_M, other_diagonal=True)
 
 
 def wa_weights_text():

@@ -73,6 +73,21 @@ QString output(const QString& name)
   return dir + "/" + name;
 }
 
+/// vtkTesting set to compare with testing/baselines/@p name.png, leaving differences in
+/// BARYLAB_TEST_OUTPUT_DIR/images.
+vtkSmartPointer<vtkTesting> regression_testing(const std::string& name)
+{
+  const std::string outdir = std::string(BARYLAB_TEST_OUTPUT_DIR) + "/images";
+  QDir().mkpath(QString::fromStdString(outdir));
+  const std::string baseline = std::string(BARYLAB_BASELINE_DIR) + "/" + name + ".png";
+  auto testing = vtkSmartPointer<vtkTesting>::New();
+  testing->AddArgument("-V");
+  testing->AddArgument(baseline.c_str());
+  testing->AddArgument("-T");
+  testing->AddArgument(outdir.c_str());
+  return testing;
+}
+
 double distance(const double a[3], const double b[3])
 {
   return std::sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) +
@@ -147,11 +162,7 @@ class ViewerTest : public QObject
     }
     window->Render();
     const std::string baseline = std::string(BARYLAB_BASELINE_DIR) + "/" + name + ".png";
-    vtkNew<vtkTesting> testing;
-    testing->AddArgument("-V");
-    testing->AddArgument(baseline.c_str());
-    testing->AddArgument("-T");
-    testing->AddArgument(outdir.c_str());
+    auto testing = regression_testing(name);
     testing->SetRenderWindow(window);
     const int result = testing->RegressionTest(10.0);
     QVERIFY(w->saveScreenshot(QString::fromStdString(outdir + "/" + name + "_window.png")));
@@ -464,13 +475,8 @@ private slots:
     QVERIFY(w->exportLocalityPng(png));
     QCOMPARE(QImage(png).size(), QSize(1000, 420));
     const std::string outdir = std::string(BARYLAB_TEST_OUTPUT_DIR) + "/images";
-    QDir().mkpath(QString::fromStdString(outdir));
     const std::string baseline = std::string(BARYLAB_BASELINE_DIR) + "/viewer_locality_chart.png";
-    vtkNew<vtkTesting> testing;
-    testing->AddArgument("-V");
-    testing->AddArgument(baseline.c_str());
-    testing->AddArgument("-T");
-    testing->AddArgument(outdir.c_str());
+    auto testing = regression_testing("viewer_locality_chart");
     QFile::remove(QString::fromStdString(outdir + "/viewer_locality_chart.png"));
     QFile::copy(png, QString::fromStdString(outdir + "/viewer_locality_chart.png"));
     const int result = testing->RegressionTest(png.toStdString(), 10.0);
@@ -1271,13 +1277,8 @@ private slots:
     s->resetCamera();
     auto window = s->snapshot(1200, 600);
     const std::string outdir = std::string(BARYLAB_TEST_OUTPUT_DIR) + "/images";
-    QDir().mkpath(QString::fromStdString(outdir));
     const std::string baseline = std::string(BARYLAB_BASELINE_DIR) + "/viewer_surface_decal.png";
-    vtkNew<vtkTesting> testing;
-    testing->AddArgument("-V");
-    testing->AddArgument(baseline.c_str());
-    testing->AddArgument("-T");
-    testing->AddArgument(outdir.c_str());
+    auto testing = regression_testing("viewer_surface_decal");
     testing->SetRenderWindow(window);
     const int result = testing->RegressionTest(10.0);
     QVERIFY(s->saveScreenshot(QString::fromStdString(outdir + "/viewer_surface_decal_window.png")));
