@@ -494,7 +494,7 @@ void AddRemeshCommand(Subcommands& subcommands)
     "the coarse quad layout: a polygon file of quads whose vertices lie on the surface")
     ->required();
   command->add_option("--output,-o", a->output, "the quad mesh (.vtp, .vtu, .vtk)")->required();
-  command->add_option("--levels", a->options.levels, "subdivision levels (x4 quads each) [0, 8]")
+  command->add_option("--levels", a->options.levels, "subdivision levels (x4 quads each) [0, " + std::to_string(bary::kMaxRemeshLevels) + "]")
     ->default_val(a->options.levels);
   command->add_option("--smooth", a->options.smoothing_steps,
     "Laplacian smoothing steps on the surface [0, 1000]")

@@ -3,7 +3,8 @@
 //   barylab-viewer [CONTROLS MODEL [DOMAIN]] [--example NAME] [--method M] [--compare M]
 //                  [--control I] [--pose FILE] [--session FILE] [--screenshot PNG]
 //   barylab-viewer --surface MESH [--embedding E] [--anchors A] [--weights W] [--curve C]
-//                  [--target MESH --target-anchors A] [--picture P] [--field none|weight|decal]
+//                  [--quads Q] [--target MESH --target-anchors A] [--picture P]
+//                  [--field none|weight|decal]
 //                  [--control I] [--screenshot PNG]           (the surface mode; also
 //                  --example torus-averages)
 //
@@ -57,6 +58,7 @@ int run_surface_mode(const QCommandLineParser& parser, bool batch)
       (!parser.isSet("weights") || window.openWeights(value("weights"))) &&
       (!parser.isSet("curve") || window.openCurve(value("curve"))) &&
       (!parser.isSet("picture") || window.openPicture(value("picture"))) &&
+      (!parser.isSet("quads") || window.openQuadLayout(value("quads"))) &&
       (!parser.isSet("target") ||
         window.openTarget(value("target"), value("target-anchors"), value("target-embedding")));
   }
@@ -142,11 +144,12 @@ int main(int argc, char* argv[])
   QCommandLineOption weights("weights", "surface mode: weights, first row used", "FILE");
   QCommandLineOption curve("curve", "surface mode: B-spline control points on the surface", "FILE");
   QCommandLineOption picture("picture", "surface mode: the decal's picture", "FILE");
+  QCommandLineOption quads("quads", "surface mode: a coarse quad layout, remeshed semiregularly", "FILE");
   QCommandLineOption target("target", "surface mode: correspondence target surface", "MESH");
   QCommandLineOption targetAnchors("target-anchors", "surface mode: the target's anchors", "FILE");
   QCommandLineOption targetEmbedding("target-embedding", "surface mode: the target's embedding", "FILE");
   parser.addOptions({ example, method, compare, control, pose, session, field, logScale, clip,
-    screenshot, locality, surface, embedding, anchors, weights, curve, picture, target,
+    screenshot, locality, surface, embedding, anchors, weights, curve, picture, quads, target,
     targetAnchors, targetEmbedding });
   parser.process(app);
 

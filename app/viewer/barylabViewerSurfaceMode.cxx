@@ -9,9 +9,12 @@
 #include "vtkBarySurfaceCorrespondence.h"
 #include "vtkBarySurfaceCurve.h"
 #include "vtkBarySurfaceData.h"
+#include "vtkBarySurfaceRemesh.h"
 #include "vtkBarySurfaceWeights.h"
 #include "vtkBaryWeightedAverage.h"
 #include "core/common/error.h"
+#include "core/surface/remeshing.h"
+#include "core/surface/surface_curves.h"
 #include "core/surface/surface_mesh.h"
 
 #include <QApplication>
@@ -88,7 +91,8 @@ enum Changed
   CurveChanged = 4,
   FieldChanged = 8,
   TargetChanged = 16,
-  Everything = 31
+  RemeshChanged = 32,
+  Everything = 63
 };
 
 const char* kExample = "torus-averages";
@@ -231,6 +235,10 @@ struct SurfaceWindow::Internals
   vtkNew<vtkBarySurfaceWeights> FieldFilter;
   vtkNew<vtkBarySurfaceCurve> CurveFilter;
   vtkNew<vtkBarySurfaceCorrespondence> TransferFilter;
+  vtkNew<vtkBarySurfaceRemesh> RemeshFilter;
+  vtkSmartPointer<vtkPolyData> Coarse;   ///< the quad layout opened
+  vtkSmartPointer<vtkPolyData> Remeshed;
+  int RemeshLevels = bary::RemeshOptions{}.levels;
   vtkNew<vtkCellLocator> Locator; ///< rays from the mouse onto the surface; closest points
 
   QVTKOpenGLNativeWidget* View = nullptr;
@@ -245,6 +253,8 @@ struct SurfaceWindow::Internals
   QLabel* AverageInfo = nullptr;
   QLabel* CurveInfo = nullptr;
   QLabel* TargetInfo = nullptr;
+  QLabel* RemeshInfo = nullptr;
+  QSpinBox* LevelsBox = nullptr;
   QComboBox* EditBox = nullptr;
   QComboBox* FieldBox = nullptr;
   QCheckBox* ClosedBox = nullptr;
@@ -321,6 +331,14 @@ vtkPoints* SurfaceWindow::curveControls() const
 vtkPolyData* SurfaceWindow::curve() const
 {
   return this->I->Curve;
+}
+vtkPolyData* SurfaceWindow::remeshed() const
+{
+  return this->I->Remeshed;
+}
+int SurfaceWindow::remeshLevels() const
+{
+  return this->I->RemeshLevels;
 }
 vtkPolyData* SurfaceWindow::target() const
 {
@@ -412,6 +430,8 @@ bool SurfaceWindow::openSurface(const QString& mesh, const QString& embedding)
   this->Selected = -1;
   this->I->Field = nullptr;
   this->I->Curve = nullptr;
+  this->I->Coarse = nullptr;
+  this->I->Remeshed = nullptr;
   this->closeTarget();
   this->CameraNeedsReset = true;
   QString info = QString("%1: %2 points, %3 triangles")
@@ -483,6 +503,7 @@ bool SurfaceWindow::openAnchors(const QString& path)
       }))
     return false;
   this->I->Anchors->DeepCopy(points);
+  this->CameraNeedsReset = true; // look at them
   const auto n = static_cast<std::size_t>(points->GetNumberOfPoints());
   this->Weights.assign(n, 1.0 / static_cast<double>(n));
   this->Selected = 0;
@@ -568,6 +589,69 @@ bool SurfaceWindow::openTarget(const QString& mesh, const QString& anchors, cons
   this->CameraNeedsReset = true;
   this->update(TargetChanged);
   return true;
+}
+
+bool SurfaceWindow::openQuadLayout(const QString& path)
+{
+  if (!this->I->Surface)
+  {
+    this->reportError("open a surface before a quad layout on it");
+    return false;
+  }
+  vtkSmartPointer<vtkPolyData> coarse;
+  if (!this->reporting([&]() { coarse = vtkBaryDataIO::ReadPolyData(path.toStdString()); }))
+    return false;
+  const auto previous = this->I->Coarse;
+  this->I->Coarse = coarse;
+  this->updateRemesh();
+  if (!this->I->Remeshed)
+  {
+    this->I->Coarse = previous; // refused (reported): the previous layout stays
+    this->updateRemesh();
+    return false;
+  }
+  this->update(RemeshChanged);
+  return true;
+}
+
+void SurfaceWindow::setRemeshLevels(int levels)
+{
+  const int previous = this->I->RemeshLevels;
+  this->I->RemeshLevels = levels;
+  if (this->I->Coarse)
+  {
+    this->updateRemesh();
+    if (!this->I->Remeshed)
+    {
+      this->I->RemeshLevels = previous; // out of range (reported)
+      this->updateRemesh();
+    }
+  }
+  this->update(RemeshChanged);
+}
+
+void SurfaceWindow::closeQuadLayout()
+{
+  this->I->Coarse = nullptr;
+  this->I->Remeshed = nullptr;
+  this->update(RemeshChanged);
+}
+
+void SurfaceWindow::updateRemesh()
+{
+  this->I->Remeshed = nullptr;
+  if (!this->I->Coarse || !this->I->Surface)
+    return;
+  vtkBarySurfaceRemesh* f = this->I->RemeshFilter;
+  f->SetInputData(0, this->I->Surface);
+  f->SetInputData(1, this->I->Coarse);
+  f->SetLevels(this->I->RemeshLevels);
+  this->reporting([&]() {
+    RunAlgorithm(f, {});
+    auto out = vtkSmartPointer<vtkPolyData>::New();
+    out->ShallowCopy(f->GetOutput());
+    this->I->Remeshed = out;
+  });
 }
 
 void SurfaceWindow::closeTarget()
@@ -1086,6 +1170,21 @@ void SurfaceWindow::drawScene(vtkRenderer* left, vtkRenderer* right)
     const double orange[3] = { 1.0, 0.5, 0.0 };
     AddLines(left, this->I->Curve->GetPoints(), this->I->Curve->GetLines(), 4.0, orange);
   }
+  if (this->I->Remeshed && this->I->Remeshed->GetNumberOfPolys() > 0)
+  {
+    vtkNew<vtkPolyDataMapper> mapper;
+    mapper->SetInputData(this->I->Remeshed);
+    mapper->ScalarVisibilityOff();
+    // the quads' edges lie on the surface: drawn in front of it
+    mapper->SetRelativeCoincidentTopologyLineOffsetParameters(0.0, -66000.0);
+    vtkNew<vtkActor> quads;
+    quads->SetMapper(mapper);
+    quads->GetProperty()->SetRepresentationToWireframe();
+    quads->GetProperty()->SetColor(0.1, 0.25, 0.7);
+    quads->GetProperty()->SetLineWidth(1.5);
+    quads->GetProperty()->LightingOff();
+    left->AddActor(quads);
+  }
   if (!this->I->Target || !right)
     return;
   this->reporting([&]() {
@@ -1369,7 +1468,7 @@ void SurfaceWindow::buildPanel()
   row->addWidget(new QLabel("samples per segment", curve));
   I.SamplesBox = new QSpinBox(curve);
   I.SamplesBox->setObjectName("surface_curve_samples");
-  I.SamplesBox->setRange(1, 100000); // bary::bspline_weights' range
+  I.SamplesBox->setRange(1, static_cast<int>(bary::kMaxSamplesPerSegment));
   connect(I.SamplesBox, QOverload<int>::of(&QSpinBox::valueChanged), this, [this](int v) {
     if (!this->I->Updating)
       this->setCurveSamples(v);
@@ -1387,6 +1486,34 @@ void SurfaceWindow::buildPanel()
   I.CurveInfo->setWordWrap(true);
   curveLayout->addWidget(I.CurveInfo);
   layout->addWidget(curve);
+
+  auto* remesh = new QGroupBox("Semiregular remeshing", panel);
+  auto* remeshLayout = new QVBoxLayout(remesh);
+  row = new QHBoxLayout;
+  auto* openLayout = new QPushButton("Quad layout...", remesh);
+  connect(openLayout, &QPushButton::clicked, this, [this]() {
+    const QString path = QFileDialog::getOpenFileName(this, "Open a coarse quad layout on the surface");
+    if (!path.isEmpty())
+      this->openQuadLayout(path);
+  });
+  row->addWidget(openLayout);
+  row->addWidget(new QLabel("levels", remesh));
+  I.LevelsBox = new QSpinBox(remesh);
+  I.LevelsBox->setObjectName("surface_remesh_levels");
+  I.LevelsBox->setRange(0, bary::kMaxRemeshLevels);
+  connect(I.LevelsBox, QOverload<int>::of(&QSpinBox::valueChanged), this, [this](int v) {
+    if (!this->I->Updating)
+      this->setRemeshLevels(v);
+  });
+  row->addWidget(I.LevelsBox);
+  auto* clearLayout = new QPushButton("Clear", remesh);
+  connect(clearLayout, &QPushButton::clicked, this, &SurfaceWindow::closeQuadLayout);
+  row->addWidget(clearLayout);
+  remeshLayout->addLayout(row);
+  I.RemeshInfo = new QLabel(remesh);
+  I.RemeshInfo->setWordWrap(true);
+  remeshLayout->addWidget(I.RemeshInfo);
+  layout->addWidget(remesh);
 
   auto* target = new QGroupBox("Correspondence", panel);
   auto* targetLayout = new QVBoxLayout(target);
@@ -1481,6 +1608,12 @@ void SurfaceWindow::updatePanel()
                            .arg(m)
                            .arg(I.Curve->GetNumberOfPoints())
                            .arg(I.CurveFilter->GetNumberOfFailures()));
+  I.LevelsBox->setValue(I.RemeshLevels);
+  I.RemeshInfo->setText(I.Remeshed ? QString("%1 quads from %2, %3 vertices failed")
+                                       .arg(I.Remeshed->GetNumberOfPolys())
+                                       .arg(I.Coarse->GetNumberOfPolys())
+                                       .arg(I.RemeshFilter->GetNumberOfFailures())
+                                   : QString("no quad layout"));
   if (I.Target)
   {
     QString text = QString("target: %1 points; ").arg(I.Target->GetNumberOfPoints());
@@ -1545,6 +1678,11 @@ void SurfaceWindow::buildMenus()
       this->openTarget(mesh, anchors);
   });
   file->addAction("Close the target", this, &SurfaceWindow::closeTarget);
+  file->addAction("Open &quad layout (semiregular remeshing)...", this, [this]() {
+    const QString path = QFileDialog::getOpenFileName(this, "Open a coarse quad layout on the surface");
+    if (!path.isEmpty())
+      this->openQuadLayout(path);
+  });
   QMenu* examples = file->addMenu("Open &example");
   for (const QString& name : ExampleNames())
     examples->addAction(name, this, [this, name]() { this->loadExample(name); });

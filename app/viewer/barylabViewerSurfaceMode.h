@@ -98,6 +98,9 @@ public:
   bool curveClosed() const { return this->CurveClosed; }
   SurfaceField fieldShown() const { return this->Field; }
   SurfaceEdit editing() const { return this->Editing; }
+  /// The semiregular quad mesh (§4.1, Fig. 7) of the quad layout opened (null when none).
+  vtkPolyData* remeshed() const;
+  int remeshLevels() const;
   /// The target (null when none) and its result: the average with the same weights on the
   /// target's anchors, the field transferred (vtkBarySurfaceCorrespondence's output).
   vtkPolyData* target() const;
@@ -152,6 +155,11 @@ public slots:
   bool removeCurvePoint(int i);
   void setCurveClosed(bool closed);
   void setCurveSamples(int samples_per_segment);
+  /// A coarse quad layout on the surface (its vertices on the surface, polygons all quads):
+  /// remeshed semiregularly (vtkBarySurfaceRemesh) and drawn as a wireframe.
+  bool openQuadLayout(const QString& path);
+  void setRemeshLevels(int levels);
+  void closeQuadLayout();
   /// A second mesh and its anchors (as many as this surface's, corresponding in order), with
   /// its embedding read from @p embedding or computed: shown beside the surface.
   bool openTarget(const QString& mesh, const QString& anchors, const QString& embedding = QString());
@@ -181,6 +189,7 @@ private:
   void updateField();
   void updateCurve();
   void updateTarget();
+  void updateRemesh();
   void updateScene();
   /// Fills @p left with the surface's scene and @p right (may be null) with the target's.
   void drawScene(vtkRenderer* left, vtkRenderer* right);

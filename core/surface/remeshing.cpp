@@ -68,9 +68,9 @@ std::vector<std::pair<SurfacePoint, char>> solve_rows(const WeightedAverages& wa
 
 void validate_remesh_options(const RemeshOptions& options)
 {
-  if (options.levels < 0 || options.levels > 8)
-    throw Error(ErrorCode::InvalidArgument,
-      "the subdivision levels must be in [0, 8], got " + std::to_string(options.levels));
+  if (options.levels < 0 || options.levels > kMaxRemeshLevels)
+    throw Error(ErrorCode::InvalidArgument, "the subdivision levels must be in [0, " +
+        std::to_string(kMaxRemeshLevels) + "], got " + std::to_string(options.levels));
   if (options.smoothing_steps < 0 || options.smoothing_steps > 1000)
     throw Error(ErrorCode::InvalidArgument, "the smoothing steps must be in [0, 1000], got " +
         std::to_string(options.smoothing_steps));

@@ -21,10 +21,13 @@
 namespace bary
 {
 
+/// Largest number of subdivision levels (each multiplies the quads by 4).
+inline constexpr int kMaxRemeshLevels = 8;
+
 /// Options of semiregular_remesh.
 struct RemeshOptions
 {
-  /// Subdivision levels (each multiplies the quads by 4), range [0, 8]. Default 2.
+  /// Subdivision levels (each multiplies the quads by 4), range [0, kMaxRemeshLevels]. Default 2.
   int levels = 2;
   /// Laplacian smoothing steps on the surface after the last level, range [0, 1000]. Default 5
   /// (the paper's Fig. 7).

@@ -13,9 +13,9 @@ DenseWeights bspline_weights(Index m, Index per_segment, bool closed)
   if (m < 4)
     throw Error(ErrorCode::InvalidArgument, "a cubic B-spline needs at least 4 control points, got " +
         std::to_string(m));
-  if (per_segment < 1 || per_segment > 100000)
-    throw Error(ErrorCode::InvalidArgument,
-      "the samples per segment must be in [1, 100000], got " + std::to_string(per_segment));
+  if (per_segment < 1 || per_segment > kMaxSamplesPerSegment)
+    throw Error(ErrorCode::InvalidArgument, "the samples per segment must be in [1, " +
+        std::to_string(kMaxSamplesPerSegment) + "], got " + std::to_string(per_segment));
   const Index segments = closed ? m : m - 3;
   const Index rows = segments * per_segment + (closed ? 0 : 1);
   if (rows > std::numeric_limits<int>::max() || rows * m > std::numeric_limits<int>::max())

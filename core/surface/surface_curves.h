@@ -17,11 +17,14 @@
 namespace bary
 {
 
+/// Largest number of samples per segment of bspline_weights.
+inline constexpr Index kMaxSamplesPerSegment = 100000;
+
 /// The weights of the samples of a uniform cubic B-spline: #samples by m (one row per sample,
 /// the basis functions of the 4 control points of its segment; each row sums to 1). Samples
 /// are @p per_segment evenly spaced parameters per segment, plus the end point of an open
 /// curve: (m - 3) per_segment + 1 rows (open) or m per_segment rows (closed).
-/// @throws Error(InvalidArgument) when m < 4, per_segment is outside [1, 100000], or the
+/// @throws Error(InvalidArgument) when m < 4, per_segment is outside [1, kMaxSamplesPerSegment], or the
 ///   number of rows would exceed 2^31.
 DenseWeights bspline_weights(Index control_points, Index per_segment, bool closed);
 

@@ -1115,6 +1115,23 @@ private slots:
     QVERIFY(s->errors().size() == before + 3);
     QVERIFY(s->errors().last().contains("anchor"));
     QCOMPARE(s->anchorCount(), 9);
+    // semiregular remeshing from the bundled quad layout (32 quads): 32 x 4^levels quads, every
+    // vertex on the surface; levels out of core's range refused, the previous result kept
+    QVERIFY(s->openQuadLayout(data("wa_quads.obj")));
+    QVERIFY(s->remeshed());
+    QCOMPARE(static_cast<int>(s->remeshed()->GetNumberOfPolys()), 32 * 16);
+    s->setRemeshLevels(1);
+    QCOMPARE(static_cast<int>(s->remeshed()->GetNumberOfPolys()), 32 * 4);
+    for (vtkIdType p = 0; p < s->remeshed()->GetNumberOfPoints(); ++p)
+      QVERIFY(off_surface(torus, s->remeshed()->GetPoint(p)) < 1e-6);
+    s->setRemeshLevels(99);
+    QVERIFY(s->errors().last().contains("levels"));
+    QCOMPARE(s->remeshLevels(), 1);
+    QCOMPARE(static_cast<int>(s->remeshed()->GetNumberOfPolys()), 32 * 4);
+    QVERIFY(!s->openQuadLayout(data("wa_anchors.txt"))); // no quads
+    QVERIFY(s->remeshed());
+    s->closeQuadLayout();
+    QVERIFY(!s->remeshed());
     QVERIFY(!s->openSurface(data("bad/open_cage.obj")));
     QVERIFY(!s->openWeights(data("wa_weights.txt"), 99));
   }
