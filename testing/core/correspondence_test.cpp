@@ -113,7 +113,9 @@ TEST(Correspondence, StretchOfAnAnisotropicMap)
   EXPECT_GT(d.measured, 50);
   for (Index f = 0; f < target.face_count(); ++f)
     if (!std::isnan(d.stretch(f)))
+    {
       EXPECT_NEAR(d.stretch(f), 1.25, 1e-9);
+    }
 }
 
 TEST(Correspondence, Errors)

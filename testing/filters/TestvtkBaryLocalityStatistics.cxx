@@ -199,7 +199,9 @@ TEST(vtkBaryLocalityStatistics, EqualsCoreWithAndWithoutAreaMeasure)
     const double Q = q->GetValueByName(i, "Q").ToDouble();
     sum += Q;
     if (i > 0)
+    {
       EXPECT_LE(Q, q->GetValueByName(i - 1, "Q").ToDouble());
+    }
   }
   EXPECT_DOUBLE_EQ(q->GetValueByName(0, "Q").ToDouble(), 1.0);
   EXPECT_NEAR(sum, s.Filter->GetMeanSupport(), 1e-12);

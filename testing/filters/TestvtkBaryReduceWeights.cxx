@@ -164,7 +164,9 @@ TEST(vtkBaryReduceWeights, AffineReproducesAndNoneKeepsValues)
   for (vtkIdType p = 0; p < values->GetNumberOfTuples(); ++p)
     for (int k = 0; k < values->GetNumberOfComponents(); ++k)
       if (indices->GetTypedComponent(p, k) >= 0)
+      {
         EXPECT_EQ(values->GetTypedComponent(p, k), c.W(p, indices->GetTypedComponent(p, k)));
+      }
 }
 
 TEST(vtkBaryReduceWeights, DefaultThresholdAndGlobalWeights)
