@@ -19,16 +19,28 @@
 ///   Psi_12 = xi1 E12 R12 T1 + xi2 E12 T2 + xi3 (E23 + E31 R31) T3 / 2 (and cyclically), and the
 ///   1/xi blend of Eq. (11). Multiplied out, Eq. (11) is
 ///   Psi = (xi1 xi2 Psi_12 + xi2 xi3 Psi_23 + xi3 xi1 Psi_31) / (xi1 xi2 + xi2 xi3 + xi3 xi1),
-///   a cubic in xi over a quadratic: seven 2 by D coefficient matrices per triangle, stored.
-/// - Projection onto a triangle: Newton's method on Eqs. (7)-(8) from (1/3, 1/3, 1/3) in the two
+///   a cubic in xi over a quadratic with seven 2 by D coefficient matrices A1..A6, B. Each is a
+///   2 by 2 matrix times a vertex frame (A1 = E12 R12 T1, A2 = E12 T2, ..., A6 = E31 T1) and
+///   B = (A1 + ... + A6) / 2, so a triangle stores six 2 by 2 matrices and the frames are stored
+///   once per vertex (detail/phong_kernel.h).
+/// - Projection onto a triangle: Newton's method on Eqs. (7)-(8) from (1/3, 1/3, 1/3) (the
+///   forward problem starts at the Euclidean projection onto the triangle's plane) in the two
 ///   free barycentric coordinates, on Psi r / s, which has the same roots in the triangle as
-///   Eq. (7) and stays well scaled near its corners; converged when the step is below 1e-13 or
-///   |Psi r / s| below 1e-14 times the triangle's longest edge; rejected when it does not converge in 30
-///   steps or when Eq. (9) fails (a coordinate below -1e-9; coordinates in [-1e-9, 0) are set to 0).
-///   Per query and triangle the only R^D work is 14 dot products (the coefficient rows with the
-///   target); Newton's steps are then 2 by 2 arithmetic.
+///   Eq. (7) and stays well scaled near its corners. Converged when the step is below 1e-13,
+///   when the next step predicted from the last two (|step_k|^2 / |step_{k-1}|, Newton's
+///   contraction, which also bounds the error where convergence is only linear, near a corner)
+///   is below 1e-10, or when |Psi r / s| is below 1e-14 times the triangle's longest edge; so
+///   the returned coordinates are within about 1e-10 of the converged ones (two iterations from
+///   the Euclidean start, usually). Rejected when it does not converge in 30 steps or when
+///   Eq. (9) fails (a coordinate below -1e-9; coordinates in [-1e-9, 0) are set to 0).
+///   Per query and triangle the R^D work is eight dot products (the three corners' frames and
+///   the triangle's two edges with the target minus a corner); Newton's steps are then 2 by 2
+///   arithmetic on twelve residual rows.
+/// - The kernels run in an AVX2 instantiation where the CPU has AVX2 and in a portable one
+///   otherwise (detail/simd.h); both give the same bits.
 
 #include "core/common/types.h"
+#include "core/detail/simd.h"
 #include "core/surface/surface_mesh.h"
 
 #include <vector>
@@ -88,21 +100,22 @@ public:
   const double* vertex(Index v) const noexcept { return E_.data() + v * D_; }
 
 private:
+  friend class WeightedAverages; // its search inlines the projection kernel (detail/phong_kernel.h)
   using RowMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+  const double* data(Index f) const noexcept { return data_.data() + f * kData; }
+  /// Row-major frame of vertex v: t1 (D numbers), then t2.
+  const double* frame(Index v) const noexcept { return frame_rows_.data() + v * 2 * D_; }
+  static constexpr int kData = 56; ///< detail::kPhongData
   int D_ = 0;
   Eigen::MatrixXi F_;
   RowMatrix E_;              ///< #V by D
   Eigen::MatrixXd frames_;   ///< #V by 2D
-  /// Per triangle 14 rows of D: the rows of the seven coefficient matrices C_0..C_6 of the
-  /// cubic numerator (monomials a^2 b, a b^2, b^2 c, b c^2, c^2 a, c a^2, a b c).
-  RowMatrix C_;              ///< (14 #F) by D
-  /// Per triangle 14 by 3: each coefficient row dotted with the three embedded corners.
-  RowMatrix CV_;             ///< (14 #F) by 3
-  std::vector<double> scale_; ///< per triangle: its longest embedded edge
-  /// Per triangle: e1 = v1 - v3 and e2 = v2 - v3 (2 rows of D), and (G^-1 entries, e1.v3, e2.v3)
-  /// with G the Gram matrix of e1, e2: the Euclidean projection onto the triangle's plane.
-  RowMatrix edges_;           ///< (2 #F) by D
-  RowMatrix gram_;            ///< #F by 5: G^-1(0,0), G^-1(0,1), G^-1(1,1), e1.v3, e2.v3
+  std::vector<double, detail::AlignedAllocator<double>> frame_rows_; ///< frames_, row-major
+  /// Per triangle kData numbers (detail::PhongData): the rows C_r of A1..A6 (r = 2 m + i, the
+  /// coefficient matrices of Psi other than B = (A1 + ... + A6) / 2) dotted with e1 = v1 - v3 and
+  /// e2 = v2 - v3; the 2 by 2 matrices M_m with A_m = M_m T_k (by column); G^-1 of e1, e2 (the
+  /// Euclidean projection onto the triangle's plane); the longest embedded edge.
+  std::vector<double, detail::AlignedAllocator<double>> data_; ///< #F kData
 };
 
 } // namespace bary

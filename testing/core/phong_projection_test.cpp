@@ -1,5 +1,6 @@
 // Tests of core/surface/phong_projection: the five properties of Panozzo et al. 2013 §3.2, the
 // continuity of the interpolated tangent planes, and the tangent frames.
+#include "core/detail/simd.h"
 #include "core/surface/phong_projection.h"
 #include "error_matchers.h"
 #include "surface_catalogue.h"
@@ -259,6 +260,47 @@ TEST(PhongProjection, PreimagesAreAffine)
       ASSERT_TRUE(phong.project(f, y.data(), found));
       EXPECT_LT((found - xi).cwiseAbs().maxCoeff(), 1e-9);
     }
+  }
+}
+
+// The AVX2 kernel and the portable one give the same bits, converged or not (points near and
+// off the surface, starts anywhere in the triangle, D = 3 and D = 8).
+TEST(PhongProjection, InstructionSetsGiveTheSameResults)
+{
+  if (detail::supported_simd_level() != detail::SimdLevel::AVX2)
+    GTEST_SKIP() << "this CPU has no AVX2: only the portable kernel runs";
+  std::mt19937 rng(9);
+  std::uniform_real_distribution<double> u(0, 1);
+  std::normal_distribution<double> g;
+  for (const auto& c : cases())
+  {
+    const SurfaceMesh m(c.surface.V, c.surface.F);
+    const Eigen::MatrixXd E = c.lift ? test::lift8(m.V) : m.V;
+    const PhongProjection phong(m, E);
+    int converged = 0;
+    for (int t = 0; t < 2000; ++t)
+    {
+      const Index f = static_cast<Index>(u(rng) * m.face_count());
+      Eigen::Vector3d xi(u(rng), u(rng), u(rng)), start(u(rng), u(rng), u(rng));
+      xi /= xi.sum();
+      start /= start.sum();
+      Eigen::VectorXd y(E.cols());
+      phong.position(f, xi, y.data());
+      for (Index d = 0; d < y.size(); ++d)
+        y(d) += (t % 2 ? 0.3 : 3.0) * m.mean_edge_length * g(rng);
+      Eigen::Vector3d a, b;
+      detail::set_simd_level(detail::SimdLevel::AVX2);
+      const bool ok_a = phong.project(f, y.data(), a, start);
+      detail::set_simd_level(detail::SimdLevel::Portable);
+      const bool ok_b = phong.project(f, y.data(), b, start);
+      detail::set_simd_level(detail::supported_simd_level());
+      EXPECT_EQ(ok_a, ok_b) << c.name << " face " << f;
+      EXPECT_TRUE(a == b || (a.hasNaN() && b.hasNaN())) << c.name << " face " << f;
+      converged += ok_a;
+    }
+    // both outcomes are compared
+    EXPECT_GT(converged, 300) << c.name;
+    EXPECT_LT(converged, 1700) << c.name;
   }
 }
 

@@ -1,0 +1,329 @@
+#pragma once
+/// @file detail/phong_kernel.h
+/// The per-query kernels of Phong projection (core/surface/phong_projection.h): the projection
+/// onto one triangle and the interpolated tangent basis Psi, shared by PhongProjection and the
+/// forward and inverse problems (core/surface/weighted_averages.cpp), which inline them into
+/// their portable and AVX2 functions (detail/simd.h). No allocation, never throws.
+///
+/// Every coefficient matrix of Psi on a triangle (v1, v2, v3) is a 2 by 2 matrix times a vertex
+/// frame: A1 = M1 T1, A2 = M2 T2, A3 = M3 T2, A4 = M4 T3, A5 = M5 T3, A6 = M6 T1 with
+/// M1 = E12 R12, M2 = E12, M3 = E23 R23, M4 = E23, M5 = E31 R31, M6 = E31 (Eq. 11-12), and
+/// B = (A1 + ... + A6) / 2. So the R^D work of a query on a triangle is eight dot products
+/// (the three frames' rows and the edges e1 = v1 - v3, e2 = v2 - v3 with y - v3), and a triangle
+/// stores kPhongData numbers (PhongData); the frames are stored once per vertex (#V by 2 D,
+/// row-major: t1 then t2).
+///
+/// With the rows r = 2 m + i (m = 0..5: A1..A6, i: the row of the matrix) and
+/// mu_m = mono_m + mono_6 / 2 (B's monomial a b c shared out), the residual of Eq. (7) before
+/// the blend is G = sum_r mu_m(r) C_r (x - y), x the point of the triangle: twelve rows, not
+/// fourteen. With w = y - v3 and x - v3 = a e1 + b e2, C_r (x - y) = a C_r e1 + b C_r e2 - C_r w.
+
+#include "core/detail/simd.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace bary::detail
+{
+
+inline constexpr int kPhongRows = 12;
+inline constexpr int kPhongData = 56;
+inline constexpr int kPhongMaxIterations = 30;
+
+/// Offsets into a triangle's kPhongData numbers.
+struct PhongData
+{
+  static constexpr int q1 = 0;      ///< C_r e1, 12 rows
+  static constexpr int q2 = 12;     ///< C_r e2
+  static constexpr int col0 = 24;   ///< column 0 of M_m, rows 2 m + i: M_m(i, 0)
+  static constexpr int col1 = 36;   ///< column 1: M_m(i, 1)
+  static constexpr int gram = 48;   ///< G^-1 (00, 01, 11) of e1, e2
+  static constexpr int scale = 51;  ///< the longest edge
+};
+
+/// Newton's stopping rule (barycentric units). The iteration stops when its last step is below
+/// kPhongStepTolerance, or when the step it would take next, predicted from the last two
+/// (|step_k|^2 / |step_{k-1}|: Newton's rate, also where convergence is only linear, near a corner
+/// of the triangle), is below kPhongPredictedTolerance.
+inline constexpr double kPhongStepTolerance = 1e-13;
+inline constexpr double kPhongPredictedTolerance = 1e-10;
+
+/// out[0..4) = the sums of the lanes of a, b, c, d: ((lane 0 + lane 1) + (lane 2 + lane 3)).
+BARY_ALWAYS_INLINE void lane_sums(const v4d& a, const v4d& b, const v4d& c, const v4d& d, double* out)
+{
+#if defined(__clang__)
+  const v4d ab = __builtin_shufflevector(a, b, 0, 4, 2, 6) + __builtin_shufflevector(a, b, 1, 5, 3, 7);
+  const v4d cd = __builtin_shufflevector(c, d, 0, 4, 2, 6) + __builtin_shufflevector(c, d, 1, 5, 3, 7);
+  BARY_STORE4(out, __builtin_shufflevector(ab, cd, 0, 1, 4, 5) + __builtin_shufflevector(ab, cd, 2, 3, 6, 7));
+#elif defined(__GNUC__)
+  typedef long long v4i __attribute__((vector_size(32)));
+  const v4d ab = __builtin_shuffle(a, b, v4i{ 0, 4, 2, 6 }) + __builtin_shuffle(a, b, v4i{ 1, 5, 3, 7 });
+  const v4d cd = __builtin_shuffle(c, d, v4i{ 0, 4, 2, 6 }) + __builtin_shuffle(c, d, v4i{ 1, 5, 3, 7 });
+  BARY_STORE4(out, __builtin_shuffle(ab, cd, v4i{ 0, 1, 4, 5 }) + __builtin_shuffle(ab, cd, v4i{ 2, 3, 6, 7 }));
+#else
+  const v4d* v[4] = { &a, &b, &c, &d };
+  for (int k = 0; k < 4; ++k)
+    out[k] = ((*v[k])[0] + (*v[k])[1]) + ((*v[k])[2] + (*v[k])[3]);
+#endif
+}
+
+/// The eight dot products of a query with a triangle: out = (T1 w, T2 w, T3 w, e1 w, e2 w) (2 +
+/// 2 + 2 + 1 + 1 numbers) with w = y - v3, T_k the corners' frames (2 D numbers each), e1 =
+/// v1 - v3, e2 = v2 - v3. For D a multiple of 4, four coordinates at a time, then lane_sums;
+/// otherwise in order of d.
+template<int kD>
+BARY_ALWAYS_INLINE void phong_dots(const double* T1, const double* T2, const double* T3,
+  const double* v1, const double* v2, const double* v3, int D, const double* y, double* out)
+{
+  const int n = kD > 0 ? kD : D;
+  if (n % 4 == 0)
+  {
+    const v4d zero = { 0, 0, 0, 0 };
+    v4d s[8] = { zero, zero, zero, zero, zero, zero, zero, zero };
+    for (int d = 0; d < n; d += 4)
+    {
+      const v4d p3 = BARY_LOAD4(v3 + d);
+      const v4d w = BARY_LOAD4(y + d) - p3;
+      s[0] += BARY_LOAD4(T1 + d) * w;
+      s[1] += BARY_LOAD4(T1 + n + d) * w;
+      s[2] += BARY_LOAD4(T2 + d) * w;
+      s[3] += BARY_LOAD4(T2 + n + d) * w;
+      s[4] += BARY_LOAD4(T3 + d) * w;
+      s[5] += BARY_LOAD4(T3 + n + d) * w;
+      s[6] += (BARY_LOAD4(v1 + d) - p3) * w;
+      s[7] += (BARY_LOAD4(v2 + d) - p3) * w;
+    }
+    lane_sums(s[0], s[1], s[2], s[3], out);
+    lane_sums(s[4], s[5], s[6], s[7], out + 4);
+    return;
+  }
+  for (int k = 0; k < 8; ++k)
+    out[k] = 0.0;
+  for (int d = 0; d < n; ++d)
+  {
+    const double w = y[d] - v3[d];
+    out[0] += T1[d] * w;
+    out[1] += T1[n + d] * w;
+    out[2] += T2[d] * w;
+    out[3] += T2[n + d] * w;
+    out[4] += T3[d] * w;
+    out[5] += T3[n + d] * w;
+    out[6] += (v1[d] - v3[d]) * w;
+    out[7] += (v2[d] - v3[d]) * w;
+  }
+}
+
+/// Phong projection of y onto one triangle from its dot products (phong_dots) and its
+/// kPhongData numbers. Newton starts at (a0, b0) (barycentric coordinates of v1 and v2), or at
+/// the Euclidean projection of y onto the triangle's plane when @p euclidean_start. Returns true
+/// and the barycentric coordinates in @p xi when Newton converges to a point of the triangle,
+/// else false (xi: the last iterate). See phong_projection.h for the iteration.
+BARY_ALWAYS_INLINE bool phong_newton(
+  const double* dots, const double* data, bool euclidean_start, double a0, double b0, double* xi)
+{
+  const double* gi = data + PhongData::gram;
+  if (euclidean_start)
+  {
+    a0 = gi[0] * dots[6] + gi[1] * dots[7];
+    b0 = gi[1] * dots[6] + gi[2] * dots[7];
+  }
+  // C_r w = M_m (T_k w): rows of A1 (T1), A2 (T2), A3 (T2), A4 (T3), A5 (T3), A6 (T1).
+  const v4d q1[3] = { BARY_LOAD4(data + PhongData::q1), BARY_LOAD4(data + PhongData::q1 + 4),
+    BARY_LOAD4(data + PhongData::q1 + 8) };
+  const v4d q2[3] = { BARY_LOAD4(data + PhongData::q2), BARY_LOAD4(data + PhongData::q2 + 4),
+    BARY_LOAD4(data + PhongData::q2 + 8) };
+  v4d pw[3];
+  {
+    const double* c0 = data + PhongData::col0;
+    const double* c1 = data + PhongData::col1;
+    const double t10 = dots[0], t11 = dots[1], t20 = dots[2], t21 = dots[3], t30 = dots[4],
+                 t31 = dots[5];
+    pw[0] = BARY_LOAD4(c0) * v4d{ t10, t10, t20, t20 } + BARY_LOAD4(c1) * v4d{ t11, t11, t21, t21 };
+    pw[1] = BARY_LOAD4(c0 + 4) * v4d{ t20, t20, t30, t30 } +
+      BARY_LOAD4(c1 + 4) * v4d{ t21, t21, t31, t31 };
+    pw[2] = BARY_LOAD4(c0 + 8) * v4d{ t30, t30, t10, t10 } +
+      BARY_LOAD4(c1 + 8) * v4d{ t31, t31, t11, t11 };
+  }
+  const double residual_tolerance = 1e-14 * data[PhongData::scale];
+  const double tolerance2 = residual_tolerance * residual_tolerance;
+  // Start inside the triangle (the blend's denominator vanishes at the corners).
+  double a = std::clamp(a0, 0.02, 0.96), b = std::clamp(b0, 0.02, 0.96);
+  if (a + b > 0.98)
+  {
+    const double excess = (a + b - 0.98) / 2;
+    a -= excess;
+    b -= excess;
+  }
+  double last_step = 0; // no prediction before the second step
+  for (int it = 0; it < kPhongMaxIterations; ++it)
+  {
+    const double c = 1.0 - a - b;
+    const double s = a * b + b * c + c * a;
+    // g_r = C_r (x(a, b) - y): the residual rows before the blend.
+    v4d g[3];
+    for (int j = 0; j < 3; ++j)
+      g[j] = (q1[j] * a + q2[j] * b) - pw[j];
+    if (!(std::abs(s) > 1e-24))
+    {
+      // At (or within rounding of) a corner k, where Psi is the corner's basis: accept the
+      // corner when y - v_k is orthogonal to it (Property 3). The corner's basis is A1 at v1,
+      // A3 at v2, A5 at v3 (rows 4 k, 4 k + 1); its residual at the corner is
+      // C (v_k - y) = C e_k - C w (e_3 = 0).
+      const int k = a >= b && a >= c ? 0 : b >= c ? 1 : 2;
+      double r[4];
+      const v4d zero = { 0, 0, 0, 0 };
+      const v4d corner = k == 0 ? q1[0] - pw[0] : k == 1 ? q2[1] - pw[1] : zero - pw[2];
+      BARY_STORE4(r, corner);
+      if (std::hypot(r[0], r[1]) > 1e3 * residual_tolerance)
+        break;
+      xi[0] = xi[1] = xi[2] = 0.0;
+      xi[k] = 1.0;
+      return true;
+    }
+    // Monomials (B's a b c shared out among A1..A6) and their derivatives along a and b with
+    // c = 1 - a - b (d/da - d/dc, d/db - d/dc).
+    const double ab = a * b, bc = b * c, ca = c * a, aa = a * a, bb = b * b, cc = c * c;
+    const double h = 0.5 * (ab * c), ha = 0.5 * (bc - ab), hb = 0.5 * (ca - ab);
+    const double m[6] = { aa * b + h, a * bb + h, bb * c + h, b * cc + h, cc * a + h, c * aa + h };
+    const double ma[6] = { 2 * ab + ha, bb + ha, -bb + ha, -2 * bc + ha, (cc - 2 * ca) + ha,
+      (2 * ca - aa) + ha };
+    const double mb[6] = { aa + hb, 2 * ab + hb, (2 * bc - bb) + hb, (cc - 2 * bc) + hb,
+      -2 * ca + hb, -aa + hb };
+    v4d G0 = { 0, 0, 0, 0 }, Ga = G0, Gb = G0;
+    for (int j = 0; j < 3; ++j)
+    {
+      const v4d mj = { m[2 * j], m[2 * j], m[2 * j + 1], m[2 * j + 1] };
+      const v4d maj = { ma[2 * j], ma[2 * j], ma[2 * j + 1], ma[2 * j + 1] };
+      const v4d mbj = { mb[2 * j], mb[2 * j], mb[2 * j + 1], mb[2 * j + 1] };
+      G0 += mj * g[j];
+      Ga += maj * g[j] + mj * q1[j];
+      Gb += mbj * g[j] + mj * q2[j];
+    }
+    // Lanes (0, 2) hold row 0 of the blend, lanes (1, 3) row 1.
+    double sums[3][4];
+    BARY_STORE4(sums[0], G0);
+    BARY_STORE4(sums[1], Ga);
+    BARY_STORE4(sums[2], Gb);
+    const double G[2] = { sums[0][0] + sums[0][2], sums[0][1] + sums[0][3] };
+    const double GA[2] = { sums[1][0] + sums[1][2], sums[1][1] + sums[1][3] };
+    const double GB[2] = { sums[2][0] + sums[2][2], sums[2][1] + sums[2][3] };
+    // Newton on H = G / s (the same roots in the triangle, well scaled near its corners):
+    // J_H = M / s^2 with M = s J_G - G grad(s)^T, so the step is -s M^-1 G.
+    const double sa = c - a, sb = c - b;
+    const double M00 = s * GA[0] - G[0] * sa, M01 = s * GB[0] - G[0] * sb;
+    const double M10 = s * GA[1] - G[1] * sa, M11 = s * GB[1] - G[1] * sb;
+    const double det = M00 * M11 - M01 * M10;
+    if (!(std::abs(det) > 0) || !(std::abs(det) < std::numeric_limits<double>::infinity()))
+      break;
+    const double f = -s / det;
+    const double da = f * (M11 * G[0] - M01 * G[1]);
+    const double db = f * (M00 * G[1] - M10 * G[0]);
+    if (!std::isfinite(da) || !std::isfinite(db))
+      break;
+    a += da;
+    b += db;
+    // Converged: the step is at rounding level, the next one is predicted to be, or the
+    // residual |H| = |G| / s was (near a corner, where Psi's limit depends on the direction,
+    // Newton converges only linearly).
+    const double step = std::abs(da) + std::abs(db);
+    if (step < kPhongStepTolerance || step * step < kPhongPredictedTolerance * last_step ||
+      G[0] * G[0] + G[1] * G[1] <= tolerance2 * (s * s))
+    {
+      double x[3] = { a, b, 1.0 - a - b };
+      constexpr double tolerance = 1e-9;
+      if (x[0] < -tolerance || x[1] < -tolerance || x[2] < -tolerance)
+      {
+        xi[0] = x[0];
+        xi[1] = x[1];
+        xi[2] = x[2];
+        return false;
+      }
+      for (double& v : x)
+        v = std::max(v, 0.0);
+      const double sum = x[0] + x[1] + x[2];
+      xi[0] = x[0] / sum;
+      xi[1] = x[1] / sum;
+      xi[2] = x[2] / sum;
+      return true;
+    }
+    last_step = step;
+    // Far outside the triangle: no projection here (Eq. 9 cannot hold).
+    if (std::abs(a) > 1e3 || std::abs(b) > 1e3)
+      break;
+  }
+  xi[0] = a;
+  xi[1] = b;
+  xi[2] = 1.0 - a - b;
+  return false;
+}
+
+/// Phong projection of @p y onto a triangle: its data, its corners' frames and positions;
+/// Newton from (a0, b0) or from the Euclidean projection.
+template<int kD>
+BARY_ALWAYS_INLINE bool phong_project(const double* data, const double* T1, const double* T2,
+  const double* T3, const double* v1, const double* v2, const double* v3, int D, const double* y,
+  bool euclidean_start, double a0, double b0, double* xi)
+{
+  double dots[8];
+  phong_dots<kD>(T1, T2, T3, v1, v2, v3, D, y, dots);
+  return phong_newton(dots, data, euclidean_start, a0, b0, xi);
+}
+
+/// The interpolated tangent basis Psi(a, b, c) of a triangle (its data and corners' frames):
+/// 2 D numbers into @p out (row 0, then row 1), N1 T1 + N2 T2 + N3 T3 with the 2 by 2 matrices
+/// N1 = k1 M1 + k6 M6, N2 = k2 M2 + k3 M3, N3 = k4 M4 + k5 M5 (k_m = mono_m / s + abc / (2 s)).
+/// At a corner (the blend's denominator below 1e-300) the corner's basis (A1, A3 or A5).
+template<int kD>
+BARY_ALWAYS_INLINE void phong_psi(const double* data, const double* T1, const double* T2,
+  const double* T3, int D, double a, double b, double c, double* out)
+{
+  const int n = kD > 0 ? kD : D;
+  const double s = a * b + b * c + c * a;
+  double k[6];
+  if (!(s > 1e-300))
+  {
+    const int corner = a >= b && a >= c ? 0 : b >= c ? 2 : 4;
+    for (int m = 0; m < 6; ++m)
+      k[m] = m == corner ? 1.0 : 0.0;
+  }
+  else
+  {
+    const double h = 0.5 * (a * b * c / s);
+    const double mono[6] = { a * a * b, a * b * b, b * b * c, b * c * c, c * c * a, c * a * a };
+    for (int m = 0; m < 6; ++m)
+      k[m] = mono[m] / s + h;
+  }
+  const double* c0 = data + PhongData::col0;
+  const double* c1 = data + PhongData::col1;
+  // N_k(i, j) for the frames T1 (A1, A6), T2 (A2, A3), T3 (A4, A5).
+  double N[3][2][2];
+  const int pairs[3][2] = { { 0, 5 }, { 1, 2 }, { 3, 4 } };
+  for (int t = 0; t < 3; ++t)
+    for (int i = 0; i < 2; ++i)
+    {
+      const int m0 = pairs[t][0], m1 = pairs[t][1];
+      N[t][i][0] = k[m0] * c0[2 * m0 + i] + k[m1] * c0[2 * m1 + i];
+      N[t][i][1] = k[m0] * c1[2 * m0 + i] + k[m1] * c1[2 * m1 + i];
+    }
+  const double* T[3] = { T1, T2, T3 };
+  int d = 0;
+  for (; d + 4 <= n; d += 4)
+    for (int i = 0; i < 2; ++i)
+    {
+      v4d acc = BARY_LOAD4(T[0] + d) * N[0][i][0] + BARY_LOAD4(T[0] + n + d) * N[0][i][1];
+      for (int t = 1; t < 3; ++t)
+        acc += BARY_LOAD4(T[t] + d) * N[t][i][0] + BARY_LOAD4(T[t] + n + d) * N[t][i][1];
+      BARY_STORE4(out + i * n + d, acc);
+    }
+  for (; d < n; ++d)
+    for (int i = 0; i < 2; ++i)
+    {
+      double acc = T[0][d] * N[0][i][0] + T[0][n + d] * N[0][i][1];
+      for (int t = 1; t < 3; ++t)
+        acc += T[t][d] * N[t][i][0] + T[t][n + d] * N[t][i][1];
+      out[i * n + d] = acc;
+    }
+}
+
+} // namespace bary::detail

@@ -1,0 +1,272 @@
+#pragma once
+/// @file detail/simd.h
+/// Runtime choice of an instruction set for core's hot per-query kernels (weighted averages on
+/// surfaces): the build has no -march flag, so a kernel is written once as an always-inline
+/// template of plain loops over contiguous, structure-of-arrays data (which the compiler
+/// vectorises without reordering any sum) and instantiated twice, in a function compiled for
+/// AVX2 (BARY_TARGET_AVX2) and in a portable one; simd_level() picks one per call. Both run the
+/// same IEEE operations in the same order (no FMA: C++17 mode does not contract a * b + c, and
+/// the AVX2 functions do not enable FMA), so they give the same bits; the portable path is the
+/// reference and what non-x86 or pre-AVX2 machines run.
+
+#include <algorithm>
+#include <atomic>
+#include <cstddef>
+#include <cstdlib>
+#include <cstring>
+#include <limits>
+#include <new>
+
+#if defined(__GNUC__) && (defined(__x86_64__) || defined(__i386__))
+#define BARY_HAVE_AVX2_DISPATCH 1
+/// Compiles a function for AVX2 (it must only run where simd_level() says so).
+#define BARY_TARGET_AVX2 __attribute__((target("avx2")))
+#else
+#define BARY_HAVE_AVX2_DISPATCH 0
+#define BARY_TARGET_AVX2
+#endif
+
+#if defined(__GNUC__)
+/// Inlined into its caller, so a kernel is compiled for the caller's instruction set.
+#define BARY_ALWAYS_INLINE inline __attribute__((always_inline))
+#else
+#define BARY_ALWAYS_INLINE inline
+#endif
+
+namespace bary::detail
+{
+
+/// Instruction sets of the dispatched kernels.
+enum class SimdLevel : int
+{
+  Portable = 0, ///< whatever the build's flags allow (SSE2 on x86-64)
+  AVX2 = 1      ///< 256-bit vectors (four doubles), chosen at run time
+};
+
+/// The best level this CPU runs (AVX2 needs the CPU and the operating system to support it).
+inline SimdLevel supported_simd_level()
+{
+#if BARY_HAVE_AVX2_DISPATCH
+  static const SimdLevel level = [] {
+    __builtin_cpu_init();
+    return __builtin_cpu_supports("avx2") ? SimdLevel::AVX2 : SimdLevel::Portable;
+  }();
+  return level;
+#else
+  return SimdLevel::Portable;
+#endif
+}
+
+namespace simd_internal
+{
+/// -1: not chosen yet; otherwise the level in use.
+inline std::atomic<int> chosen{ -1 };
+} // namespace simd_internal
+
+/// The level the kernels use: the supported one, unless the environment variable BARYLAB_SIMD
+/// is "0" or "portable" (then Portable), or set_simd_level chose a lower one.
+inline SimdLevel simd_level()
+{
+  int level = simd_internal::chosen.load(std::memory_order_relaxed);
+  if (level < 0)
+  {
+    level = static_cast<int>(supported_simd_level());
+    if (const char* env = std::getenv("BARYLAB_SIMD"))
+      if (std::strcmp(env, "0") == 0 || std::strcmp(env, "portable") == 0)
+        level = static_cast<int>(SimdLevel::Portable);
+    simd_internal::chosen.store(level, std::memory_order_relaxed);
+  }
+  return static_cast<SimdLevel>(level);
+}
+
+/// Chooses the kernels' level (at most the supported one; for tests and benchmarks that compare
+/// the paths). Returns the level now in use. Not meant to be called while kernels run.
+inline SimdLevel set_simd_level(SimdLevel level)
+{
+  const int used = std::min(static_cast<int>(level), static_cast<int>(supported_simd_level()));
+  simd_internal::chosen.store(used, std::memory_order_relaxed);
+  return static_cast<SimdLevel>(used);
+}
+
+/// A std::allocator that aligns to 64 bytes (a cache line, an AVX-512 vector): the kernels'
+/// blocks then never straddle a line.
+template<class T>
+struct AlignedAllocator
+{
+  using value_type = T;
+  static constexpr std::align_val_t alignment{ 64 };
+  AlignedAllocator() noexcept = default;
+  template<class U>
+  AlignedAllocator(const AlignedAllocator<U>&) noexcept
+  {
+  }
+  T* allocate(std::size_t n)
+  {
+    if (n > std::numeric_limits<std::size_t>::max() / sizeof(T))
+      throw std::bad_array_new_length();
+    return static_cast<T*>(::operator new(n * sizeof(T), alignment));
+  }
+  void deallocate(T* p, std::size_t) noexcept { ::operator delete(p, alignment); }
+  template<class U>
+  bool operator==(const AlignedAllocator<U>&) const noexcept
+  {
+    return true;
+  }
+  template<class U>
+  bool operator!=(const AlignedAllocator<U>&) const noexcept
+  {
+    return false;
+  }
+};
+
+/// The kernels' vectors: four doubles (v4d) and eight floats (v8f), 32 bytes each. GCC / Clang
+/// vector extensions (one AVX register in an AVX2 function, two SSE2 registers in a portable
+/// one; the operations are element-wise IEEE operations either way), or a plain struct
+/// elsewhere. Loads and stores through BARY_LOAD4 / BARY_STORE4 (doubles) and BARY_LOAD8F /
+/// BARY_STORE8F (floats), any alignment of the element type. Kernels keep vectors in local
+/// variables (never as a parameter or return value, whose ABI differs between the two
+/// instruction sets).
+#if defined(__GNUC__)
+typedef double v4d __attribute__((vector_size(32)));
+typedef double v4d_unaligned __attribute__((vector_size(32), aligned(8), may_alias));
+typedef float v8f __attribute__((vector_size(32)));
+typedef float v8f_unaligned __attribute__((vector_size(32), aligned(4), may_alias));
+typedef int v8i __attribute__((vector_size(32)));
+typedef int v8i_unaligned __attribute__((vector_size(32), aligned(4), may_alias));
+#define BARY_LOAD4(p) (*reinterpret_cast<const ::bary::detail::v4d_unaligned*>(p))
+#define BARY_STORE4(p, v) (*reinterpret_cast<::bary::detail::v4d_unaligned*>(p) = (v))
+#define BARY_LOAD8F(p) (*reinterpret_cast<const ::bary::detail::v8f_unaligned*>(p))
+#define BARY_STORE8F(p, v) (*reinterpret_cast<::bary::detail::v8f_unaligned*>(p) = (v))
+#define BARY_LOAD8I(p) (*reinterpret_cast<const ::bary::detail::v8i_unaligned*>(p))
+#define BARY_STORE8I(p, v) (*reinterpret_cast<::bary::detail::v8i_unaligned*>(p) = (v))
+/// Element-wise choice: lanes of a where mask m (a comparison's result) is set, else of b.
+#define BARY_SELECT(m, a, b) ((m) ? (a) : (b))
+#else
+template<class T, int N>
+struct Vector
+{
+  T x[N];
+  T& operator[](int i) { return x[i]; }
+  T operator[](int i) const { return x[i]; }
+#define BARY_VECTOR_OP(op)                                                                     \
+  friend Vector operator op(Vector a, const Vector& b)                                         \
+  {                                                                                            \
+    for (int i = 0; i < N; ++i)                                                                \
+      a.x[i] = a.x[i] op b.x[i];                                                               \
+    return a;                                                                                  \
+  }                                                                                            \
+  friend Vector operator op(Vector a, T b)                                                     \
+  {                                                                                            \
+    for (int i = 0; i < N; ++i)                                                                \
+      a.x[i] = a.x[i] op b;                                                                    \
+    return a;                                                                                  \
+  }                                                                                            \
+  Vector& operator op##=(const Vector& b) { return *this = *this op b; }
+  BARY_VECTOR_OP(+)
+  BARY_VECTOR_OP(-)
+  BARY_VECTOR_OP(*)
+  BARY_VECTOR_OP(/)
+#undef BARY_VECTOR_OP
+#define BARY_VECTOR_CMP(op)                                                                    \
+  friend Vector<int, N> operator op(const Vector& a, const Vector& b)                          \
+  {                                                                                            \
+    Vector<int, N> m;                                                                          \
+    for (int i = 0; i < N; ++i)                                                                \
+      m.x[i] = a.x[i] op b.x[i] ? -1 : 0;                                                      \
+    return m;                                                                                  \
+  }
+  BARY_VECTOR_CMP(<)
+  BARY_VECTOR_CMP(>)
+#undef BARY_VECTOR_CMP
+  static Vector load(const T* p)
+  {
+    Vector v;
+    for (int i = 0; i < N; ++i)
+      v.x[i] = p[i];
+    return v;
+  }
+  void store(T* p) const
+  {
+    for (int i = 0; i < N; ++i)
+      p[i] = x[i];
+  }
+};
+using v4d = Vector<double, 4>;
+using v8f = Vector<float, 8>;
+using v8i = Vector<int, 8>;
+template<class M, class V>
+V select(const M& m, const V& a, const V& b)
+{
+  V r;
+  for (int i = 0; i < static_cast<int>(sizeof(r.x) / sizeof(r.x[0])); ++i)
+    r.x[i] = m.x[i] ? a.x[i] : b.x[i];
+  return r;
+}
+#define BARY_SELECT(m, a, b) (::bary::detail::select((m), (a), (b)))
+#define BARY_LOAD4(p) (::bary::detail::v4d::load(p))
+#define BARY_STORE4(p, v) ((v).store(p))
+#define BARY_LOAD8F(p) (::bary::detail::v8f::load(p))
+#define BARY_STORE8F(p, v) ((v).store(p))
+#define BARY_LOAD8I(p) (::bary::detail::v8i::load(p))
+#define BARY_STORE8I(p, v) ((v).store(p))
+#endif
+
+/// The smallest of eight floats and its lane: a tournament (lanes l and l + 4, then l and l + 2,
+/// then 0 and 1; the later lane wins only when strictly smaller), the same in every instruction
+/// set. @p index: the lanes' labels; the winner's label into @p at.
+BARY_ALWAYS_INLINE void lane_min(const v8f& d, const v8i& index, float& value, int& at)
+{
+#if defined(__GNUC__) && !defined(__clang__)
+  v8f x = d;
+  v8i i = index;
+  {
+    const v8i p = { 4, 5, 6, 7, 0, 1, 2, 3 };
+    const v8f y = __builtin_shuffle(x, p);
+    const v8i j = __builtin_shuffle(i, p);
+    const v8i m = y < x;
+    x = m ? y : x;
+    i = m ? j : i;
+  }
+  {
+    const v8i p = { 2, 3, 0, 1, 6, 7, 4, 5 };
+    const v8f y = __builtin_shuffle(x, p);
+    const v8i j = __builtin_shuffle(i, p);
+    const v8i m = y < x;
+    x = m ? y : x;
+    i = m ? j : i;
+  }
+  const bool second = x[1] < x[0];
+  value = second ? x[1] : x[0];
+  at = second ? i[1] : i[0];
+#else
+  float x[8];
+  int i[8];
+  for (int l = 0; l < 8; ++l)
+  {
+    x[l] = d[l];
+    i[l] = index[l];
+  }
+  for (int half = 4; half >= 1; half /= 2)
+    for (int l = 0; l < half; ++l)
+      if (x[l + half] < x[l])
+      {
+        x[l] = x[l + half];
+        i[l] = i[l + half];
+      }
+  value = x[0];
+  at = i[0];
+#endif
+}
+
+/// r[l] = x[p[l]] for eight lanes (p in [0, 8)).
+BARY_ALWAYS_INLINE void permute8(const v8f& x, const v8i& p, float* r)
+{
+#if defined(__GNUC__) && !defined(__clang__)
+  BARY_STORE8F(r, __builtin_shuffle(x, p));
+#else
+  for (int l = 0; l < 8; ++l)
+    r[l] = x[p[l]];
+#endif
+}
+
+} // namespace bary::detail
