@@ -246,6 +246,9 @@ struct SurfaceWindow::Internals
   vtkNew<vtkRenderer> Renderer;
   vtkNew<vtkRenderer> TargetRenderer;
   vtkNew<vtkCallbackCommand> Callback;
+  vtkNew<vtkPoints> AveragePoint;       ///< the spheres of the averages (moved in place)
+  vtkNew<vtkPoints> TargetAveragePoint;
+  bool SceneBuilt = false;
   int Dragging = -1;
   bool DraggingCurve = false;
 
@@ -861,15 +864,34 @@ void SurfaceWindow::update(int what)
     this->updatePanel();
     return;
   }
+  const bool had_average = this->Average.valid, had_target_average = this->TargetAverage.valid;
   if (what & (AnchorsChanged | WeightsChanged))
     this->updateAverage();
   if (what & (AnchorsChanged | FieldChanged))
     this->updateField();
   if (what & CurveChanged)
     this->updateCurve();
-  if (what & (AnchorsChanged | WeightsChanged | FieldChanged | TargetChanged))
+  if (what & (AnchorsChanged | WeightsChanged | TargetChanged))
+    this->updateTargetAverage();
+  if (what & (AnchorsChanged | FieldChanged | TargetChanged))
     this->updateTarget();
   this->updatePanel();
+  if (what == WeightsChanged && had_average == this->Average.valid &&
+    had_target_average == this->TargetAverage.valid && this->I->SceneBuilt)
+  {
+    // only the averages moved (the fields do not depend on the weights): move their spheres
+    if (this->Average.valid)
+      this->I->AveragePoint->SetPoint(0, this->Average.point);
+    if (this->TargetAverage.valid)
+      this->I->TargetAveragePoint->SetPoint(0, this->TargetAverage.point);
+    this->I->AveragePoint->Modified();
+    this->I->TargetAveragePoint->Modified();
+    this->I->View->renderWindow()->Render();
+    if (this->I->Target)
+      this->I->TargetView->renderWindow()->Render();
+    emit this->sceneUpdated();
+    return;
+  }
   this->updateScene();
 }
 
@@ -994,14 +1016,11 @@ void SurfaceWindow::updateCurve()
   });
 }
 
-void SurfaceWindow::updateTarget()
+void SurfaceWindow::updateTargetAverage()
 {
   this->TargetAverage = SurfaceAverage();
-  this->I->Transferred = nullptr;
-  this->TransferSummary = nlohmann::json::object();
-  if (!this->I->Target || this->anchorCount() == 0)
-    return;
-  if (this->I->TargetAnchors->GetNumberOfPoints() != this->anchorCount())
+  if (!this->I->Target || this->anchorCount() == 0 ||
+    this->I->TargetAnchors->GetNumberOfPoints() != this->anchorCount())
     return; // said in the panel: the anchors no longer correspond
   const std::vector<double> w = this->normalizedWeights();
   if (std::isfinite(w[0]))
@@ -1017,7 +1036,14 @@ void SurfaceWindow::updateTarget()
     if (this->reporting([&]() { RunAlgorithm(f, {}); }))
       this->TargetAverage = read_average(f->GetOutput());
   }
-  if (!this->I->Field)
+}
+
+void SurfaceWindow::updateTarget()
+{
+  this->I->Transferred = nullptr;
+  this->TransferSummary = nlohmann::json::object();
+  if (!this->I->Target || !this->I->Field ||
+    this->I->TargetAnchors->GetNumberOfPoints() != this->anchorCount())
     return;
   vtkBarySurfaceCorrespondence* t = this->I->TransferFilter;
   t->SetInputData(0, this->I->Target);
@@ -1156,9 +1182,12 @@ void SurfaceWindow::drawScene(vtkRenderer* left, vtkRenderer* right)
   const double yellow[3] = { 1.0, 0.8, 0.0 };
   if (this->Average.valid)
   {
-    vtkNew<vtkPoints> p;
+    vtkNew<vtkPoints> p; // the views' sphere follows AveragePoint; a snapshot's is a copy
     p->InsertNextPoint(this->Average.point);
-    AddSpheres(left, p, 0.014 * diag, yellow);
+    vtkPoints* shown = left == this->I->Renderer.Get() ? this->I->AveragePoint.Get() : p.Get();
+    shown->SetNumberOfPoints(1);
+    shown->SetPoint(0, this->Average.point);
+    AddSpheres(left, shown, 0.014 * diag, yellow);
   }
   if (this->I->CurveControls->GetNumberOfPoints() > 0)
   {
@@ -1194,8 +1223,10 @@ void SurfaceWindow::drawScene(vtkRenderer* left, vtkRenderer* right)
   if (this->TargetAverage.valid)
   {
     vtkNew<vtkPoints> p;
-    p->InsertNextPoint(this->TargetAverage.point);
-    AddSpheres(right, p, 0.014 * diagonal(this->I->Target), yellow);
+    vtkPoints* shown = right == this->I->TargetRenderer.Get() ? this->I->TargetAveragePoint.Get() : p.Get();
+    shown->SetNumberOfPoints(1);
+    shown->SetPoint(0, this->TargetAverage.point);
+    AddSpheres(right, shown, 0.014 * diagonal(this->I->Target), yellow);
   }
 }
 
@@ -1204,6 +1235,7 @@ void SurfaceWindow::updateScene()
   if (!this->I->Surface)
     return;
   this->drawScene(this->I->Renderer, this->I->TargetRenderer);
+  this->I->SceneBuilt = true;
   if (this->CameraNeedsReset)
   {
     this->resetCamera();

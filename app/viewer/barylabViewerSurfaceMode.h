@@ -188,6 +188,7 @@ private:
   void updateAverage();
   void updateField();
   void updateCurve();
+  void updateTargetAverage();
   void updateTarget();
   void updateRemesh();
   void updateScene();
