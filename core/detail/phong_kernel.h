@@ -68,6 +68,32 @@ BARY_ALWAYS_INLINE void lane_sums(const v4d& a, const v4d& b, const v4d& c, cons
 #endif
 }
 
+/// out[k] = (p0[k], p1[k], p2[k], p3[k]) for k < 4: four rows of four doubles transposed.
+BARY_ALWAYS_INLINE void transpose4(
+  const double* p0, const double* p1, const double* p2, const double* p3, v4d* out)
+{
+  const v4d a = BARY_LOAD4(p0), b = BARY_LOAD4(p1), c = BARY_LOAD4(p2), d = BARY_LOAD4(p3);
+#if defined(__clang__)
+  const v4d t0 = __builtin_shufflevector(a, b, 0, 4, 2, 6), t1 = __builtin_shufflevector(a, b, 1, 5, 3, 7);
+  const v4d t2 = __builtin_shufflevector(c, d, 0, 4, 2, 6), t3 = __builtin_shufflevector(c, d, 1, 5, 3, 7);
+  out[0] = __builtin_shufflevector(t0, t2, 0, 1, 4, 5);
+  out[1] = __builtin_shufflevector(t1, t3, 0, 1, 4, 5);
+  out[2] = __builtin_shufflevector(t0, t2, 2, 3, 6, 7);
+  out[3] = __builtin_shufflevector(t1, t3, 2, 3, 6, 7);
+#elif defined(__GNUC__)
+  typedef long long v4i __attribute__((vector_size(32)));
+  const v4d t0 = __builtin_shuffle(a, b, v4i{ 0, 4, 2, 6 }), t1 = __builtin_shuffle(a, b, v4i{ 1, 5, 3, 7 });
+  const v4d t2 = __builtin_shuffle(c, d, v4i{ 0, 4, 2, 6 }), t3 = __builtin_shuffle(c, d, v4i{ 1, 5, 3, 7 });
+  out[0] = __builtin_shuffle(t0, t2, v4i{ 0, 1, 4, 5 });
+  out[1] = __builtin_shuffle(t1, t3, v4i{ 0, 1, 4, 5 });
+  out[2] = __builtin_shuffle(t0, t2, v4i{ 2, 3, 6, 7 });
+  out[3] = __builtin_shuffle(t1, t3, v4i{ 2, 3, 6, 7 });
+#else
+  for (int k = 0; k < 4; ++k)
+    out[k] = v4d{ { p0[k], p1[k], p2[k], p3[k] } };
+#endif
+}
+
 /// The eight dot products of a query with a triangle: out = (T1 w, T2 w, T3 w, e1 w, e2 w) (2 +
 /// 2 + 2 + 1 + 1 numbers) with w = y - v3, T_k the corners' frames (2 D numbers each), e1 =
 /// v1 - v3, e2 = v2 - v3. For D a multiple of 4, four coordinates at a time, then lane_sums;
@@ -114,13 +140,13 @@ BARY_ALWAYS_INLINE void phong_dots(const double* T1, const double* T2, const dou
   }
 }
 
-/// Phong projection of y onto one triangle from its dot products (phong_dots) and its
-/// kPhongData numbers. Newton starts at (a0, b0) (barycentric coordinates of v1 and v2), or at
-/// the Euclidean projection of y onto the triangle's plane when @p euclidean_start. Returns true
-/// and the barycentric coordinates in @p xi when Newton converges to a point of the triangle,
-/// else false (xi: the last iterate). See phong_projection.h for the iteration.
-BARY_ALWAYS_INLINE bool phong_newton(
-  const double* dots, const double* data, bool euclidean_start, double a0, double b0, double* xi)
+/// Newton's start and the right-hand side of a triangle: the start (a, b) (the Euclidean
+/// projection of y onto the triangle's plane when @p euclidean_start, else (a0, b0)), clamped
+/// inside the triangle (the blend's denominator vanishes at the corners); the twelve rows
+/// C_r w = M_m (T_k w) into @p pw (rows of A1 (T1), A2 (T2), A3 (T2), A4 (T3), A5 (T3),
+/// A6 (T1)); the squared residual tolerance (1e-14 times the longest edge, squared).
+BARY_ALWAYS_INLINE void phong_setup(const double* dots, const double* data, bool euclidean_start,
+  double a0, double b0, double& a, double& b, double* pw, double& tolerance2)
 {
   const double* gi = data + PhongData::gram;
   if (euclidean_start)
@@ -128,33 +154,67 @@ BARY_ALWAYS_INLINE bool phong_newton(
     a0 = gi[0] * dots[6] + gi[1] * dots[7];
     b0 = gi[1] * dots[6] + gi[2] * dots[7];
   }
-  // C_r w = M_m (T_k w): rows of A1 (T1), A2 (T2), A3 (T2), A4 (T3), A5 (T3), A6 (T1).
-  const v4d q1[3] = { BARY_LOAD4(data + PhongData::q1), BARY_LOAD4(data + PhongData::q1 + 4),
-    BARY_LOAD4(data + PhongData::q1 + 8) };
-  const v4d q2[3] = { BARY_LOAD4(data + PhongData::q2), BARY_LOAD4(data + PhongData::q2 + 4),
-    BARY_LOAD4(data + PhongData::q2 + 8) };
-  v4d pw[3];
-  {
-    const double* c0 = data + PhongData::col0;
-    const double* c1 = data + PhongData::col1;
-    const double t10 = dots[0], t11 = dots[1], t20 = dots[2], t21 = dots[3], t30 = dots[4],
-                 t31 = dots[5];
-    pw[0] = BARY_LOAD4(c0) * v4d{ t10, t10, t20, t20 } + BARY_LOAD4(c1) * v4d{ t11, t11, t21, t21 };
-    pw[1] = BARY_LOAD4(c0 + 4) * v4d{ t20, t20, t30, t30 } +
-      BARY_LOAD4(c1 + 4) * v4d{ t21, t21, t31, t31 };
-    pw[2] = BARY_LOAD4(c0 + 8) * v4d{ t30, t30, t10, t10 } +
-      BARY_LOAD4(c1 + 8) * v4d{ t31, t31, t11, t11 };
-  }
+  const double* c0 = data + PhongData::col0;
+  const double* c1 = data + PhongData::col1;
+  const double t10 = dots[0], t11 = dots[1], t20 = dots[2], t21 = dots[3], t30 = dots[4],
+               t31 = dots[5];
+  BARY_STORE4(pw, BARY_LOAD4(c0) * v4d{ t10, t10, t20, t20 } + BARY_LOAD4(c1) * v4d{ t11, t11, t21, t21 });
+  BARY_STORE4(pw + 4, BARY_LOAD4(c0 + 4) * v4d{ t20, t20, t30, t30 } +
+      BARY_LOAD4(c1 + 4) * v4d{ t21, t21, t31, t31 });
+  BARY_STORE4(pw + 8, BARY_LOAD4(c0 + 8) * v4d{ t30, t30, t10, t10 } +
+      BARY_LOAD4(c1 + 8) * v4d{ t31, t31, t11, t11 });
   const double residual_tolerance = 1e-14 * data[PhongData::scale];
-  const double tolerance2 = residual_tolerance * residual_tolerance;
-  // Start inside the triangle (the blend's denominator vanishes at the corners).
-  double a = std::clamp(a0, 0.02, 0.96), b = std::clamp(b0, 0.02, 0.96);
+  tolerance2 = residual_tolerance * residual_tolerance;
+  a = std::clamp(a0, 0.02, 0.96);
+  b = std::clamp(b0, 0.02, 0.96);
   if (a + b > 0.98)
   {
     const double excess = (a + b - 0.98) / 2;
     a -= excess;
     b -= excess;
   }
+}
+
+/// The end of a converged iteration at (a, b): true and the coordinates in @p xi when the point
+/// is in the triangle (each coordinate >= -1e-9; those in [-1e-9, 0) set to 0, then divided by
+/// their sum), else false and (a, b, 1 - a - b).
+BARY_ALWAYS_INLINE bool phong_finish(double a, double b, double* xi)
+{
+  double x[3] = { a, b, 1.0 - a - b };
+  constexpr double tolerance = 1e-9;
+  if (x[0] < -tolerance || x[1] < -tolerance || x[2] < -tolerance)
+  {
+    xi[0] = x[0];
+    xi[1] = x[1];
+    xi[2] = x[2];
+    return false;
+  }
+  for (double& v : x)
+    v = std::max(v, 0.0);
+  const double sum = x[0] + x[1] + x[2];
+  xi[0] = x[0] / sum;
+  xi[1] = x[1] / sum;
+  xi[2] = x[2] / sum;
+  return true;
+}
+
+/// Phong projection of y onto one triangle from its dot products (phong_dots) and its
+/// kPhongData numbers. Newton starts at (a0, b0) (barycentric coordinates of v1 and v2), or at
+/// the Euclidean projection of y onto the triangle's plane when @p euclidean_start. Returns true
+/// and the barycentric coordinates in @p xi when Newton converges to a point of the triangle,
+/// else false (xi: the last iterate). See phong_projection.h for the iteration; phong_newton4
+/// runs the same operations for four triangles at once.
+BARY_ALWAYS_INLINE bool phong_newton(
+  const double* dots, const double* data, bool euclidean_start, double a0, double b0, double* xi)
+{
+  const v4d q1[3] = { BARY_LOAD4(data + PhongData::q1), BARY_LOAD4(data + PhongData::q1 + 4),
+    BARY_LOAD4(data + PhongData::q1 + 8) };
+  const v4d q2[3] = { BARY_LOAD4(data + PhongData::q2), BARY_LOAD4(data + PhongData::q2 + 4),
+    BARY_LOAD4(data + PhongData::q2 + 8) };
+  double rows[12], a, b, tolerance2;
+  phong_setup(dots, data, euclidean_start, a0, b0, a, b, rows, tolerance2);
+  const v4d pw[3] = { BARY_LOAD4(rows), BARY_LOAD4(rows + 4), BARY_LOAD4(rows + 8) };
+  const double residual_tolerance = 1e-14 * data[PhongData::scale];
   double last_step = 0; // no prediction before the second step
   for (int it = 0; it < kPhongMaxIterations; ++it)
   {
@@ -229,24 +289,7 @@ BARY_ALWAYS_INLINE bool phong_newton(
     const double step = std::abs(da) + std::abs(db);
     if (step < kPhongStepTolerance || step * step < kPhongPredictedTolerance * last_step ||
       G[0] * G[0] + G[1] * G[1] <= tolerance2 * (s * s))
-    {
-      double x[3] = { a, b, 1.0 - a - b };
-      constexpr double tolerance = 1e-9;
-      if (x[0] < -tolerance || x[1] < -tolerance || x[2] < -tolerance)
-      {
-        xi[0] = x[0];
-        xi[1] = x[1];
-        xi[2] = x[2];
-        return false;
-      }
-      for (double& v : x)
-        v = std::max(v, 0.0);
-      const double sum = x[0] + x[1] + x[2];
-      xi[0] = x[0] / sum;
-      xi[1] = x[1] / sum;
-      xi[2] = x[2] / sum;
-      return true;
-    }
+      return phong_finish(a, b, xi);
     last_step = step;
     // Far outside the triangle: no projection here (Eq. 9 cannot hold).
     if (std::abs(a) > 1e3 || std::abs(b) > 1e3)
@@ -256,6 +299,138 @@ BARY_ALWAYS_INLINE bool phong_newton(
   xi[1] = b;
   xi[2] = 1.0 - a - b;
   return false;
+}
+
+/// Four Phong projections at once, one per lane of the vectors (each a triangle and a target:
+/// @p dots[l], @p data[l], Newton from the Euclidean projection): the operations of
+/// phong_newton in the same order, so each lane gives phong_newton's bits, while the four
+/// iterations' latencies overlap. @p status[l] on return: 1 converged in the triangle (its
+/// coordinates in @p xi[l]), 0 no projection, -1 a corner was reached (rare: run phong_newton
+/// for that lane). Lanes with @p active[l] false are ignored (status 0).
+BARY_ALWAYS_INLINE void phong_newton4(const double* const* dots, const double* const* data,
+  const bool* active, int* status, double (*xi)[3])
+{
+  int first = -1;
+  for (int l = 0; l < 4; ++l)
+  {
+    status[l] = 0;
+    if (active[l] && first < 0)
+      first = l;
+  }
+  if (first < 0)
+    return;
+  // Per lane: the start and the rows; then transposed (vector r holds row r of the four lanes).
+  double start_a[4], start_b[4], tol[4], pw[4][12];
+  const double* q[4];
+  for (int l = 0; l < 4; ++l)
+  {
+    const int k = active[l] ? l : first; // an idle lane repeats an active one
+    phong_setup(dots[k], data[k], true, 0.0, 0.0, start_a[l], start_b[l], pw[l], tol[l]);
+    q[l] = data[k];
+  }
+  v4d Q1[12], Q2[12], PW[12];
+  for (int j = 0; j < 3; ++j)
+  {
+    transpose4(q[0] + PhongData::q1 + 4 * j, q[1] + PhongData::q1 + 4 * j,
+      q[2] + PhongData::q1 + 4 * j, q[3] + PhongData::q1 + 4 * j, Q1 + 4 * j);
+    transpose4(q[0] + PhongData::q2 + 4 * j, q[1] + PhongData::q2 + 4 * j,
+      q[2] + PhongData::q2 + 4 * j, q[3] + PhongData::q2 + 4 * j, Q2 + 4 * j);
+    transpose4(pw[0] + 4 * j, pw[1] + 4 * j, pw[2] + 4 * j, pw[3] + 4 * j, PW + 4 * j);
+  }
+  const v4d zero = { 0, 0, 0, 0 }, one = { 1, 1, 1, 1 };
+  const v4d tolerance2 = { tol[0], tol[1], tol[2], tol[3] };
+  v4d a = { start_a[0], start_a[1], start_a[2], start_a[3] };
+  v4d b = { start_b[0], start_b[1], start_b[2], start_b[3] };
+  v4d last_step = zero;
+  bool running[4] = { active[0], active[1], active[2], active[3] };
+  int left = static_cast<int>(running[0]) + running[1] + running[2] + running[3];
+  for (int it = 0; it < kPhongMaxIterations && left > 0; ++it)
+  {
+    const v4d c = (one - a) - b;
+    const v4d s = (a * b + b * c) + c * a;
+    v4d g[12];
+    for (int r = 0; r < 12; ++r)
+      g[r] = (Q1[r] * a + Q2[r] * b) - PW[r];
+    const v4d ab = a * b, bc = b * c, ca = c * a, aa = a * a, bb = b * b, cc = c * c;
+    const v4d h = (ab * c) * 0.5, ha = (bc - ab) * 0.5, hb = (ca - ab) * 0.5;
+    const v4d two = { 2, 2, 2, 2 };
+    const v4d m[6] = { aa * b + h, a * bb + h, bb * c + h, b * cc + h, cc * a + h, c * aa + h };
+    const v4d ma[6] = { two * ab + ha, bb + ha, (zero - bb) + ha, (zero - two * bc) + ha,
+      (cc - two * ca) + ha, (two * ca - aa) + ha };
+    const v4d mb[6] = { aa + hb, two * ab + hb, (two * bc - bb) + hb, (cc - two * bc) + hb,
+      (zero - two * ca) + hb, (zero - aa) + hb };
+    // Position p of phong_newton's vectors: rows 4 j + p with monomial 2 j + p / 2.
+    v4d acc[3][4];
+    for (int p = 0; p < 4; ++p)
+    {
+      v4d g0 = zero, ga = zero, gb = zero;
+      for (int j = 0; j < 3; ++j)
+      {
+        const int r = 4 * j + p, k = 2 * j + p / 2;
+        g0 += m[k] * g[r];
+        ga += ma[k] * g[r] + m[k] * Q1[r];
+        gb += mb[k] * g[r] + m[k] * Q2[r];
+      }
+      acc[0][p] = g0;
+      acc[1][p] = ga;
+      acc[2][p] = gb;
+    }
+    const v4d G0 = acc[0][0] + acc[0][2], G1 = acc[0][1] + acc[0][3];
+    const v4d GA0 = acc[1][0] + acc[1][2], GA1 = acc[1][1] + acc[1][3];
+    const v4d GB0 = acc[2][0] + acc[2][2], GB1 = acc[2][1] + acc[2][3];
+    const v4d sa = c - a, sb = c - b;
+    const v4d M00 = s * GA0 - G0 * sa, M01 = s * GB0 - G0 * sb;
+    const v4d M10 = s * GA1 - G1 * sa, M11 = s * GB1 - G1 * sb;
+    const v4d det = M00 * M11 - M01 * M10;
+    const v4d f = (zero - s) / det;
+    const v4d da = f * (M11 * G0 - M01 * G1);
+    const v4d db = f * (M00 * G1 - M10 * G0);
+    const v4d an = a + da, bn = b + db;
+    double S[4], DET[4], DA[4], DB[4], AN[4], BN[4], RES[4], TS[4];
+    BARY_STORE4(S, s);
+    BARY_STORE4(DET, det);
+    BARY_STORE4(DA, da);
+    BARY_STORE4(DB, db);
+    BARY_STORE4(AN, an);
+    BARY_STORE4(BN, bn);
+    BARY_STORE4(RES, G0 * G0 + G1 * G1);
+    BARY_STORE4(TS, tolerance2 * (s * s));
+    double LAST[4];
+    BARY_STORE4(LAST, last_step);
+    for (int l = 0; l < 4; ++l)
+    {
+      if (!running[l])
+        continue;
+      bool stop = true;
+      if (!(std::abs(S[l]) > 1e-24))
+        status[l] = -1; // a corner: phong_newton decides
+      else if (!(std::abs(DET[l]) > 0) || !(std::abs(DET[l]) < std::numeric_limits<double>::infinity()) ||
+        !std::isfinite(DA[l]) || !std::isfinite(DB[l]))
+        status[l] = 0;
+      else
+      {
+        const double step = std::abs(DA[l]) + std::abs(DB[l]);
+        if (step < kPhongStepTolerance || step * step < kPhongPredictedTolerance * LAST[l] ||
+          RES[l] <= TS[l])
+          status[l] = phong_finish(AN[l], BN[l], xi[l]) ? 1 : 0;
+        else if (std::abs(AN[l]) > 1e3 || std::abs(BN[l]) > 1e3)
+          status[l] = 0;
+        else
+        {
+          LAST[l] = step;
+          stop = false;
+        }
+      }
+      if (stop)
+      {
+        running[l] = false;
+        --left;
+      }
+    }
+    a = an;
+    b = bn;
+    last_step = v4d{ LAST[0], LAST[1], LAST[2], LAST[3] };
+  }
 }
 
 /// Phong projection of @p y onto a triangle: its data, its corners' frames and positions;

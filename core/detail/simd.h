@@ -134,11 +134,11 @@ typedef float v8f_unaligned __attribute__((vector_size(32), aligned(4), may_alia
 typedef int v8i __attribute__((vector_size(32)));
 typedef int v8i_unaligned __attribute__((vector_size(32), aligned(4), may_alias));
 #define BARY_LOAD4(p) (*reinterpret_cast<const ::bary::detail::v4d_unaligned*>(p))
-#define BARY_STORE4(p, v) (*reinterpret_cast<::bary::detail::v4d_unaligned*>(p) = (v))
+#define BARY_STORE4(p, ...) (*reinterpret_cast<::bary::detail::v4d_unaligned*>(p) = (__VA_ARGS__))
 #define BARY_LOAD8F(p) (*reinterpret_cast<const ::bary::detail::v8f_unaligned*>(p))
-#define BARY_STORE8F(p, v) (*reinterpret_cast<::bary::detail::v8f_unaligned*>(p) = (v))
+#define BARY_STORE8F(p, ...) (*reinterpret_cast<::bary::detail::v8f_unaligned*>(p) = (__VA_ARGS__))
 #define BARY_LOAD8I(p) (*reinterpret_cast<const ::bary::detail::v8i_unaligned*>(p))
-#define BARY_STORE8I(p, v) (*reinterpret_cast<::bary::detail::v8i_unaligned*>(p) = (v))
+#define BARY_STORE8I(p, ...) (*reinterpret_cast<::bary::detail::v8i_unaligned*>(p) = (__VA_ARGS__))
 /// Element-wise choice: lanes of a where mask m (a comparison's result) is set, else of b.
 #define BARY_SELECT(m, a, b) ((m) ? (a) : (b))
 #else
@@ -204,11 +204,11 @@ V select(const M& m, const V& a, const V& b)
 }
 #define BARY_SELECT(m, a, b) (::bary::detail::select((m), (a), (b)))
 #define BARY_LOAD4(p) (::bary::detail::v4d::load(p))
-#define BARY_STORE4(p, v) ((v).store(p))
+#define BARY_STORE4(p, ...) ((__VA_ARGS__).store(p))
 #define BARY_LOAD8F(p) (::bary::detail::v8f::load(p))
-#define BARY_STORE8F(p, v) ((v).store(p))
+#define BARY_STORE8F(p, ...) ((__VA_ARGS__).store(p))
 #define BARY_LOAD8I(p) (::bary::detail::v8i::load(p))
-#define BARY_STORE8I(p, v) ((v).store(p))
+#define BARY_STORE8I(p, ...) ((__VA_ARGS__).store(p))
 #endif
 
 /// The smallest of eight floats and its lane: a tournament (lanes l and l + 4, then l and l + 2,

@@ -3,8 +3,9 @@
 #include "core/common/error.h"
 #include "core/detail/format.h"
 #include "core/detail/parallel_for.h"
+#include "core/detail/phong_kernel.h"
+#include "core/detail/simd.h"
 
-#include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
 
 #include <algorithm>
@@ -15,35 +16,301 @@
 namespace bary
 {
 
-struct WeightedAverages::Workspace
+namespace detail
 {
-  std::vector<int> stamp;  ///< per triangle: the query that last visited it
-  std::vector<int> queue;  ///< breadth-first queue of triangles
-  std::vector<std::pair<double, int>> ring; ///< the start vertex's triangles, with their order
-  int query = 0;
-  Index tried = 0;         ///< Phong projections attempted
-  Eigen::VectorXd ybar, point;
+
+/// What the forward problem's search reads, laid out for its kernels:
+/// - per vertex v, the embedded coordinates of its one-ring in single precision, in blocks of
+///   kLanes vertices (structure of arrays, entry [(block D + d) kLanes + lane]; the last block
+///   padded with kPad, whose squared distance overflows to +inf): one step of the greedy walk
+///   measures a ring of up to eight vertices in one pass over D;
+/// - per triangle of v's fan (SurfaceMesh::vertex_faces order) the ring positions of its two
+///   other corners and the inverse Gram matrix of the edges to them, and per ring vertex u the
+///   squared edge length |u - v|^2: with the walk's last distances these give the Euclidean
+///   barycentric coordinates of the query in each triangle of the fan, from
+///   (u - v) . (y - v) = (|u - v|^2 + |y - v|^2 - |u - y|^2) / 2 (as kLanes-wide blocks where
+///   the ring and the fan have at most kLanes entries, the usual case);
+/// - a grid that proposes a start vertex near any point (grid_vertex).
+/// Single precision only chooses where the search starts (the walk's end and the first
+/// triangle); every Phong projection is computed in double precision.
+struct SurfaceSearch
+{
+  static constexpr int kLanes = 8;
+  static constexpr float kPad = 1e30f;
+  struct Fan
+  {
+    int face = 0, i = 0, j = 0; ///< the triangle; ring positions of its corners other than v
+    float g00 = 0, g01 = 0, g11 = 0; ///< G^-1 of e_i = u_i - v, e_j = u_j - v
+  };
+  /// A fan of at most kLanes triangles around a ring of at most kLanes vertices.
+  struct FanBlock
+  {
+    float g00[kLanes], g01[kLanes], g11[kLanes]; ///< per triangle (0 in the padding)
+    float edge2[kLanes];                         ///< per ring vertex: |u - v|^2
+    float pad[kLanes];                           ///< 0 per triangle, +inf in the padding
+    int i[kLanes], j[kLanes], face[kLanes];      ///< per triangle (0 in the padding)
+  };
+  std::vector<int> block_offsets;      ///< #V + 1: first block of each ring
+  std::vector<float, AlignedAllocator<float>> blocks;
+  std::vector<float> E;                ///< #V by D, row-major, single precision
+  std::vector<Fan> fans;               ///< indexed like SurfaceMesh::vertex_faces
+  std::vector<float> edge2;            ///< indexed like SurfaceMesh::ring: |u - v|^2
+  std::vector<int> fan_block;          ///< per vertex: its FanBlock, or -1
+  std::vector<FanBlock, AlignedAllocator<FanBlock>> fan_blocks;
+  int max_valence = 0;
+  /// A start for the walk near any point: a grid over the three coordinates of the embedding
+  /// with the largest extent (cells of about one mean embedded edge length, at most 2^20 cells),
+  /// each cell holding the vertex whose coordinates there are nearest to the cell's centre, or,
+  /// within two cells of such a cell, the nearest of its neighbours' vertices (ybar is off the
+  /// surface); -1: none.
+  int axes[3] = { 0, 1, 0 };
+  int cells[3] = { 1, 1, 1 };
+  float origin[3] = { 0, 0, 0 }, inverse_size[3] = { 0, 0, 0 };
+  float grid_accept = 0; ///< (2 cells)^2: a grid vertex this near to ybar is start enough
+  std::vector<int> grid;
+
+  /// The grid's vertex for the point y (single precision, D numbers), or -1.
+  int grid_vertex(const float* y) const
+  {
+    int index = 0;
+    for (int a = 2; a >= 0; --a)
+    {
+      const float x = (y[axes[a]] - origin[a]) * inverse_size[a];
+      if (!(x >= 0.0f && x < static_cast<float>(cells[a])))
+        return -1;
+      index = index * cells[a] + static_cast<int>(x);
+    }
+    return grid[static_cast<std::size_t>(index)];
+  }
+
+  SurfaceSearch(const SurfaceMesh& mesh, const Eigen::MatrixXd& Ed)
+  {
+    const Index nv = mesh.vertex_count();
+    const int D = static_cast<int>(Ed.cols());
+    E.resize(static_cast<std::size_t>(nv * D));
+    for (Index v = 0; v < nv; ++v)
+      for (int d = 0; d < D; ++d)
+        E[static_cast<std::size_t>(v * D + d)] = static_cast<float>(Ed(v, d));
+    // Rings.
+    block_offsets.assign(static_cast<std::size_t>(nv + 1), 0);
+    for (Index v = 0; v < nv; ++v)
+    {
+      const int k = mesh.ring_offsets[static_cast<std::size_t>(v + 1)] -
+        mesh.ring_offsets[static_cast<std::size_t>(v)];
+      max_valence = std::max(max_valence, k);
+      block_offsets[static_cast<std::size_t>(v + 1)] =
+        block_offsets[static_cast<std::size_t>(v)] + (k + kLanes - 1) / kLanes;
+    }
+    blocks.assign(static_cast<std::size_t>(block_offsets.back()) * D * kLanes, kPad);
+    for (Index v = 0; v < nv; ++v)
+    {
+      const int begin = mesh.ring_offsets[static_cast<std::size_t>(v)];
+      const int k = mesh.ring_offsets[static_cast<std::size_t>(v + 1)] - begin;
+      float* out = blocks.data() + static_cast<std::size_t>(block_offsets[static_cast<std::size_t>(v)]) * D * kLanes;
+      for (int i = 0; i < k; ++i)
+      {
+        const int u = mesh.ring[static_cast<std::size_t>(begin + i)];
+        for (int d = 0; d < D; ++d)
+          out[((i / kLanes) * D + d) * kLanes + i % kLanes] = E[static_cast<std::size_t>(u * D + d)];
+      }
+    }
+    build_grid(mesh, Ed);
+    // Fans.
+    auto distance2 = [&](Index a, Index b) {
+      float s = 0;
+      for (int d = 0; d < D; ++d)
+      {
+        const float t = E[static_cast<std::size_t>(a * D + d)] - E[static_cast<std::size_t>(b * D + d)];
+        s += t * t;
+      }
+      return s;
+    };
+    edge2.resize(mesh.ring.size());
+    for (Index v = 0; v < nv; ++v)
+      for (int i = mesh.ring_offsets[static_cast<std::size_t>(v)];
+           i < mesh.ring_offsets[static_cast<std::size_t>(v + 1)]; ++i)
+        edge2[static_cast<std::size_t>(i)] = distance2(v, mesh.ring[static_cast<std::size_t>(i)]);
+    fans.resize(mesh.vertex_faces.size());
+    fan_block.assign(static_cast<std::size_t>(nv), -1);
+    for (Index v = 0; v < nv; ++v)
+    {
+      const int begin = mesh.ring_offsets[static_cast<std::size_t>(v)];
+      const int end = mesh.ring_offsets[static_cast<std::size_t>(v + 1)];
+      auto position = [&](int u) {
+        for (int i = begin; i < end; ++i)
+          if (mesh.ring[static_cast<std::size_t>(i)] == u)
+            return i - begin;
+        return 0; // not reached: a triangle's corners are in each other's rings
+      };
+      const int t0 = mesh.face_offsets[static_cast<std::size_t>(v)];
+      const int t1 = mesh.face_offsets[static_cast<std::size_t>(v + 1)];
+      for (int t = t0; t < t1; ++t)
+      {
+        Fan& fan = fans[static_cast<std::size_t>(t)];
+        fan.face = mesh.vertex_faces[static_cast<std::size_t>(t)];
+        const int k = mesh.F(fan.face, 0) == v ? 0 : mesh.F(fan.face, 1) == v ? 1 : 2;
+        const int u = mesh.F(fan.face, (k + 1) % 3), w = mesh.F(fan.face, (k + 2) % 3);
+        fan.i = position(u);
+        fan.j = position(w);
+        const Eigen::RowVectorXd ei = Ed.row(u) - Ed.row(v), ej = Ed.row(w) - Ed.row(v);
+        Eigen::Matrix2d G;
+        G << ei.squaredNorm(), ei.dot(ej), ei.dot(ej), ej.squaredNorm();
+        const Eigen::Matrix2d Gi = G.inverse();
+        fan.g00 = static_cast<float>(Gi(0, 0));
+        fan.g01 = static_cast<float>(Gi(0, 1));
+        fan.g11 = static_cast<float>(Gi(1, 1));
+      }
+      if (end - begin <= kLanes && t1 - t0 <= kLanes)
+      {
+        FanBlock b{};
+        for (int l = 0; l < kLanes; ++l)
+          b.pad[l] = std::numeric_limits<float>::infinity();
+        for (int i = begin; i < end; ++i)
+          b.edge2[i - begin] = edge2[static_cast<std::size_t>(i)];
+        for (int t = t0; t < t1; ++t)
+        {
+          const Fan& fan = fans[static_cast<std::size_t>(t)];
+          const int l = t - t0;
+          b.g00[l] = fan.g00;
+          b.g01[l] = fan.g01;
+          b.g11[l] = fan.g11;
+          b.pad[l] = 0;
+          b.i[l] = fan.i;
+          b.j[l] = fan.j;
+          b.face[l] = fan.face;
+        }
+        fan_block[static_cast<std::size_t>(v)] = static_cast<int>(fan_blocks.size());
+        fan_blocks.push_back(b);
+      }
+    }
+  }
+
+  void build_grid(const SurfaceMesh& mesh, const Eigen::MatrixXd& Ed)
+  {
+    const int D = static_cast<int>(Ed.cols());
+    const Eigen::RowVectorXd low = Ed.colwise().minCoeff(), high = Ed.colwise().maxCoeff();
+    std::vector<int> order(static_cast<std::size_t>(D));
+    for (int d = 0; d < D; ++d)
+      order[static_cast<std::size_t>(d)] = d;
+    std::stable_sort(order.begin(), order.end(),
+      [&](int a, int b) { return high(a) - low(a) > high(b) - low(b); });
+    double edge = 0;
+    for (Index v = 0; v < mesh.vertex_count(); ++v)
+      for (int i = mesh.ring_offsets[static_cast<std::size_t>(v)];
+           i < mesh.ring_offsets[static_cast<std::size_t>(v + 1)]; ++i)
+        edge += (Ed.row(v) - Ed.row(mesh.ring[static_cast<std::size_t>(i)])).norm();
+    edge /= static_cast<double>(mesh.ring.size());
+    double size = edge;
+    const int dims = std::min(D, 3);
+    for (;;)
+    {
+      double total = 1;
+      for (int a = 0; a < dims; ++a)
+        total *= std::min(256.0, std::ceil((high(order[static_cast<std::size_t>(a)]) - low(order[static_cast<std::size_t>(a)])) / size) + 1);
+      if (total <= 1 << 20)
+        break;
+      size *= 1.25;
+    }
+    for (int a = 0; a < 3; ++a)
+    {
+      if (a < dims)
+      {
+        const int d = order[static_cast<std::size_t>(a)];
+        axes[a] = d;
+        cells[a] = static_cast<int>(std::min(256.0, std::ceil((high(d) - low(d)) / size) + 1));
+        origin[a] = static_cast<float>(low(d) - 0.5 * size);
+        inverse_size[a] = static_cast<float>(1.0 / size);
+      }
+      else
+      {
+        // D = 2: one cell along the third axis (x = 0 for every finite coordinate).
+        axes[a] = 0;
+        cells[a] = 1;
+        origin[a] = 0;
+        inverse_size[a] = 0;
+      }
+    }
+    grid_accept = static_cast<float>(4 * size * size);
+    grid.assign(static_cast<std::size_t>(cells[0]) * cells[1] * cells[2], -1);
+    std::vector<float> nearest(grid.size(), std::numeric_limits<float>::infinity());
+    for (Index v = 0; v < mesh.vertex_count(); ++v)
+    {
+      const float* e = E.data() + v * D;
+      int index = 0;
+      float d2 = 0;
+      bool inside = true;
+      for (int a = 2; a >= 0; --a)
+      {
+        const float x = (e[axes[a]] - origin[a]) * inverse_size[a];
+        if (!(x >= 0.0f && x < static_cast<float>(cells[a])))
+          inside = false;
+        const int c = std::max(0, std::min(cells[a] - 1, static_cast<int>(x)));
+        index = index * cells[a] + c;
+        const float off = x - (static_cast<float>(c) + 0.5f);
+        d2 += off * off;
+      }
+      if (inside && d2 < nearest[static_cast<std::size_t>(index)])
+      {
+        nearest[static_cast<std::size_t>(index)] = d2;
+        grid[static_cast<std::size_t>(index)] = static_cast<int>(v);
+      }
+    }
+    // Empty cells next to the surface (ybar is off the surface) take the vertex of a
+    // neighbouring cell nearest to their centre; twice.
+    for (int pass = 0; pass < 2; ++pass)
+    {
+      std::vector<int> filled = grid;
+      for (int z = 0; z < cells[2]; ++z)
+        for (int y = 0; y < cells[1]; ++y)
+          for (int x = 0; x < cells[0]; ++x)
+          {
+            const std::size_t at = (static_cast<std::size_t>(z) * cells[1] + y) * cells[0] + x;
+            if (grid[at] >= 0)
+              continue;
+            float closest = std::numeric_limits<float>::infinity();
+            for (int dz = -1; dz <= 1; ++dz)
+              for (int dy = -1; dy <= 1; ++dy)
+                for (int dx = -1; dx <= 1; ++dx)
+                {
+                  const int X = x + dx, Y = y + dy, Z = z + dz;
+                  if (X < 0 || Y < 0 || Z < 0 || X >= cells[0] || Y >= cells[1] || Z >= cells[2])
+                    continue;
+                  const int u = grid[(static_cast<std::size_t>(Z) * cells[1] + Y) * cells[0] + X];
+                  if (u < 0)
+                    continue;
+                  const float* e = E.data() + static_cast<Index>(u) * D;
+                  const float centre[3] = { static_cast<float>(x) + 0.5f, static_cast<float>(y) + 0.5f,
+                    static_cast<float>(z) + 0.5f };
+                  float d2 = 0;
+                  for (int a = 0; a < 3; ++a)
+                  {
+                    const float off = (e[axes[a]] - origin[a]) * inverse_size[a] - centre[a];
+                    d2 += a < dims ? off * off : 0.0f;
+                  }
+                  if (d2 < closest)
+                  {
+                    closest = d2;
+                    filled[at] = u;
+                  }
+                }
+          }
+      grid.swap(filled);
+    }
+  }
 };
+
+} // namespace detail
 
 namespace
 {
 
 using RowMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+using detail::SurfaceSearch;
 
 constexpr Index kChunk = 256; // queries per chunk: the unit of warm starts and of parallelism
 
 double squared_distance(const double* a, const double* b, int D)
 {
-  if (D == 8) // the default dimension: a fixed-length loop the compiler vectorises
-  {
-    double s = 0;
-    for (int d = 0; d < 8; ++d)
-    {
-      const double t = a[d] - b[d];
-      s += t * t;
-    }
-    return s;
-  }
   double s = 0;
   for (int d = 0; d < D; ++d)
   {
@@ -53,41 +320,892 @@ double squared_distance(const double* a, const double* b, int D)
   return s;
 }
 
-/// lambda = M^+ b for the symmetric positive semidefinite 3 x 3 M of the inverse problem,
-/// b = (0, 0, 1): equilibrated to a unit diagonal, Cholesky when it is well conditioned (the
-/// usual case), else the eigen-decomposition's pseudo-inverse (directions below 1e-14 of the
-/// largest eigenvalue dropped: anchors that do not span the tangent plane); then one step of
-/// iterative refinement with the residual b - A w that @p residual(lambda) returns.
-template<class Residual>
-Eigen::Vector3d solve_constraints(const Eigen::Matrix3d& M, Residual&& residual)
+/// Per-thread scratch of the forward problem, sized once per call (no allocation per query).
+struct ForwardWorkspace
 {
-  const Eigen::Vector3d scale = M.diagonal().cwiseMax(1e-300).cwiseSqrt().cwiseInverse();
-  const Eigen::Matrix3d Ms = scale.asDiagonal() * M * scale.asDiagonal();
-  const Eigen::LLT<Eigen::Matrix3d> llt(Ms);
-  const Eigen::Matrix3d L = llt.matrixL();
-  const bool cholesky = llt.info() == Eigen::Success && L.diagonal().minCoeff() > 1e-6;
-  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig;
-  if (!cholesky)
-    eig.compute(Ms);
-  auto solve = [&](const Eigen::Vector3d& rhs) {
-    const Eigen::Vector3d r = scale.asDiagonal() * rhs;
-    Eigen::Vector3d y;
-    if (cholesky)
-      y = llt.solve(r);
+  std::vector<int> stamp;  ///< per triangle: the query that last visited it
+  std::vector<int> queue;  ///< breadth-first queue of triangles
+  std::vector<std::pair<float, int>> order; ///< per lane: the walk's last vertex's triangles
+  int order_stride = 0;
+  std::vector<float> dist;   ///< per lane: the walk's last squared distances (its ring)
+  int dist_stride = 0;
+  std::vector<float> anchor_distance; ///< per anchor: squared distance to ybar
+  std::vector<int> row_index;          ///< the row's anchors (sparse weights)
+  std::vector<double> row_weight;      ///< the row's weights
+  std::vector<double> ybar;            ///< per lane: D numbers
+  std::vector<double> point;           ///< D numbers
+  std::vector<float> ybar_float;       ///< per lane: D numbers
+  int query = 0;
+  Index tried = 0;         ///< Phong projections attempted
+  Index failures = 0;      ///< queries without a projection
+  Index bad_row = std::numeric_limits<Index>::max(); ///< the first row not an average's
+  double bad_sum = 0;      ///< its sum (NaN: a weight is not finite)
+};
+
+/// What a forward query reads (shared by the threads).
+struct ForwardContext
+{
+  int D = 0;
+  Index anchors = 0, anchors_padded = 0; ///< #anchors, and rounded up to a multiple of 8
+  const double* Y = nullptr;  ///< #anchors by D, row-major
+  const float* Yt = nullptr;  ///< D by anchors_padded, row-major, single precision (SoA)
+  const float* Y_float = nullptr; ///< #anchors by D, row-major, single precision
+  const Index* anchor_corners = nullptr;
+  const SurfaceMesh* mesh = nullptr;
+  const SurfaceSearch* search = nullptr;
+  const double* E = nullptr;  ///< #V by D, row-major
+  const double* frames = nullptr; ///< PhongProjection's frames (#V by 2 D) and per-triangle data
+  const double* data = nullptr;
+  Index cap = 0;              ///< triangles tried per query at most
+};
+
+/// y = sum_j weight_j Y_{index_j} (index null: j), D numbers; the rows in two interleaved
+/// partial sums (even and odd j) added at the end.
+template<int kD>
+BARY_ALWAYS_INLINE void weighted_sum(const double* Y, int D, const int* index,
+  const double* weight, int count, double* y)
+{
+  using detail::v4d;
+  const int n = kD > 0 ? kD : D;
+  int d = 0;
+  for (; d + 4 <= n; d += 4)
+  {
+    v4d even = { 0.0, 0.0, 0.0, 0.0 }, odd = even;
+    int j = 0;
+    for (; j + 2 <= count; j += 2)
+    {
+      even += BARY_LOAD4(Y + (index ? index[j] : j) * n + d) * weight[j];
+      odd += BARY_LOAD4(Y + (index ? index[j + 1] : j + 1) * n + d) * weight[j + 1];
+    }
+    if (j < count)
+      even += BARY_LOAD4(Y + (index ? index[j] : j) * n + d) * weight[j];
+    BARY_STORE4(y + d, even + odd);
+  }
+  for (; d < n; ++d)
+  {
+    double even = 0.0, odd = 0.0;
+    int j = 0;
+    for (; j + 2 <= count; j += 2)
+    {
+      even += Y[(index ? index[j] : j) * n + d] * weight[j];
+      odd += Y[(index ? index[j + 1] : j + 1) * n + d] * weight[j + 1];
+    }
+    if (j < count)
+      even += Y[(index ? index[j] : j) * n + d] * weight[j];
+    y[d] = even + odd;
+  }
+}
+
+/// Squared distances (single precision) from y to the eight points of a structure-of-arrays
+/// block (entry [d * stride + lane]). D = 8: summed as a balanced tree over d; otherwise in
+/// order. point_distance computes the same for one point, bit for bit.
+template<int kD>
+BARY_ALWAYS_INLINE void block_distances(const float* block, Index stride, int D,
+  const float* y, float* out)
+{
+  using detail::v8f;
+  if (kD == 8)
+  {
+    v8f t[8];
+    for (int d = 0; d < 8; ++d)
+    {
+      t[d] = BARY_LOAD8F(block + d * stride) - y[d];
+      t[d] *= t[d];
+    }
+    BARY_STORE8F(out, ((t[0] + t[1]) + (t[2] + t[3])) + ((t[4] + t[5]) + (t[6] + t[7])));
+    return;
+  }
+  v8f t = BARY_LOAD8F(block) - y[0];
+  v8f acc = t * t;
+  for (int d = 1; d < D; ++d)
+  {
+    t = BARY_LOAD8F(block + d * stride) - y[d];
+    acc += t * t;
+  }
+  BARY_STORE8F(out, acc);
+}
+
+template<int kD>
+BARY_ALWAYS_INLINE float point_distance(const float* e, const float* y, int D)
+{
+  if (kD == 8)
+  {
+    float t[8];
+    for (int d = 0; d < 8; ++d)
+    {
+      t[d] = e[d] - y[d];
+      t[d] *= t[d];
+    }
+    return ((t[0] + t[1]) + (t[2] + t[3])) + ((t[4] + t[5]) + (t[6] + t[7]));
+  }
+  float t = e[0] - y[0];
+  float acc = t * t;
+  for (int d = 1; d < D; ++d)
+  {
+    t = e[d] - y[d];
+    acc += t * t;
+  }
+  return acc;
+}
+
+/// Phong projection of y onto triangle f (Newton from the Euclidean projection).
+template<int kD>
+BARY_ALWAYS_INLINE bool project_face(const ForwardContext& c, int D, int f, const double* y, double* xi)
+{
+  const Eigen::MatrixXi& F = c.mesh->F;
+  const int c0 = F(f, 0), c1 = F(f, 1), c2 = F(f, 2);
+  return detail::phong_project<kD>(c.data + static_cast<std::size_t>(f) * detail::kPhongData,
+    c.frames + c0 * 2 * D, c.frames + c1 * 2 * D, c.frames + c2 * 2 * D, c.E + c0 * D,
+    c.E + c1 * D, c.E + c2 * D, D, y, true, 0.0, 0.0, xi);
+}
+
+/// A row of weights is an average's when every weight is finite and they sum to 1 within 1e-9
+/// of the sum of their magnitudes (four partial sums, added pairwise).
+BARY_ALWAYS_INLINE bool weights_row_valid(const double* w, int count, double& sum)
+{
+  using detail::v4d;
+  const v4d zero = { 0.0, 0.0, 0.0, 0.0 };
+  v4d s = zero, a = zero, z = zero;
+  int i = 0;
+  for (; i + 4 <= count; i += 4)
+  {
+    const v4d x = BARY_LOAD4(w + i);
+    s += x;
+    a += BARY_SELECT(x < zero, zero - x, x);
+    z += x - x; // NaN once a weight is not finite
+  }
+  double tail = 0, tail_magnitude = 0, tail_z = 0;
+  for (; i < count; ++i)
+  {
+    tail += w[i];
+    tail_magnitude += std::abs(w[i]);
+    tail_z += w[i] - w[i];
+  }
+  sum = ((s[0] + s[1]) + (s[2] + s[3])) + tail;
+  const double magnitude = ((a[0] + a[1]) + (a[2] + a[3])) + tail_magnitude;
+  if (!(((z[0] + z[1]) + (z[2] + z[3])) + tail_z == 0.0))
+  {
+    sum = std::numeric_limits<double>::quiet_NaN(); // not finite
+    return false;
+  }
+  return std::abs(sum - 1.0) <= 1e-9 * std::max(1.0, magnitude);
+}
+
+/// What a query returns besides its point.
+enum class QueryOutcome
+{
+  Found,
+  NotFound,
+  BadWeights ///< the row is not an average's (weights_row_valid)
+};
+
+/// A forward query in flight (lane l of a group): its triangles to try and its Phong setup.
+struct Pending
+{
+  int v = 0;                ///< the walk's vertex (at the end: its last)
+  float best = 0;           ///< its squared distance to ybar (single precision)
+  int first = 0;            ///< the first triangle to try: order[first]
+  int fan_size = 0;         ///< v's triangles, in the lane's order buffer
+  double dots[8];           ///< phong_dots of the first triangle
+  const double* data = nullptr;
+};
+
+/// The start of a forward query (§3.3): the row checked, ybar, the start vertex (@p start, or
+/// the grid's or the nearest anchor's) into p. @p index: the row's anchors (null: all, in
+/// order).
+template<int kD>
+BARY_ALWAYS_INLINE QueryOutcome start_query(const ForwardContext& c, const int* index,
+  const double* weight, int count, Index start, ForwardWorkspace& ws, int lane, Pending& p,
+  double& row_sum)
+{
+  if (!weights_row_valid(weight, count, row_sum))
+    return QueryOutcome::BadWeights;
+  using detail::v8f;
+  using detail::v8i;
+  const int D = kD > 0 ? kD : c.D;
+  constexpr int L = SurfaceSearch::kLanes;
+  const v8i iota = { 0, 1, 2, 3, 4, 5, 6, 7 };
+  double* y = ws.ybar.data() + lane * D;
+  weighted_sum<kD>(c.Y, D, index, weight, count, y);
+  float* yf = ws.ybar_float.data() + lane * D;
+  for (int d = 0; d < D; ++d)
+    yf[d] = static_cast<float>(y[d]);
+  const SurfaceSearch& search = *c.search;
+  float best = std::numeric_limits<float>::infinity();
+  if (start >= 0)
+    best = point_distance<kD>(search.E.data() + start * D, yf, D);
+  else
+  {
+    // The grid's vertex near ybar; unless it is within two cells of ybar, also the corner of
+    // the anchor nearest to ybar in R^D (among the row's anchors for sparse weights; the paper
+    // starts from the heaviest anchor "if a better initial guess is not available"): the nearer.
+    const int g = search.grid_vertex(yf);
+    if (g >= 0)
+    {
+      best = point_distance<kD>(search.E.data() + static_cast<Index>(g) * D, yf, D);
+      start = g;
+    }
+    if (!(best <= search.grid_accept))
+    {
+      Index nearest = -1;
+      if (!index)
+      {
+        float* dist = ws.anchor_distance.data();
+        block_distances<kD>(c.Yt, c.anchors_padded, D, yf, dist);
+        v8f dmin = BARY_LOAD8F(dist);
+        v8i imin = iota;
+        for (Index a = L; a < c.anchors; a += L)
+        {
+          block_distances<kD>(c.Yt + a, c.anchors_padded, D, yf, dist + a);
+          const v8f da = BARY_LOAD8F(dist + a);
+          const v8i closer = da < dmin;
+          dmin = BARY_SELECT(closer, da, dmin);
+          imin = BARY_SELECT(closer, iota + static_cast<int>(a), imin);
+        }
+        float value;
+        int at;
+        detail::lane_min(dmin, imin, value, at);
+        nearest = at;
+      }
+      else
+      {
+        float closest = std::numeric_limits<float>::infinity();
+        for (int j = 0; j < count; ++j)
+        {
+          const float dist = point_distance<kD>(c.Y_float + index[j] * D, yf, D);
+          if (dist < closest)
+          {
+            closest = dist;
+            nearest = index[j];
+          }
+        }
+      }
+      if (nearest >= 0)
+      {
+        const Index corner = c.anchor_corners[nearest];
+        const float dc = point_distance<kD>(search.E.data() + corner * D, yf, D);
+        if (dc < best)
+        {
+          best = dc;
+          start = corner;
+        }
+      }
+    }
+    if (start < 0)
+      return QueryOutcome::NotFound;
+  }
+  p.v = static_cast<int>(start);
+  p.best = best;
+  return QueryOutcome::Found;
+}
+
+/// One step of the greedy walk on the edge graph (single precision): to the ring vertex nearest
+/// to ybar when it is nearer than the current vertex (true), else false (the walk's end; the
+/// ring's distances stay in the lane's buffer). A vertex's squared distance is the same
+/// wherever it is computed, so the walk strictly descends and ends, at a vertex nearer than all
+/// its neighbours.
+template<int kD>
+BARY_ALWAYS_INLINE bool walk_step(const ForwardContext& c, ForwardWorkspace& ws, int lane, Pending& p)
+{
+  using detail::v8f;
+  using detail::v8i;
+  const int D = kD > 0 ? kD : c.D;
+  constexpr int L = SurfaceSearch::kLanes;
+  const v8i iota = { 0, 1, 2, 3, 4, 5, 6, 7 };
+  const SurfaceSearch& search = *c.search;
+  const SurfaceMesh& mesh = *c.mesh;
+  const float* yf = ws.ybar_float.data() + lane * D;
+  const int v = p.v;
+  const int r0 = mesh.ring_offsets[static_cast<std::size_t>(v)];
+  const int k = mesh.ring_offsets[static_cast<std::size_t>(v + 1)] - r0;
+  const float* blk = search.blocks.data() +
+    static_cast<std::size_t>(search.block_offsets[static_cast<std::size_t>(v)]) * D * L;
+  float* dist = ws.dist.data() + lane * ws.dist_stride;
+  block_distances<kD>(blk, L, D, yf, dist);
+  v8f dmin = BARY_LOAD8F(dist);
+  v8i imin = iota;
+  for (int base = L; base < k; base += L)
+  {
+    block_distances<kD>(blk + base * D, L, D, yf, dist + base);
+    const v8f db = BARY_LOAD8F(dist + base);
+    const v8i closer = db < dmin;
+    dmin = BARY_SELECT(closer, db, dmin);
+    imin = BARY_SELECT(closer, iota + base, imin);
+  }
+  float value;
+  int at;
+  detail::lane_min(dmin, imin, value, at);
+  if (!(value < p.best))
+    return false;
+  p.best = value;
+  p.v = mesh.ring[static_cast<std::size_t>(r0 + at)];
+  return true;
+}
+
+/// After the walk: v's triangles scored, the first one to try and its dot products (phong_dots).
+template<int kD>
+BARY_ALWAYS_INLINE void choose_triangle(const ForwardContext& c, ForwardWorkspace& ws, int lane, Pending& p)
+{
+  using detail::v8f;
+  using detail::v8i;
+  const int D = kD > 0 ? kD : c.D;
+  constexpr int L = SurfaceSearch::kLanes;
+  const v8i iota = { 0, 1, 2, 3, 4, 5, 6, 7 };
+  const SurfaceSearch& search = *c.search;
+  const SurfaceMesh& mesh = *c.mesh;
+  const double* y = ws.ybar.data() + lane * D;
+  const float* distances = ws.dist.data() + lane * ws.dist_stride;
+  const int v = p.v;
+  const float best = p.best;
+  // The first triangle to try: among v's, the one where the smallest Euclidean barycentric
+  // coordinate of ybar is largest, from (u - v) . (ybar - v) = (|u - v|^2 + |y - v|^2 -
+  // |u - y|^2) / 2 with the walk's last distances.
+  const int f0 = mesh.face_offsets[static_cast<std::size_t>(v)];
+  const int fan_size = mesh.face_offsets[static_cast<std::size_t>(v + 1)] - f0;
+  std::pair<float, int>* order = ws.order.data() + lane * ws.order_stride;
+  int first;
+  const int fb = search.fan_block[static_cast<std::size_t>(v)];
+  if (fb >= 0)
+  {
+    const SurfaceSearch::FanBlock& b = search.fan_blocks[static_cast<std::size_t>(fb)];
+    const v8f t = (BARY_LOAD8F(b.edge2) + best - BARY_LOAD8F(distances)) * 0.5f;
+    float ti[L], tj[L];
+    detail::permute8(t, BARY_LOAD8I(b.i), ti);
+    detail::permute8(t, BARY_LOAD8I(b.j), tj);
+    const v8f TI = BARY_LOAD8F(ti), TJ = BARY_LOAD8F(tj);
+    const v8f alpha = BARY_LOAD8F(b.g00) * TI + BARY_LOAD8F(b.g01) * TJ;
+    const v8f beta = BARY_LOAD8F(b.g01) * TI + BARY_LOAD8F(b.g11) * TJ;
+    const v8f one = { 1, 1, 1, 1, 1, 1, 1, 1 };
+    const v8f gamma = (one - alpha) - beta;
+    v8f low = BARY_SELECT(alpha < gamma, alpha, gamma);
+    low = BARY_SELECT(beta < low, beta, low);
+    const v8f score = BARY_LOAD8F(b.pad) - low; // the smallest wins; the padding is +inf
+    float scores[L];
+    BARY_STORE8F(scores, score);
+    float value;
+    int at;
+    detail::lane_min(score, iota, value, at);
+    first = at;
+    for (int l = 0; l < fan_size; ++l)
+      order[l] = { scores[l], b.face[l] };
+  }
+  else
+  {
+    first = 0;
+    const int r0 = mesh.ring_offsets[static_cast<std::size_t>(v)];
+    for (int l = 0; l < fan_size; ++l)
+    {
+      const SurfaceSearch::Fan& fan = search.fans[static_cast<std::size_t>(f0 + l)];
+      const float ti = (search.edge2[static_cast<std::size_t>(r0 + fan.i)] + best - distances[fan.i]) * 0.5f;
+      const float tj = (search.edge2[static_cast<std::size_t>(r0 + fan.j)] + best - distances[fan.j]) * 0.5f;
+      const float alpha = fan.g00 * ti + fan.g01 * tj, beta = fan.g01 * ti + fan.g11 * tj;
+      order[l] = { -std::min(std::min((1.0f - alpha) - beta, alpha), beta), fan.face };
+      if (order[l].first < order[first].first)
+        first = l;
+    }
+  }
+  p.first = first;
+  p.fan_size = fan_size;
+  const int f = order[first].second;
+  const Eigen::MatrixXi& F = mesh.F;
+  const int c0 = F(f, 0), c1 = F(f, 1), c2 = F(f, 2);
+  p.data = c.data + static_cast<std::size_t>(f) * detail::kPhongData;
+  detail::phong_dots<kD>(c.frames + c0 * 2 * D, c.frames + c1 * 2 * D, c.frames + c2 * 2 * D,
+    c.E + c0 * D, c.E + c1 * D, c.E + c2 * D, D, y, p.dots);
+}
+
+/// The rest of a forward query whose first triangle has no projection (rarely): the
+/// breadth-first search over triangles, v's other triangles first (in order), then the
+/// neighbours of each triangle tried. True and @p out when a projection is found.
+template<int kD>
+BARY_ALWAYS_INLINE bool search_rest(const ForwardContext& c, ForwardWorkspace& ws, int lane,
+  const Pending& p, SurfacePoint& out)
+{
+  const int D = kD > 0 ? kD : c.D;
+  const double* y = ws.ybar.data() + lane * D;
+  std::pair<float, int>* order = ws.order.data() + lane * ws.order_stride;
+  const int fan_size = p.fan_size, first = p.first;
+  double xi[3];
+  const int query = ++ws.query;
+  for (int l = 0; l < fan_size; ++l)
+    ws.stamp[static_cast<std::size_t>(order[l].second)] = query;
+  ws.queue.clear();
+  ws.queue.push_back(order[first].second);
+  std::swap(order[first], order[fan_size - 1]);
+  std::sort(order, order + fan_size - 1);
+  for (int l = 0; l + 1 < fan_size; ++l)
+    ws.queue.push_back(order[l].second);
+  const Eigen::MatrixXi& neighbors = c.mesh->face_neighbors;
+  for (std::size_t head = 0; head < ws.queue.size() && static_cast<Index>(head) < c.cap; ++head)
+  {
+    const int f = ws.queue[head];
+    if (head > 0)
+    {
+      ++ws.tried;
+      if (project_face<kD>(c, D, f, y, xi))
+      {
+        out.face = f;
+        out.barycentric = Eigen::Vector3d(xi[0], xi[1], xi[2]);
+        return true;
+      }
+    }
+    for (int k = 0; k < 3; ++k)
+    {
+      const int g = neighbors(f, k);
+      if (g >= 0 && ws.stamp[static_cast<std::size_t>(g)] != query)
+      {
+        ws.stamp[static_cast<std::size_t>(g)] = query;
+        ws.queue.push_back(g);
+      }
+    }
+  }
+  return false;
+}
+
+/// The weights of the queries and where they start.
+struct ForwardRows
+{
+  Index anchors = 0;
+  const double* dense = nullptr;  ///< #queries by #anchors, row-major; or null:
+  const int* outer = nullptr;     ///< sparse rows (compressed row storage)
+  const int* inner = nullptr;
+  const double* values = nullptr;
+  const int* start = nullptr;     ///< per query: its start vertex from a hint, or -1; or null
+  bool warm_start = false;        ///< start from the previous query's result (in the chunk)
+};
+
+/// Where the results go.
+struct ForwardOutput
+{
+  SurfacePoint* points = nullptr;
+  char* valid = nullptr;
+  double* positions = nullptr;    ///< #queries by 3, column-major (column stride: queries)
+  Index queries = 0;
+};
+
+/// The forward queries [begin, end): four at a time (their Phong projections by phong_newton4,
+/// whose latencies overlap), one at a time with a warm start (each starts where the previous
+/// one ended). The first row that is not an average's is recorded in ws (bad_row, bad_sum).
+template<int kD>
+BARY_ALWAYS_INLINE void forward_chunk(const ForwardContext& c, const ForwardRows& rows,
+  Index begin, Index end, ForwardWorkspace& ws, const ForwardOutput& o)
+{
+  const int D = kD > 0 ? kD : c.D;
+  const Eigen::MatrixXi& F = c.mesh->F;
+  const Eigen::MatrixXd& V = c.mesh->V;
+  const int group = rows.warm_start ? 1 : 4;
+  for (Index q0 = begin; q0 < end; q0 += group)
+  {
+    const int m = static_cast<int>(std::min<Index>(group, end - q0));
+    Pending pending[4];
+    QueryOutcome outcome[4];
+    bool active[4] = { false, false, false, false };
+    for (int l = 0; l < m; ++l)
+    {
+      const Index q = q0 + l;
+      const double* weight;
+      const int* index = nullptr;
+      int count;
+      if (rows.dense)
+      {
+        weight = rows.dense + q * rows.anchors;
+        count = static_cast<int>(rows.anchors);
+      }
+      else
+      {
+        weight = rows.values + rows.outer[q];
+        index = rows.inner + rows.outer[q];
+        count = rows.outer[q + 1] - rows.outer[q];
+      }
+      Index start = rows.start ? rows.start[q] : -1;
+      if (rows.warm_start && q > begin && o.valid[q - 1])
+      {
+        const SurfacePoint& previous = o.points[q - 1];
+        Index k;
+        previous.barycentric.maxCoeff(&k);
+        start = F(previous.face, k);
+      }
+      double sum = 0;
+      outcome[l] = start_query<kD>(c, index, weight, count, start, ws, l, pending[l], sum);
+      active[l] = outcome[l] == QueryOutcome::Found;
+      if (outcome[l] == QueryOutcome::BadWeights && q < ws.bad_row)
+      {
+        ws.bad_row = q;
+        ws.bad_sum = sum;
+      }
+    }
+    // The lanes' walks in turns: their steps are independent, so their latencies overlap.
+    bool walking[4] = { active[0], active[1], active[2], active[3] };
+    int left = static_cast<int>(walking[0]) + walking[1] + walking[2] + walking[3];
+    while (left > 0)
+      for (int l = 0; l < m; ++l)
+        if (walking[l] && !walk_step<kD>(c, ws, l, pending[l]))
+        {
+          walking[l] = false;
+          --left;
+        }
+    for (int l = 0; l < m; ++l)
+      if (active[l])
+        choose_triangle<kD>(c, ws, l, pending[l]);
+    const double* dots[4];
+    const double* data[4];
+    for (int l = 0; l < 4; ++l)
+    {
+      dots[l] = pending[l].dots;
+      data[l] = pending[l].data;
+    }
+    int status[4];
+    double xi[4][3];
+    if (m == 1)
+    {
+      status[0] = 0;
+      if (active[0])
+        status[0] = detail::phong_newton(dots[0], data[0], true, 0.0, 0.0, xi[0]) ? 1 : 0;
+    }
+    else
+      detail::phong_newton4(dots, data, active, status, xi);
+    for (int l = 0; l < m; ++l)
+    {
+      const Index q = q0 + l;
+      SurfacePoint& out = o.points[q];
+      bool ok = false;
+      if (active[l])
+      {
+        ++ws.tried;
+        if (status[l] < 0) // a corner: the one-triangle iteration decides
+          status[l] = detail::phong_newton(dots[l], data[l], true, 0.0, 0.0, xi[l]) ? 1 : 0;
+        if (status[l] == 1)
+        {
+          const std::pair<float, int>* order = ws.order.data() + l * ws.order_stride;
+          out.face = order[pending[l].first].second;
+          out.barycentric = Eigen::Vector3d(xi[l][0], xi[l][1], xi[l][2]);
+          ok = true;
+        }
+        else
+          ok = search_rest<kD>(c, ws, l, pending[l], out);
+      }
+      o.valid[q] = ok ? 1 : 0;
+      if (!ok)
+      {
+        out = SurfacePoint{};
+        ++ws.failures;
+        for (int k = 0; k < 3; ++k)
+          o.positions[k * o.queries + q] = std::numeric_limits<double>::quiet_NaN();
+        continue;
+      }
+      const double* b = out.barycentric.data();
+      for (int k = 0; k < 3; ++k)
+        o.positions[k * o.queries + q] =
+          b[0] * V(F(out.face, 0), k) + b[1] * V(F(out.face, 1), k) + b[2] * V(F(out.face, 2), k);
+    }
+  }
+  (void)D;
+}
+
+void forward_chunk_portable(const ForwardContext& c, const ForwardRows& rows, Index begin,
+  Index end, ForwardWorkspace& ws, const ForwardOutput& o)
+{
+  if (c.D == 8)
+    forward_chunk<8>(c, rows, begin, end, ws, o);
+  else
+    forward_chunk<0>(c, rows, begin, end, ws, o);
+}
+
+BARY_TARGET_AVX2 void forward_chunk_avx2(const ForwardContext& c, const ForwardRows& rows,
+  Index begin, Index end, ForwardWorkspace& ws, const ForwardOutput& o)
+{
+  if (c.D == 8)
+    forward_chunk<8>(c, rows, begin, end, ws, o);
+  else
+    forward_chunk<0>(c, rows, begin, end, ws, o);
+}
+
+/// lambda = M^+ b for the symmetric positive semidefinite 3 x 3 M of the inverse problem,
+/// b = (0, 0, 1). When M is well conditioned relative to its diagonal (the Cholesky factor of M
+/// equilibrated to a unit diagonal has every pivot above 1e-6, tested without the factor:
+/// pivot_1^2 = c22 / (M00 M11), pivot_2^2 = det M / (M22 c22) with c the cofactors) the inverse
+/// by cofactors (the usual case: one division); else the eigen-decomposition's pseudo-inverse
+/// of the equilibrated matrix (directions below 1e-14 of the largest eigenvalue dropped: anchors
+/// that do not span the tangent plane). Then one step of iterative refinement with the residual
+/// b - A w that @p residual(lambda, r) writes into r.
+template<class Residual>
+BARY_ALWAYS_INLINE void solve_constraints(const double M[3][3], Residual&& residual, double* lambda)
+{
+  const double m00 = M[0][0], m01 = M[0][1], m02 = M[0][2], m11 = M[1][1], m12 = M[1][2],
+               m22 = M[2][2];
+  const double c00 = m11 * m22 - m12 * m12, c01 = m02 * m12 - m01 * m22,
+               c02 = m01 * m12 - m02 * m11, c11 = m00 * m22 - m02 * m02,
+               c12 = m01 * m02 - m00 * m12, c22 = m00 * m11 - m01 * m01;
+  const double det = m00 * c00 + m01 * c01 + m02 * c02;
+  double r[3];
+  if (c22 > 1e-12 * (m00 * m11) && det > 1e-12 * (m22 * c22))
+  {
+    const double inv = 1.0 / det;
+    lambda[0] = c02 * inv;
+    lambda[1] = c12 * inv;
+    lambda[2] = c22 * inv;
+    residual(lambda, r);
+    lambda[0] += (c00 * r[0] + c01 * r[1] + c02 * r[2]) * inv;
+    lambda[1] += (c01 * r[0] + c11 * r[1] + c12 * r[2]) * inv;
+    lambda[2] += (c02 * r[0] + c12 * r[1] + c22 * r[2]) * inv;
+    return;
+  }
+  double scale[3];
+  Eigen::Matrix3d A;
+  for (int i = 0; i < 3; ++i)
+    scale[i] = 1.0 / std::sqrt(std::max(M[i][i], 1e-300));
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j)
+      A(i, j) = scale[i] * M[i][j] * scale[j];
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(A);
+  const Eigen::Vector3d ev = eig.eigenvalues();
+  const Eigen::Matrix3d& U = eig.eigenvectors();
+  const double cutoff = 1e-14 * ev.cwiseAbs().maxCoeff();
+  auto solve = [&](const double* rhs, double* out) {
+    const double rs[3] = { scale[0] * rhs[0], scale[1] * rhs[1], scale[2] * rhs[2] };
+    double y[3] = { 0.0, 0.0, 0.0 };
+    for (int k = 0; k < 3; ++k)
+      if (ev(k) > cutoff)
+      {
+        const double coefficient = (U(0, k) * rs[0] + U(1, k) * rs[1] + U(2, k) * rs[2]) / ev(k);
+        for (int i = 0; i < 3; ++i)
+          y[i] += U(i, k) * coefficient;
+      }
+    for (int i = 0; i < 3; ++i)
+      out[i] = scale[i] * y[i];
+  };
+  const double b[3] = { 0.0, 0.0, 1.0 };
+  solve(b, lambda);
+  double correction[3];
+  residual(lambda, r);
+  solve(r, correction);
+  for (int i = 0; i < 3; ++i)
+    lambda[i] += correction[i];
+}
+
+/// Per-thread scratch of the inverse problem (#anchors numbers each, D for yhat, 2 D for P).
+struct InverseState
+{
+  std::vector<double> yhat, P, t0, t1, Dii, x;
+};
+
+/// What an inverse query reads (shared by the threads).
+struct InverseContext
+{
+  int D = 0;
+  Index anchors = 0;
+  Index stride = 0;           ///< #anchors rounded up to a multiple of 4
+  const double* Yt = nullptr; ///< D by stride, row-major (structure of arrays)
+  double gamma = 10, coincide = 0;
+  const Eigen::MatrixXi* F = nullptr;
+  const double* E = nullptr;      ///< #V by D, row-major
+  const double* frames = nullptr; ///< PhongProjection's frames (#V by 2 D) and per-triangle data
+  const double* data = nullptr;
+  const SurfacePoint* points = nullptr;
+  DenseWeights* W = nullptr;
+};
+
+/// The inverse problem (§3.4, Eq. 13) of points [begin, end). See weighted_averages.h.
+template<int kD>
+BARY_ALWAYS_INLINE void inverse_rows(const InverseContext& c, InverseState& s, Index begin, Index end)
+{
+  using detail::v4d;
+  const int D = kD > 0 ? kD : c.D;
+  const Index n = c.anchors;
+  const double gamma = c.gamma;
+  double* yhat = s.yhat.data();
+  double* P0 = s.P.data();
+  double* P1 = P0 + D;
+  double* t0 = s.t0.data();
+  double* t1 = s.t1.data();
+  double* Dii = s.Dii.data();
+  double* x = s.x.data();
+  for (Index q = begin; q < end; ++q)
+  {
+    const SurfacePoint& p = c.points[q];
+    const Index f = p.face;
+    const double xa = p.barycentric(0), xb = p.barycentric(1), xc = p.barycentric(2);
+    const Index c0 = (*c.F)(f, 0), c1 = (*c.F)(f, 1), c2 = (*c.F)(f, 2);
+    {
+      const double* v0 = c.E + c0 * D;
+      const double* v1 = c.E + c1 * D;
+      const double* v2 = c.E + c2 * D;
+      for (int d = 0; d < D; ++d)
+        yhat[d] = xa * v0[d] + xb * v1[d] + xc * v2[d];
+    }
+    // Orthonormal basis of the interpolated tangent plane.
+    detail::phong_psi<kD>(c.data + f * detail::kPhongData, c.frames + c0 * 2 * D,
+      c.frames + c1 * 2 * D, c.frames + c2 * 2 * D, D, xa, xb, xc, P0);
+    double n0 = 0;
+    for (int d = 0; d < D; ++d)
+      n0 += P0[d] * P0[d];
+    n0 = 1.0 / std::sqrt(n0);
+    double dot = 0;
+    for (int d = 0; d < D; ++d)
+    {
+      P0[d] *= n0;
+      dot += P0[d] * P1[d];
+    }
+    double n1 = 0;
+    for (int d = 0; d < D; ++d)
+    {
+      P1[d] -= dot * P0[d];
+      n1 += P1[d] * P1[d];
+    }
+    n1 = 1.0 / std::sqrt(n1);
+    for (int d = 0; d < D; ++d)
+      P1[d] *= n1;
+    // Per anchor, four at a time (the padding's coordinates are 1e150: D^-2 = 0 there): the
+    // tangential coordinates of y_i - yhat (t0, t1, each summed over d in order) and
+    // D_ii = |v_T|^2 + gamma |v_O|^2.
+    const v4d zero = { 0.0, 0.0, 0.0, 0.0 };
+    const double inf = std::numeric_limits<double>::infinity();
+    v4d low = { inf, inf, inf, inf };
+    for (Index g = 0; g < n; g += 4)
+    {
+      v4d v = BARY_LOAD4(c.Yt + g) - yhat[0];
+      v4d a0 = v * P0[0], a1 = v * P1[0], n2 = v * v;
+      for (int d = 1; d < D; ++d)
+      {
+        v = BARY_LOAD4(c.Yt + d * c.stride + g) - yhat[d];
+        a0 += v * P0[d];
+        a1 += v * P1[d];
+        n2 += v * v;
+      }
+      const v4d t2 = a0 * a0 + a1 * a1;
+      const v4d off = n2 - t2;
+      const v4d dii = t2 + BARY_SELECT(off > zero, off, zero) * gamma;
+      BARY_STORE4(t0 + g, a0);
+      BARY_STORE4(t1 + g, a1);
+      BARY_STORE4(Dii + g, dii);
+      low = BARY_SELECT(dii < low, dii, low);
+    }
+    double smallest = std::min(std::min(low[0], low[1]), std::min(low[2], low[3]));
+    double* w = c.W->data() + q * n;
+    if (smallest <= c.coincide)
+    {
+      // The point is an anchor: interpolation (split evenly among coinciding anchors).
+      Index count = 0;
+      for (Index i = 0; i < n; ++i)
+        count += Dii[i] <= c.coincide;
+      for (Index i = 0; i < n; ++i)
+        w[i] = Dii[i] <= c.coincide ? 1.0 / static_cast<double>(count) : 0.0;
+      continue;
+    }
+    // w = D^-2 A^T (A D^-2 A^T)^+ b with A's rows (t0, t1, 1) and b = (0, 0, 1): the
+    // tangential constraint written on y_i - yhat (equivalent given sum w = 1, better
+    // conditioned). D^-2 is scaled to a largest entry of 1. Sums over the anchors: four
+    // partial sums (one per lane), then added pairwise.
+    v4d high = zero;
+    for (Index g = 0; g < n; g += 4)
+    {
+      const v4d dii = BARY_LOAD4(Dii + g);
+      const v4d xi = v4d{ 1.0, 1.0, 1.0, 1.0 } / (dii * dii);
+      BARY_STORE4(x + g, xi);
+      high = BARY_SELECT(xi > high, xi, high);
+    }
+    const double largest = std::max(std::max(high[0], high[1]), std::max(high[2], high[3]));
+    v4d m00 = zero, m01 = zero, m02 = zero, m11 = zero, m12 = zero, m22 = zero;
+    for (Index g = 0; g < n; g += 4)
+    {
+      const v4d v = BARY_LOAD4(x + g) / largest; // now the weights of D^-2
+      BARY_STORE4(x + g, v);
+      const v4d a0 = BARY_LOAD4(t0 + g), a1 = BARY_LOAD4(t1 + g);
+      const v4d va0 = v * a0, va1 = v * a1;
+      m00 += va0 * a0;
+      m01 += va0 * a1;
+      m02 += va0;
+      m11 += va1 * a1;
+      m12 += va1;
+      m22 += v;
+    }
+    double sums[8];
+    detail::lane_sums(m00, m01, m02, m11, sums);
+    detail::lane_sums(m12, m22, zero, zero, sums + 4);
+    const double M[3][3] = { { sums[0], sums[1], sums[2] }, { sums[1], sums[3], sums[4] },
+      { sums[2], sums[4], sums[5] } };
+    double lambda[3];
+    solve_constraints(M,
+      [&](const double* l, double* r) {
+        // residual b - A w for w = D^-2 A^T l
+        v4d r0 = zero, r1 = zero, r2 = zero;
+        for (Index g = 0; g < n; g += 4)
+        {
+          const v4d a0 = BARY_LOAD4(t0 + g), a1 = BARY_LOAD4(t1 + g);
+          const v4d wi = BARY_LOAD4(x + g) * ((a0 * l[0] + a1 * l[1]) + l[2]);
+          r0 += a0 * wi;
+          r1 += a1 * wi;
+          r2 += wi;
+        }
+        double rs[4];
+        detail::lane_sums(r0, r1, r2, zero, rs);
+        r[0] = -rs[0];
+        r[1] = -rs[1];
+        r[2] = 1.0 - rs[2];
+      },
+      lambda);
+    v4d total = zero;
+    for (Index g = 0; g < n; g += 4)
+    {
+      const v4d wi = BARY_LOAD4(x + g) *
+        ((BARY_LOAD4(t0 + g) * lambda[0] + BARY_LOAD4(t1 + g) * lambda[1]) + lambda[2]);
+      BARY_STORE4(x + g, wi);
+      total += wi;
+    }
+    const double sum = (total[0] + total[1]) + (total[2] + total[3]);
+    // Partition of unity exactly: the tangential constraint sum w_i (y_i - yhat) = 0 is
+    // homogeneous, so scaling the row keeps it. It matters where the anchors do not span the
+    // tangent plane and the pseudo-inverse satisfies the constraints only in the least-squares
+    // sense. A row that sums to (almost) 0 has no such scaling: it falls back to the anchor
+    // nearest in the metric of D (the round trip then tells whether the point is reached).
+    if (std::abs(sum) > 1e-12)
+      for (Index i = 0; i < n; ++i)
+        w[i] = x[i] / sum;
     else
     {
-      y.setZero();
-      const Eigen::Vector3d ev = eig.eigenvalues();
-      const double cutoff = 1e-14 * ev.cwiseAbs().maxCoeff();
-      for (int k = 0; k < 3; ++k)
-        if (ev(k) > cutoff)
-          y += eig.eigenvectors().col(k) * (eig.eigenvectors().col(k).dot(r) / ev(k));
+      Index nearest = 0;
+      for (Index i = 1; i < n; ++i)
+        if (Dii[i] < Dii[nearest])
+          nearest = i;
+      for (Index i = 0; i < n; ++i)
+        w[i] = i == nearest ? 1.0 : 0.0;
     }
-    return Eigen::Vector3d(scale.asDiagonal() * y);
-  };
-  Eigen::Vector3d lambda = solve(Eigen::Vector3d(0, 0, 1));
-  lambda += solve(residual(lambda));
-  return lambda;
+  }
+}
+
+void inverse_rows_portable(const InverseContext& c, InverseState& s, Index begin, Index end)
+{
+  if (c.D == 8)
+    inverse_rows<8>(c, s, begin, end);
+  else
+    inverse_rows<0>(c, s, begin, end);
+}
+
+BARY_TARGET_AVX2 void inverse_rows_avx2(
+  const InverseContext& c, InverseState& s, Index begin, Index end)
+{
+  if (c.D == 8)
+    inverse_rows<8>(c, s, begin, end);
+  else
+    inverse_rows<0>(c, s, begin, end);
+}
+
+/// #anchors rounded up to a multiple of 4 (the kernels' vectors).
+Index padded(Index n)
+{
+  return (n + 3) / 4 * 4;
+}
+
+/// D by padded(n), row-major: the anchors' embedded coordinates as structure of arrays (1e150
+/// in the padding: far from everything).
+std::vector<double> transposed(const RowMatrix& Y)
+{
+  const Index stride = padded(Y.rows());
+  std::vector<double> Yt(static_cast<std::size_t>(Y.cols() * stride), 1e150);
+  for (Index i = 0; i < Y.rows(); ++i)
+    for (Index d = 0; d < Y.cols(); ++d)
+      Yt[static_cast<std::size_t>(d * stride + i)] = Y(i, d);
+  return Yt;
 }
 
 /// The corner of a surface point with the largest barycentric coordinate.
@@ -133,13 +1251,15 @@ void validate_surface_points(
   for (std::size_t i = 0; i < points.size(); ++i)
   {
     const SurfacePoint& p = points[i];
-    const std::string name = std::string(what) + " " + std::to_string(i);
+    auto name = [&] { return std::string(what) + " " + std::to_string(i); };
     if (p.face < 0 || p.face >= mesh.face_count())
-      throw Error(ErrorCode::InvalidArgument, name + " is on triangle " + std::to_string(p.face) +
-          " but the surface has " + std::to_string(mesh.face_count()) + " triangles");
-    if (!p.barycentric.allFinite() || (p.barycentric.array() < -1e-9).any() ||
-      std::abs(p.barycentric.sum() - 1.0) > 1e-9)
-      throw Error(ErrorCode::InvalidArgument, name + " has barycentric coordinates " +
+      throw Error(ErrorCode::InvalidArgument, name() + " is on triangle " +
+          std::to_string(p.face) + " but the surface has " + std::to_string(mesh.face_count()) +
+          " triangles");
+    const Eigen::Vector3d& b = p.barycentric;
+    if (!(std::isfinite(b(0)) && std::isfinite(b(1)) && std::isfinite(b(2))) || b(0) < -1e-9 ||
+      b(1) < -1e-9 || b(2) < -1e-9 || std::abs(b.sum() - 1.0) > 1e-9)
+      throw Error(ErrorCode::InvalidArgument, name() + " has barycentric coordinates " +
           detail::format_point(p.barycentric.data(), 3) +
           " (they must be finite, >= 0 and sum to 1)");
   }
@@ -148,6 +1268,7 @@ void validate_surface_points(
 WeightedAverages::WeightedAverages(SurfaceMesh mesh, const Eigen::MatrixXd& E)
   : mesh_(std::make_shared<const SurfaceMesh>(std::move(mesh)))
   , phong_(std::make_shared<const PhongProjection>(*mesh_, E))
+  , search_(std::make_shared<const detail::SurfaceSearch>(*mesh_, E))
   , E_(E)
 {
 }
@@ -157,95 +1278,6 @@ Eigen::MatrixXd WeightedAverages::embed(const std::vector<SurfacePoint>& points)
   return surface_point_positions(mesh_->F, E_, points);
 }
 
-bool WeightedAverages::forward_local(const double* ybar, Index start, Index max_triangles,
-  Workspace& ws, SurfacePoint& out) const
-{
-  const int D = dimension();
-  const PhongProjection& phong = *phong_;
-  const SurfaceMesh& mesh = *mesh_;
-  // Greedy walk on the edge graph.
-  Index v = start;
-  double best = squared_distance(phong.vertex(v), ybar, D);
-  for (;;)
-  {
-    Index next = -1;
-    for (int i = mesh.ring_offsets[static_cast<std::size_t>(v)]; i < mesh.ring_offsets[static_cast<std::size_t>(v + 1)]; ++i)
-    {
-      const int u = mesh.ring[static_cast<std::size_t>(i)];
-      const double d = squared_distance(phong.vertex(u), ybar, D);
-      if (d < best)
-      {
-        best = d;
-        next = u;
-      }
-    }
-    if (next < 0)
-      break;
-    v = next;
-  }
-  // Breadth-first search over triangles from v's triangles.
-  const int query = ++ws.query;
-  ws.queue.clear();
-  // v's triangles are tried in order of how far inside them the Euclidean projection of ybar
-  // onto their planes falls (the Phong projection is near it), ties by triangle index.
-  ws.ring.clear();
-  for (int i = mesh.face_offsets[static_cast<std::size_t>(v)]; i < mesh.face_offsets[static_cast<std::size_t>(v + 1)]; ++i)
-  {
-    const int f = mesh.vertex_faces[static_cast<std::size_t>(i)];
-    ws.stamp[static_cast<std::size_t>(f)] = query;
-    ws.ring.emplace_back(-phong.euclidean_barycentric(f, ybar).minCoeff(), f);
-  }
-  std::sort(ws.ring.begin(), ws.ring.end());
-  for (const auto& [score, f] : ws.ring)
-    ws.queue.push_back(f);
-  const Index cap = max_triangles > 0 ? max_triangles : mesh.face_count();
-  Eigen::Vector3d xi;
-  for (std::size_t head = 0; head < ws.queue.size() && static_cast<Index>(head) < cap; ++head)
-  {
-    const int f = ws.queue[head];
-    ++ws.tried;
-    // Newton starts at the Euclidean projection (clamped into the triangle).
-    if (phong.project(f, ybar, xi, phong.euclidean_barycentric(f, ybar)))
-    {
-      out.face = f;
-      out.barycentric = xi;
-      return true;
-    }
-    for (int k = 0; k < 3; ++k)
-    {
-      const int g = mesh.face_neighbors(f, k);
-      if (g >= 0 && ws.stamp[static_cast<std::size_t>(g)] != query)
-      {
-        ws.stamp[static_cast<std::size_t>(g)] = query;
-        ws.queue.push_back(g);
-      }
-    }
-  }
-  return false;
-}
-
-bool WeightedAverages::forward_brute(const double* ybar, Workspace& ws, SurfacePoint& out) const
-{
-  const int D = dimension();
-  double best = std::numeric_limits<double>::infinity();
-  Eigen::Vector3d xi;
-  for (Index f = 0; f < mesh_->face_count(); ++f)
-  {
-    ++ws.tried;
-    if (!phong_->project(f, ybar, xi))
-      continue;
-    phong_->position(f, xi, ws.point.data());
-    const double d = squared_distance(ws.point.data(), ybar, D);
-    if (d < best)
-    {
-      best = d;
-      out.face = f;
-      out.barycentric = xi;
-    }
-  }
-  return best < std::numeric_limits<double>::infinity();
-}
-
 ForwardResult WeightedAverages::forward(const std::vector<SurfacePoint>& anchors,
   const DenseWeights& W, const ForwardOptions& options, const ProgressCallback& progress) const
 {
@@ -253,12 +1285,8 @@ ForwardResult WeightedAverages::forward(const std::vector<SurfacePoint>& anchors
     throw Error(ErrorCode::SizeMismatch, "the weights have " + std::to_string(W.cols()) +
         " columns but there are " + std::to_string(anchors.size()) + " anchors",
       "give one weight per anchor in every row");
-  return forward_rows(anchors, W.rows(),
-    [&W](Index q, auto&& visit) {
-      for (Index i = 0; i < W.cols(); ++i)
-        visit(i, W(q, i));
-    },
-    false, options, progress, nullptr);
+  return forward_rows(anchors, W.rows(), W.data(), nullptr, nullptr, nullptr, options, progress,
+    nullptr);
 }
 
 ForwardResult WeightedAverages::forward(const std::vector<SurfacePoint>& anchors,
@@ -272,17 +1300,19 @@ ForwardResult WeightedAverages::forward(const std::vector<SurfacePoint>& anchors
   if (hints && static_cast<Index>(hints->size()) != W.rows())
     throw Error(ErrorCode::SizeMismatch, "there are " + std::to_string(hints->size()) +
         " start hints for " + std::to_string(W.rows()) + " queries");
-  return forward_rows(anchors, W.rows(),
-    [&W](Index q, auto&& visit) {
-      for (SparseWeights::InnerIterator it(W, q); it; ++it)
-        visit(it.col(), it.value());
-    },
-    true, options, progress, hints);
+  if (!W.isCompressed())
+  {
+    SparseWeights compressed = W;
+    compressed.makeCompressed();
+    return forward(anchors, compressed, options, progress, hints);
+  }
+  return forward_rows(anchors, W.rows(), nullptr, W.outerIndexPtr(), W.innerIndexPtr(),
+    W.valuePtr(), options, progress, hints);
 }
 
-template<class Rows>
 ForwardResult WeightedAverages::forward_rows(const std::vector<SurfacePoint>& anchors, Index nq,
-  Rows&& rows, bool sparse, const ForwardOptions& options, const ProgressCallback& progress,
+  const double* dense, const int* outer, const int* inner, const double* values,
+  const ForwardOptions& options, const ProgressCallback& progress,
   const std::vector<SurfacePoint>* hints) const
 {
   const auto t0 = std::chrono::steady_clock::now();
@@ -290,102 +1320,168 @@ ForwardResult WeightedAverages::forward_rows(const std::vector<SurfacePoint>& an
     throw Error(ErrorCode::EmptyInput, "no anchors: a weighted average needs at least one");
   validate_surface_points(*mesh_, anchors, "anchor");
   validate_forward_options(options);
-  for (Index q = 0; q < nq; ++q)
-  {
-    double sum = 0, magnitude = 0;
-    bool finite = true;
-    rows(q, [&](Index, double w) {
-      finite = finite && std::isfinite(w);
-      sum += w;
-      magnitude += std::abs(w);
-    });
-    if (!finite)
-      throw Error(ErrorCode::NonFinite, "weights row " + std::to_string(q) + " has a non-finite weight");
-    if (!(std::abs(sum - 1.0) <= 1e-9 * std::max(1.0, magnitude)))
-      throw Error(ErrorCode::InvalidArgument, "weights row " + std::to_string(q) + " sums to " +
-          detail::format_number(sum, 15) + ", not 1", "weights of an average must sum to 1");
-  }
-
+  const Index n = static_cast<Index>(anchors.size());
   const int D = dimension();
   const RowMatrix Y = embed(anchors);
+  const Index stride8 = (n + SurfaceSearch::kLanes - 1) / SurfaceSearch::kLanes * SurfaceSearch::kLanes;
+  std::vector<float> Ytf(static_cast<std::size_t>(D * stride8), SurfaceSearch::kPad);
+  std::vector<float> Yf(static_cast<std::size_t>(n * D));
+  for (Index i = 0; i < n; ++i)
+    for (int d = 0; d < D; ++d)
+    {
+      Ytf[static_cast<std::size_t>(d * stride8 + i)] = static_cast<float>(Y(i, d));
+      Yf[static_cast<std::size_t>(i * D + d)] = static_cast<float>(Y(i, d));
+    }
   std::vector<Index> anchor_corners(anchors.size());
   for (std::size_t i = 0; i < anchors.size(); ++i)
     anchor_corners[i] = nearest_corner(mesh_->F, anchors[i]);
+  std::vector<int> starts;
+  if (hints)
+  {
+    starts.resize(static_cast<std::size_t>(nq));
+    for (Index q = 0; q < nq; ++q)
+    {
+      const SurfacePoint& h = (*hints)[static_cast<std::size_t>(q)];
+      starts[static_cast<std::size_t>(q)] = h.face >= 0 ? static_cast<int>(nearest_corner(mesh_->F, h)) : -1;
+    }
+  }
+  ForwardContext context;
+  context.D = D;
+  context.anchors = n;
+  context.anchors_padded = stride8;
+  context.Y = Y.data();
+  context.Yt = Ytf.data();
+  context.Y_float = Yf.data();
+  context.anchor_corners = anchor_corners.data();
+  context.mesh = mesh_.get();
+  context.search = search_.get();
+  context.E = phong_->E_.data();
+  context.frames = phong_->frame_rows_.data();
+  context.data = phong_->data_.data();
+  context.cap = options.max_triangles > 0 ? options.max_triangles : mesh_->face_count();
+  ForwardRows rows;
+  rows.anchors = n;
+  rows.dense = dense;
+  rows.outer = outer;
+  rows.inner = inner;
+  rows.values = values;
+  rows.start = hints ? starts.data() : nullptr;
+  rows.warm_start = options.warm_start;
+  const bool avx2 = detail::simd_level() == detail::SimdLevel::AVX2;
   ForwardResult result;
-  result.points.assign(static_cast<std::size_t>(nq), SurfacePoint{});
-  result.valid.assign(static_cast<std::size_t>(nq), 0);
+  result.points.resize(static_cast<std::size_t>(nq));
+  result.valid.resize(static_cast<std::size_t>(nq));
+  result.positions.resize(nq, 3);
+  ForwardOutput output;
+  output.points = result.points.data();
+  output.valid = result.valid.data();
+  output.positions = result.positions.data();
+  output.queries = nq;
   ProgressReporter reporter(progress, std::max<Index>(nq, 1));
   auto make_state = [&] {
-    Workspace ws;
+    ForwardWorkspace ws;
     ws.stamp.assign(static_cast<std::size_t>(mesh_->face_count()), 0);
-    ws.ybar.resize(D);
-    ws.point.resize(D);
+    ws.queue.reserve(64);
+    ws.order_stride = search_->max_valence + SurfaceSearch::kLanes;
+    ws.order.resize(static_cast<std::size_t>(4 * ws.order_stride));
+    ws.dist_stride = search_->max_valence + SurfaceSearch::kLanes;
+    ws.dist.resize(static_cast<std::size_t>(4 * ws.dist_stride));
+    ws.anchor_distance.resize(static_cast<std::size_t>(stride8));
+    ws.ybar.resize(static_cast<std::size_t>(4 * D));
+    ws.ybar_float.resize(static_cast<std::size_t>(4 * D));
+    ws.point.resize(static_cast<std::size_t>(D));
     return ws;
   };
-  auto body = [&](Workspace& ws, Index begin, Index end) {
+  // Search::BruteForce: every triangle, the projection closest to ybar (Definition 2).
+  auto brute = [&](ForwardWorkspace& ws, Index q) {
+    const double* weight = dense ? dense + q * n : values + outer[q];
+    const int* index = dense ? nullptr : inner + outer[q];
+    const int count = dense ? static_cast<int>(n) : outer[q + 1] - outer[q];
+    double sum = 0;
+    if (!weights_row_valid(weight, count, sum))
+    {
+      ws.bad_row = std::min(ws.bad_row, q);
+      if (ws.bad_row == q)
+        ws.bad_sum = sum;
+      return false;
+    }
+    double* ybar = ws.ybar.data();
+    std::fill(ybar, ybar + D, 0.0);
+    for (int j = 0; j < count; ++j)
+      if (weight[j] != 0.0)
+        for (int d = 0; d < D; ++d)
+          ybar[d] += weight[j] * Y(index ? index[j] : j, d);
+    SurfacePoint& out = result.points[static_cast<std::size_t>(q)];
+    double best = std::numeric_limits<double>::infinity();
+    Eigen::Vector3d xi;
+    for (Index f = 0; f < mesh_->face_count(); ++f)
+    {
+      ++ws.tried;
+      if (!phong_->project(f, ybar, xi))
+        continue;
+      phong_->position(f, xi, ws.point.data());
+      const double d = squared_distance(ws.point.data(), ybar, D);
+      if (d < best)
+      {
+        best = d;
+        out.face = f;
+        out.barycentric = xi;
+      }
+    }
+    return best < std::numeric_limits<double>::infinity();
+  };
+  const Eigen::MatrixXi& F = mesh_->F;
+  const Eigen::MatrixXd& V = mesh_->V;
+  auto body = [&](ForwardWorkspace& ws, Index begin, Index end) {
+    if (options.search == ForwardOptions::Search::Local)
+    {
+      if (avx2)
+        forward_chunk_avx2(context, rows, begin, end, ws, output);
+      else
+        forward_chunk_portable(context, rows, begin, end, ws, output);
+      return;
+    }
     for (Index q = begin; q < end; ++q)
     {
-      ws.ybar.setZero();
-      rows(q, [&](Index i, double w) {
-        if (w != 0.0)
-          ws.ybar += w * Y.row(i).transpose();
-      });
-      SurfacePoint& out = result.points[static_cast<std::size_t>(q)];
-      bool ok;
-      if (options.search == ForwardOptions::Search::BruteForce)
-        ok = forward_brute(ws.ybar.data(), ws, out);
-      else
-      {
-        Index start = -1;
-        if (options.warm_start && q > begin && result.valid[static_cast<std::size_t>(q - 1)])
-          start = nearest_corner(mesh_->F, result.points[static_cast<std::size_t>(q - 1)]);
-        else if (hints && (*hints)[static_cast<std::size_t>(q)].face >= 0)
-          start = nearest_corner(mesh_->F, (*hints)[static_cast<std::size_t>(q)]);
-        else
-        {
-          // The anchor nearest to ybar in R^D (among the row's anchors for sparse weights; the
-          // paper starts from the heaviest anchor "if a better initial guess is not
-          // available": this one is closer, so the walk is shorter).
-          double best = std::numeric_limits<double>::infinity();
-          auto consider = [&](Index i) {
-            const double d = squared_distance(Y.data() + i * D, ws.ybar.data(), D);
-            if (d < best)
-            {
-              best = d;
-              start = anchor_corners[static_cast<std::size_t>(i)];
-            }
-          };
-          if (sparse)
-            rows(q, [&](Index i, double) { consider(i); });
-          else
-            for (Index i = 0; i < Y.rows(); ++i)
-              consider(i);
-        }
-        ok = start >= 0 && forward_local(ws.ybar.data(), start, options.max_triangles, ws, out);
-      }
+      const bool ok = brute(ws, q);
       result.valid[static_cast<std::size_t>(q)] = ok ? 1 : 0;
+      SurfacePoint& out = result.points[static_cast<std::size_t>(q)];
       if (!ok)
+      {
         out = SurfacePoint{};
+        ++ws.failures;
+        result.positions.row(q).setConstant(std::numeric_limits<double>::quiet_NaN());
+        continue;
+      }
+      result.positions.row(q) = out.barycentric(0) * V.row(F(out.face, 0)) +
+        out.barycentric(1) * V.row(F(out.face, 1)) + out.barycentric(2) * V.row(F(out.face, 2));
     }
   };
-  Index tried = 0;
+  Index tried = 0, failures = 0, bad_row = std::numeric_limits<Index>::max();
+  double bad_sum = 0;
   detail::parallel_for(nq, kChunk, options.threads, reporter, "the weighted averages", make_state,
-    body, [&](Workspace& ws) { tried += ws.tried; });
-  result.triangles_tried = tried;
-  result.positions.resize(nq, 3);
-  for (Index q = 0; q < nq; ++q)
+    body, [&](ForwardWorkspace& ws) {
+      tried += ws.tried;
+      failures += ws.failures;
+      if (ws.bad_row < bad_row)
+      {
+        bad_row = ws.bad_row;
+        bad_sum = ws.bad_sum;
+      }
+    });
+  // Rows that are not an average's are found by the queries (each row is read once); the first
+  // one is reported, whatever the number of threads.
+  if (bad_row < nq)
   {
-    const SurfacePoint& p = result.points[static_cast<std::size_t>(q)];
-    if (!result.valid[static_cast<std::size_t>(q)])
-    {
-      ++result.failures;
-      result.positions.row(q).setConstant(std::numeric_limits<double>::quiet_NaN());
-      continue;
-    }
-    result.positions.row(q) = p.barycentric(0) * mesh_->V.row(mesh_->F(p.face, 0)) +
-      p.barycentric(1) * mesh_->V.row(mesh_->F(p.face, 1)) +
-      p.barycentric(2) * mesh_->V.row(mesh_->F(p.face, 2));
+    if (std::isnan(bad_sum))
+      throw Error(ErrorCode::NonFinite,
+        "weights row " + std::to_string(bad_row) + " has a non-finite weight");
+    throw Error(ErrorCode::InvalidArgument, "weights row " + std::to_string(bad_row) +
+        " sums to " + detail::format_number(bad_sum, 15) + ", not 1",
+      "weights of an average must sum to 1");
   }
+  result.triangles_tried = tried;
+  result.failures = failures;
   result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return result;
 }
@@ -402,153 +1498,41 @@ DenseWeights WeightedAverages::inverse(const std::vector<SurfacePoint>& anchors,
   const int D = dimension();
   const Index n = static_cast<Index>(anchors.size());
   const RowMatrix Y = embed(anchors);
+  const std::vector<double> Yt = transposed(Y);
   const double extent2 = (E_.colwise().maxCoeff() - E_.colwise().minCoeff()).squaredNorm();
-  const double coincide = 1e-24 * extent2;
   const Index np = static_cast<Index>(points.size());
   DenseWeights W(np, n);
+  InverseContext context;
+  context.D = D;
+  context.anchors = n;
+  context.stride = padded(n);
+  context.Yt = Yt.data();
+  context.gamma = options.gamma;
+  context.coincide = 1e-24 * extent2;
+  context.F = &mesh_->F;
+  context.E = phong_->E_.data();
+  context.frames = phong_->frame_rows_.data();
+  context.data = phong_->data_.data();
+  context.points = points.data();
+  context.W = &W;
+  const bool avx2 = detail::simd_level() == detail::SimdLevel::AVX2;
   ProgressReporter reporter(progress, std::max<Index>(np, 1));
-  struct State
-  {
-    std::vector<double> yhat, P, t0, t1, Dii, x;
-  };
   auto make_state = [&] {
-    State s;
+    InverseState s;
     s.yhat.resize(static_cast<std::size_t>(D));
     s.P.resize(static_cast<std::size_t>(2 * D));
     for (auto* v : { &s.t0, &s.t1, &s.Dii, &s.x })
-      v->resize(static_cast<std::size_t>(n));
+      v->resize(static_cast<std::size_t>(padded(n)));
     return s;
   };
-  const double gamma = options.gamma;
-  auto body = [&](State& s, Index begin, Index end) {
-    double* yhat = s.yhat.data();
-    double* P0 = s.P.data();
-    double* P1 = P0 + D;
-    for (Index q = begin; q < end; ++q)
-    {
-      const SurfacePoint& p = points[static_cast<std::size_t>(q)];
-      phong_->position(p.face, p.barycentric, yhat);
-      // Orthonormal basis of the interpolated tangent plane.
-      phong_->psi(p.face, p.barycentric, P0);
-      double n0 = 0;
-      for (int d = 0; d < D; ++d)
-        n0 += P0[d] * P0[d];
-      n0 = 1.0 / std::sqrt(n0);
-      double dot = 0;
-      for (int d = 0; d < D; ++d)
-      {
-        P0[d] *= n0;
-        dot += P0[d] * P1[d];
-      }
-      double n1 = 0;
-      for (int d = 0; d < D; ++d)
-      {
-        P1[d] -= dot * P0[d];
-        n1 += P1[d] * P1[d];
-      }
-      n1 = 1.0 / std::sqrt(n1);
-      for (int d = 0; d < D; ++d)
-        P1[d] *= n1;
-      // D_ii = |v_T|^2 + gamma |v_O|^2 and the tangential coordinates of y_i - yhat.
-      double smallest = std::numeric_limits<double>::infinity();
-      for (Index i = 0; i < n; ++i)
-      {
-        const double* y = Y.data() + i * D;
-        double a0 = 0, a1 = 0, n2 = 0;
-        for (int d = 0; d < D; ++d)
-        {
-          const double v = y[d] - yhat[d];
-          a0 += P0[d] * v;
-          a1 += P1[d] * v;
-          n2 += v * v;
-        }
-        const double t2 = a0 * a0 + a1 * a1;
-        s.t0[static_cast<std::size_t>(i)] = a0;
-        s.t1[static_cast<std::size_t>(i)] = a1;
-        const double dii = t2 + gamma * std::max(0.0, n2 - t2);
-        s.Dii[static_cast<std::size_t>(i)] = dii;
-        smallest = std::min(smallest, dii);
-      }
-      auto w = W.row(q);
-      if (smallest <= coincide)
-      {
-        // The point is an anchor: interpolation (split evenly among coinciding anchors).
-        w.setZero();
-        Index count = 0;
-        for (Index i = 0; i < n; ++i)
-          count += s.Dii[static_cast<std::size_t>(i)] <= coincide;
-        for (Index i = 0; i < n; ++i)
-          if (s.Dii[static_cast<std::size_t>(i)] <= coincide)
-            w(i) = 1.0 / static_cast<double>(count);
-        continue;
-      }
-      // w = D^-2 A^T (A D^-2 A^T)^+ b with A's rows (t0, t1, 1) and b = (0, 0, 1): the
-      // tangential constraint written on y_i - yhat (equivalent given sum w = 1, better
-      // conditioned). D^-2 is scaled to a largest entry of 1.
-      double largest = 0;
-      for (Index i = 0; i < n; ++i)
-      {
-        double& v = s.x[static_cast<std::size_t>(i)];
-        const double dii = s.Dii[static_cast<std::size_t>(i)];
-        v = 1.0 / (dii * dii);
-        largest = std::max(largest, v);
-      }
-      Eigen::Matrix3d M = Eigen::Matrix3d::Zero();
-      for (Index i = 0; i < n; ++i)
-      {
-        double& v = s.x[static_cast<std::size_t>(i)];
-        v /= largest; // now the weights of D^-2
-        const double a0 = s.t0[static_cast<std::size_t>(i)], a1 = s.t1[static_cast<std::size_t>(i)];
-        M(0, 0) += v * a0 * a0;
-        M(0, 1) += v * a0 * a1;
-        M(0, 2) += v * a0;
-        M(1, 1) += v * a1 * a1;
-        M(1, 2) += v * a1;
-        M(2, 2) += v;
-      }
-      M(1, 0) = M(0, 1);
-      M(2, 0) = M(0, 2);
-      M(2, 1) = M(1, 2);
-      const Eigen::Vector3d lambda = solve_constraints(M, [&](const Eigen::Vector3d& l) {
-        // residual b - A w for w = D^-2 A^T l
-        Eigen::Vector3d r(0, 0, 1);
-        for (Index i = 0; i < n; ++i)
-        {
-          const double a0 = s.t0[static_cast<std::size_t>(i)], a1 = s.t1[static_cast<std::size_t>(i)];
-          const double wi = s.x[static_cast<std::size_t>(i)] * (a0 * l(0) + a1 * l(1) + l(2));
-          r(0) -= a0 * wi;
-          r(1) -= a1 * wi;
-          r(2) -= wi;
-        }
-        return r;
-      });
-      double sum = 0;
-      for (Index i = 0; i < n; ++i)
-      {
-        const double a0 = s.t0[static_cast<std::size_t>(i)], a1 = s.t1[static_cast<std::size_t>(i)];
-        w(i) = s.x[static_cast<std::size_t>(i)] * (a0 * lambda(0) + a1 * lambda(1) + lambda(2));
-        sum += w(i);
-      }
-      // Partition of unity exactly: the tangential constraint sum w_i (y_i - yhat) = 0 is
-      // homogeneous, so scaling the row keeps it. It matters where the anchors do not span the
-      // tangent plane and the pseudo-inverse satisfies the constraints only in the least-squares
-      // sense. A row that sums to (almost) 0 has no such scaling: it falls back to the anchor
-      // nearest in the metric of D (the round trip then tells whether the point is reached).
-      if (std::abs(sum) > 1e-12)
-        w /= sum;
-      else
-      {
-        Index nearest = 0;
-        for (Index i = 1; i < n; ++i)
-          if (s.Dii[static_cast<std::size_t>(i)] < s.Dii[static_cast<std::size_t>(nearest)])
-            nearest = i;
-        w.setZero();
-        w(nearest) = 1.0;
-      }
-    }
+  auto body = [&](InverseState& s, Index begin, Index end) {
+    if (avx2)
+      inverse_rows_avx2(context, s, begin, end);
+    else
+      inverse_rows_portable(context, s, begin, end);
   };
   detail::parallel_for(np, kChunk, options.threads, reporter, "the inverse weighted averages",
-    make_state, body, [](State&) {});
+    make_state, body, [](InverseState&) {});
   return W;
 }
 

@@ -6,28 +6,43 @@
 ///
 /// **Forward problem** (§3.3): anchors x_i on the surface and weights w_i (summing to 1) give
 /// ybar = sum_i w_i e(x_i) in R^D, whose Phong projection onto the embedded mesh is the average.
-/// The search is the paper's: a greedy walk on the edge graph towards ybar, from the vertex of
-/// the previous query's result (warm start) or from the nearest corner of the anchor nearest to
-/// ybar in R^D (the paper starts from the heaviest anchor when nothing better is known; the
-/// nearest one shortens the walk), until no neighbour is closer to ybar; then a breadth-first search over triangles from that vertex's
-/// triangles, stopping at the first triangle where a Phong projection exists. A query whose
-/// search finds none (within max_triangles) is reported as failed, never returned as a point.
-/// Search::BruteForce projects onto every triangle and keeps the projection closest to ybar
-/// (Definition 2), for validation.
+/// The search is the paper's: a greedy walk on the edge graph towards ybar until no neighbour
+/// is closer to ybar, then a breadth-first search over triangles from that vertex's triangles,
+/// stopping at the first triangle where a Phong projection exists. The walk starts from the
+/// vertex of the previous query's result (warm start), a hint, or else from the vertex a grid
+/// over three coordinates of the embedding holds for ybar's cell (built once; the vertex
+/// nearest to the cell's centre) unless that is farther than two cells from ybar, when the
+/// nearest corner of the anchor nearest to ybar in R^D is also considered (the paper starts from
+/// the heaviest anchor when nothing better is known; a nearer start shortens the walk). The
+/// walk's distances are in single precision (they only choose where the search starts; it
+/// ends at a vertex nearer to ybar than its neighbours all the same), and the vertex's triangles
+/// are tried in order of the smallest Euclidean barycentric coordinate of ybar in them, the
+/// largest first. A query whose search finds none (within max_triangles) is reported as failed,
+/// never returned as a point. Search::BruteForce projects onto every triangle and keeps the
+/// projection closest to ybar (Definition 2), for validation. Queries go four at a time
+/// through each stage (their walks in turns, their first Phong projections in one vector
+/// iteration) so that their latencies overlap; a warm start makes them go one at a time.
+/// A row of weights that is not an average's is found while its query runs and the first such
+/// row is reported after all of them (the same row whatever the thread count).
 ///
 /// **Inverse problem** (§3.4): for a point xhat on triangle t with barycentric coordinates xi,
 /// the weights minimise |D w|^2 subject to Psi(xi) (yhat - sum_i w_i y_i) = 0 and sum_i w_i = 1
 /// (Eq. 13), with D_ii = |v_T|^2 + gamma |v_O|^2, v_T and v_O the parts of y_i - yhat in and
 /// orthogonal to the tangent plane Psi(xi) (gamma = 10, the paper's). The solution is
 /// w = D^-2 A^T (A D^-2 A^T)^+ b with A = [P Y^T; 1^T], b = [P yhat; 1], P an orthonormal basis
-/// of Psi's rows (the pseudo-inverse drops directions of A D^-2 A^T below 1e-12 of its largest
-/// eigenvalue; where that leaves the partition of unity inexact, the row is scaled to sum to 1,
-/// which keeps the homogeneous tangential constraint; a row summing to 0 falls back to the
-/// anchor with the smallest D_ii). When xhat is an anchor (D_ii = 0, up to 1e-24 of the squared embedding
-/// extent) its weight is 1 and the others 0: the weights interpolate.
+/// of Psi's rows (A D^-2 A^T, 3 by 3, is inverted by cofactors when its equilibrated Cholesky
+/// pivots are above 1e-6, else by the pseudo-inverse that drops directions below 1e-14 of its
+/// largest eigenvalue; then one step of iterative refinement; where that leaves the partition
+/// of unity inexact, the row is scaled to sum to 1, which keeps the homogeneous tangential
+/// constraint; a row summing to 0 falls back to the anchor with the smallest D_ii). When xhat
+/// is an anchor (D_ii = 0, up to 1e-24 of the squared embedding extent) its weight is 1 and the
+/// others 0: the weights interpolate. The sums over anchors run four anchors at a time.
 ///
 /// Both are per-query: OpenMP over queries in fixed chunks; results do not depend on the
-/// thread count (a warm start only follows the previous query of the same chunk).
+/// thread count (a warm start only follows the previous query of the same chunk). The
+/// per-query kernels run in an AVX2 instantiation where the CPU has AVX2 and a portable one
+/// otherwise (core/detail/simd.h; BARYLAB_SIMD=0 forces the portable one); both give the same
+/// results, bit for bit. No allocation per query.
 
 #include "core/common/progress.h"
 #include "core/common/types.h"
@@ -39,6 +54,11 @@
 
 namespace bary
 {
+
+namespace detail
+{
+struct SurfaceSearch;
+}
 
 /// Options of the forward problem.
 struct ForwardOptions
@@ -149,19 +169,16 @@ public:
   int dimension() const noexcept { return static_cast<int>(E_.cols()); }
 
 private:
-  struct Workspace;
-  /// One forward query: ybar (D numbers), start vertex; true and @p out on success.
-  bool forward_local(const double* ybar, Index start, Index max_triangles, Workspace& ws,
-    SurfacePoint& out) const;
-  bool forward_brute(const double* ybar, Workspace& ws, SurfacePoint& out) const;
-  /// Both forward problems: rows(q, visit) calls visit(anchor, weight) for row q's weights.
-  template<class Rows>
-  ForwardResult forward_rows(const std::vector<SurfacePoint>& anchors, Index queries, Rows&& rows,
-    bool sparse, const ForwardOptions& options, const ProgressCallback& progress,
+  /// Both forward problems: the rows of weights, dense (#queries by #anchors, row-major) or
+  /// sparse (compressed row storage: outer, inner, values).
+  ForwardResult forward_rows(const std::vector<SurfacePoint>& anchors, Index queries,
+    const double* dense, const int* outer, const int* inner, const double* values,
+    const ForwardOptions& options, const ProgressCallback& progress,
     const std::vector<SurfacePoint>* hints) const;
 
   std::shared_ptr<const SurfaceMesh> mesh_;
   std::shared_ptr<const PhongProjection> phong_;
+  std::shared_ptr<const detail::SurfaceSearch> search_; ///< the greedy walk's and fans' tables
   Eigen::MatrixXd E_;
 };
 

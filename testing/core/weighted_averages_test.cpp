@@ -1,6 +1,7 @@
 // Tests of core/surface/weighted_averages: forward and inverse problems of Panozzo et al. 2013
 // (§3.3-3.4) on surfaces made in the test with known embeddings (the identity in R^3 and the
 // smooth lift into R^8 of surface_catalogue.h).
+#include "core/detail/simd.h"
 #include "core/surface/weighted_averages.h"
 #include "error_matchers.h"
 #include "surface_catalogue.h"
@@ -232,6 +233,56 @@ TEST(WeightedAverages, ResultsDoNotDependOnThreads)
   i1.threads = 1;
   i2.threads = 2;
   EXPECT_TRUE(wa.inverse(anchors, points, i1).cwiseEqual(wa.inverse(anchors, points, i2)).all());
+}
+
+// The AVX2 kernels and the portable ones (what a CPU without AVX2 runs) give the same bits:
+// the forward problem (search and Phong projection, dense and sparse weights, D = 8 and the
+// general D = 3) and the inverse problem.
+TEST(WeightedAverages, InstructionSetsGiveTheSameResults)
+{
+  if (detail::supported_simd_level() != detail::SimdLevel::AVX2)
+    GTEST_SKIP() << "this CPU has no AVX2: only the portable kernels run";
+  const auto s = test::icosphere(3);
+  SurfaceMesh m(s.V, s.F);
+  std::mt19937 rng(8);
+  for (const bool lift : { false, true })
+  {
+    const WeightedAverages wa(m, lift ? test::lift8(m.V) : m.V);
+    const auto anchors = anchors_at(m, cap_anchors(0.6, 12));
+    const DenseWeights W = convex_weights(2000, 12, rng);
+    const SparseWeights S = W.sparseView();
+    const auto points = cap_points(m, 0.5, 1000, rng);
+    struct Run
+    {
+      ForwardResult dense, sparse;
+      DenseWeights inverse;
+    };
+    auto run = [&](detail::SimdLevel level) {
+      detail::set_simd_level(level);
+      Run r{ wa.forward(anchors, W), wa.forward(anchors, S, ForwardOptions{}),
+        wa.inverse(anchors, points) };
+      detail::set_simd_level(detail::supported_simd_level());
+      return r;
+    };
+    const Run avx2 = run(detail::SimdLevel::AVX2), portable = run(detail::SimdLevel::Portable);
+    EXPECT_EQ(avx2.dense.failures, 0) << "lift " << lift;
+    for (const auto* pair : { &avx2.dense, &avx2.sparse })
+    {
+      const ForwardResult& other = pair == &avx2.dense ? portable.dense : portable.sparse;
+      EXPECT_EQ(pair->triangles_tried, other.triangles_tried) << "lift " << lift;
+      EXPECT_TRUE(pair->valid == other.valid) << "lift " << lift;
+      EXPECT_TRUE(pair->positions.cwiseEqual(other.positions).all()) << "lift " << lift;
+      for (std::size_t q = 0; q < pair->points.size(); ++q)
+      {
+        EXPECT_EQ(pair->points[q].face, other.points[q].face);
+        EXPECT_TRUE(pair->points[q].barycentric == other.points[q].barycentric);
+      }
+    }
+    EXPECT_TRUE(avx2.inverse.cwiseEqual(portable.inverse).all()) << "lift " << lift;
+    // The single-precision search only chooses where to start: both forward problems are the
+    // projections of the same averages.
+    EXPECT_LT((avx2.dense.positions - avx2.sparse.positions).cwiseAbs().maxCoeff(), 1e-10);
+  }
 }
 
 TEST(WeightedAverages, FailedQueriesAreReportedNotReturned)
