@@ -386,6 +386,36 @@ BARY_ALWAYS_INLINE void phong_newton4(const double* const* dots, const double* c
     const v4d da = f * (M11 * G0 - M01 * G1);
     const v4d db = f * (M00 * G1 - M10 * G0);
     const v4d an = a + da, bn = b + db;
+#if defined(__GNUC__)
+    {
+      // Usually no lane stops: the tests of the loop below as masks first.
+      typedef long long v4l __attribute__((vector_size(32)));
+      const v4l sign = { ~(1LL << 63), ~(1LL << 63), ~(1LL << 63), ~(1LL << 63) };
+#define BARY_VABS(x) reinterpret_cast<v4d>(reinterpret_cast<v4l>(x) & sign)
+      const v4d abs_det = BARY_VABS(det), step = BARY_VABS(da) + BARY_VABS(db);
+      const v4d tiny = { 1e-24, 1e-24, 1e-24, 1e-24 };
+      const v4d huge = { 1e3, 1e3, 1e3, 1e3 };
+      const v4d infinite = { std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity(),
+        std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity() };
+      const v4d step_tolerance = { kPhongStepTolerance, kPhongStepTolerance, kPhongStepTolerance,
+        kPhongStepTolerance };
+      const v4l keep = (BARY_VABS(s) > tiny) & (abs_det > zero) & (abs_det < infinite) &
+        ((da - da) == zero) & ((db - db) == zero) & ~(step < step_tolerance) &
+        ~(step * step < last_step * kPhongPredictedTolerance) &
+        ~(G0 * G0 + G1 * G1 <= tolerance2 * (s * s)) & ~(BARY_VABS(an) > huge) & ~(BARY_VABS(bn) > huge);
+#undef BARY_VABS
+      bool all = true;
+      for (int l = 0; l < 4; ++l)
+        all = all && (!running[l] || keep[l] != 0);
+      if (all)
+      {
+        a = an;
+        b = bn;
+        last_step = step;
+        continue;
+      }
+    }
+#endif
     double S[4], DET[4], DA[4], DB[4], AN[4], BN[4], RES[4], TS[4];
     BARY_STORE4(S, s);
     BARY_STORE4(DET, det);

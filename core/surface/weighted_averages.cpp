@@ -49,6 +49,7 @@ struct SurfaceSearch
     float edge2[kLanes];                         ///< per ring vertex: |u - v|^2
     float pad[kLanes];                           ///< 0 per triangle, +inf in the padding
     int i[kLanes], j[kLanes], face[kLanes];      ///< per triangle (0 in the padding)
+    int corners[3][kLanes];                      ///< per triangle: F(face, 0..2)
   };
   std::vector<int> block_offsets;      ///< #V + 1: first block of each ring
   std::vector<float, AlignedAllocator<float>> blocks;
@@ -178,6 +179,8 @@ struct SurfaceSearch
           b.i[l] = fan.i;
           b.j[l] = fan.j;
           b.face[l] = fan.face;
+          for (int k = 0; k < 3; ++k)
+            b.corners[k][l] = mesh.F(fan.face, k);
         }
         fan_block[static_cast<std::size_t>(v)] = static_cast<int>(fan_blocks.size());
         fan_blocks.push_back(b);
@@ -325,8 +328,9 @@ struct ForwardWorkspace
 {
   std::vector<int> stamp;  ///< per triangle: the query that last visited it
   std::vector<int> queue;  ///< breadth-first queue of triangles
-  std::vector<std::pair<float, int>> order; ///< per lane: the walk's last vertex's triangles
-  int order_stride = 0;
+  std::vector<std::pair<float, int>> order; ///< the walk's last vertex's triangles, ordered
+  std::vector<float> scores; ///< per lane: the scores of the walk's last vertex's triangles
+  int scores_stride = 0;
   std::vector<float> dist;   ///< per lane: the walk's last squared distances (its ring)
   int dist_stride = 0;
   std::vector<float> anchor_distance; ///< per anchor: squared distance to ybar
@@ -367,6 +371,31 @@ BARY_ALWAYS_INLINE void weighted_sum(const double* Y, int D, const int* index,
 {
   using detail::v4d;
   const int n = kD > 0 ? kD : D;
+  if (kD == 8)
+  {
+    // both halves of a row at once (the same sums as below)
+    const v4d zero = { 0.0, 0.0, 0.0, 0.0 };
+    v4d even0 = zero, even1 = zero, odd0 = zero, odd1 = zero;
+    int j = 0;
+    for (; j + 2 <= count; j += 2)
+    {
+      const double* r0 = Y + (index ? index[j] : j) * 8;
+      const double* r1 = Y + (index ? index[j + 1] : j + 1) * 8;
+      even0 += BARY_LOAD4(r0) * weight[j];
+      even1 += BARY_LOAD4(r0 + 4) * weight[j];
+      odd0 += BARY_LOAD4(r1) * weight[j + 1];
+      odd1 += BARY_LOAD4(r1 + 4) * weight[j + 1];
+    }
+    if (j < count)
+    {
+      const double* r0 = Y + (index ? index[j] : j) * 8;
+      even0 += BARY_LOAD4(r0) * weight[j];
+      even1 += BARY_LOAD4(r0 + 4) * weight[j];
+    }
+    BARY_STORE4(y, even0 + odd0);
+    BARY_STORE4(y + 4, even1 + odd1);
+    return;
+  }
   int d = 0;
   for (; d + 4 <= n; d += 4)
   {
@@ -504,6 +533,8 @@ struct Pending
 {
   int v = 0;                ///< the walk's vertex (at the end: its last)
   float best = 0;           ///< its squared distance to ybar (single precision)
+  int face = 0;             ///< the first triangle to try
+  int corners[3] = { 0, 0, 0 }; ///< its corners
   int first = 0;            ///< the first triangle to try: order[first]
   int fan_size = 0;         ///< v's triangles, in the lane's order buffer
   double dots[8];           ///< phong_dots of the first triangle
@@ -662,7 +693,7 @@ BARY_ALWAYS_INLINE void choose_triangle(const ForwardContext& c, ForwardWorkspac
   // |u - y|^2) / 2 with the walk's last distances.
   const int f0 = mesh.face_offsets[static_cast<std::size_t>(v)];
   const int fan_size = mesh.face_offsets[static_cast<std::size_t>(v + 1)] - f0;
-  std::pair<float, int>* order = ws.order.data() + lane * ws.order_stride;
+  float* scores = ws.scores.data() + lane * ws.scores_stride;
   int first;
   const int fb = search.fan_block[static_cast<std::size_t>(v)];
   if (fb >= 0)
@@ -680,14 +711,11 @@ BARY_ALWAYS_INLINE void choose_triangle(const ForwardContext& c, ForwardWorkspac
     v8f low = BARY_SELECT(alpha < gamma, alpha, gamma);
     low = BARY_SELECT(beta < low, beta, low);
     const v8f score = BARY_LOAD8F(b.pad) - low; // the smallest wins; the padding is +inf
-    float scores[L];
     BARY_STORE8F(scores, score);
     float value;
     int at;
     detail::lane_min(score, iota, value, at);
     first = at;
-    for (int l = 0; l < fan_size; ++l)
-      order[l] = { scores[l], b.face[l] };
   }
   else
   {
@@ -699,17 +727,36 @@ BARY_ALWAYS_INLINE void choose_triangle(const ForwardContext& c, ForwardWorkspac
       const float ti = (search.edge2[static_cast<std::size_t>(r0 + fan.i)] + best - distances[fan.i]) * 0.5f;
       const float tj = (search.edge2[static_cast<std::size_t>(r0 + fan.j)] + best - distances[fan.j]) * 0.5f;
       const float alpha = fan.g00 * ti + fan.g01 * tj, beta = fan.g01 * ti + fan.g11 * tj;
-      order[l] = { -std::min(std::min((1.0f - alpha) - beta, alpha), beta), fan.face };
-      if (order[l].first < order[first].first)
+      scores[l] = -std::min(std::min((1.0f - alpha) - beta, alpha), beta);
+      if (scores[l] < scores[first])
         first = l;
     }
   }
   p.first = first;
   p.fan_size = fan_size;
-  const int f = order[first].second;
-  const Eigen::MatrixXi& F = mesh.F;
-  const int c0 = F(f, 0), c1 = F(f, 1), c2 = F(f, 2);
+  const int f = mesh.vertex_faces[static_cast<std::size_t>(f0 + first)];
+  p.face = f;
+  if (fb >= 0)
+  {
+    const SurfaceSearch::FanBlock& b = search.fan_blocks[static_cast<std::size_t>(fb)];
+    for (int k = 0; k < 3; ++k)
+      p.corners[k] = b.corners[k][first];
+  }
+  else
+    for (int k = 0; k < 3; ++k)
+      p.corners[k] = mesh.F(f, k);
   p.data = c.data + static_cast<std::size_t>(f) * detail::kPhongData;
+  (void)y;
+  (void)D;
+}
+
+/// The dot products of the first triangle to try (phong_dots).
+template<int kD>
+BARY_ALWAYS_INLINE void first_dots(const ForwardContext& c, ForwardWorkspace& ws, int lane, Pending& p)
+{
+  const int D = kD > 0 ? kD : c.D;
+  const double* y = ws.ybar.data() + lane * D;
+  const Index c0 = p.corners[0], c1 = p.corners[1], c2 = p.corners[2];
   detail::phong_dots<kD>(c.frames + c0 * 2 * D, c.frames + c1 * 2 * D, c.frames + c2 * 2 * D,
     c.E + c0 * D, c.E + c1 * D, c.E + c2 * D, D, y, p.dots);
 }
@@ -723,8 +770,12 @@ BARY_ALWAYS_INLINE bool search_rest(const ForwardContext& c, ForwardWorkspace& w
 {
   const int D = kD > 0 ? kD : c.D;
   const double* y = ws.ybar.data() + lane * D;
-  std::pair<float, int>* order = ws.order.data() + lane * ws.order_stride;
+  std::pair<float, int>* order = ws.order.data();
+  const float* scores = ws.scores.data() + lane * ws.scores_stride;
   const int fan_size = p.fan_size, first = p.first;
+  const int f0 = c.mesh->face_offsets[static_cast<std::size_t>(p.v)];
+  for (int l = 0; l < fan_size; ++l)
+    order[l] = { scores[l], c.mesh->vertex_faces[static_cast<std::size_t>(f0 + l)] };
   double xi[3];
   const int query = ++ws.query;
   for (int l = 0; l < fan_size; ++l)
@@ -847,6 +898,9 @@ BARY_ALWAYS_INLINE void forward_chunk(const ForwardContext& c, const ForwardRows
     for (int l = 0; l < m; ++l)
       if (active[l])
         choose_triangle<kD>(c, ws, l, pending[l]);
+    for (int l = 0; l < m; ++l)
+      if (active[l])
+        first_dots<kD>(c, ws, l, pending[l]);
     const double* dots[4];
     const double* data[4];
     for (int l = 0; l < 4; ++l)
@@ -876,8 +930,7 @@ BARY_ALWAYS_INLINE void forward_chunk(const ForwardContext& c, const ForwardRows
           status[l] = detail::phong_newton(dots[l], data[l], true, 0.0, 0.0, xi[l]) ? 1 : 0;
         if (status[l] == 1)
         {
-          const std::pair<float, int>* order = ws.order.data() + l * ws.order_stride;
-          out.face = order[pending[l].first].second;
+          out.face = pending[l].face;
           out.barycentric = Eigen::Vector3d(xi[l][0], xi[l][1], xi[l][2]);
           ok = true;
         }
@@ -1005,6 +1058,95 @@ struct InverseContext
   DenseWeights* W = nullptr;
 };
 
+/// P0 / |P0| and P1 minus its P0 part over its norm (Gram-Schmidt on Psi's rows). D = 8: four
+/// coordinates at a time, the lanes' sums added pairwise.
+template<int kD>
+BARY_ALWAYS_INLINE void orthonormalize(double* P0, double* P1, int D)
+{
+  using detail::v4d;
+  if (kD == 8)
+  {
+    const v4d p0a = BARY_LOAD4(P0), p0b = BARY_LOAD4(P0 + 4);
+    v4d p1a = BARY_LOAD4(P1), p1b = BARY_LOAD4(P1 + 4);
+    v4d t = p0a * p0a + p0b * p0b;
+    const double n0 = 1.0 / std::sqrt((t[0] + t[1]) + (t[2] + t[3]));
+    const v4d q0a = p0a * n0, q0b = p0b * n0;
+    t = q0a * p1a + q0b * p1b;
+    const double dot = (t[0] + t[1]) + (t[2] + t[3]);
+    p1a -= q0a * dot;
+    p1b -= q0b * dot;
+    t = p1a * p1a + p1b * p1b;
+    const double n1 = 1.0 / std::sqrt((t[0] + t[1]) + (t[2] + t[3]));
+    BARY_STORE4(P0, q0a);
+    BARY_STORE4(P0 + 4, q0b);
+    BARY_STORE4(P1, p1a * n1);
+    BARY_STORE4(P1 + 4, p1b * n1);
+    return;
+  }
+  double n0 = 0;
+  for (int d = 0; d < D; ++d)
+    n0 += P0[d] * P0[d];
+  n0 = 1.0 / std::sqrt(n0);
+  double dot = 0;
+  for (int d = 0; d < D; ++d)
+  {
+    P0[d] *= n0;
+    dot += P0[d] * P1[d];
+  }
+  double n1 = 0;
+  for (int d = 0; d < D; ++d)
+  {
+    P1[d] -= dot * P0[d];
+    n1 += P1[d] * P1[d];
+  }
+  n1 = 1.0 / std::sqrt(n1);
+  for (int d = 0; d < D; ++d)
+    P1[d] *= n1;
+}
+
+/// For the G groups of four anchors from @p g: t0, t1 (the tangential coordinates of
+/// y_i - yhat, each summed over d in order), D_ii = |v_T|^2 + gamma |v_O|^2, and the running
+/// minimum of D_ii in @p low. d is the outer loop: yhat and P are read once per coordinate.
+template<int kD, int G>
+BARY_ALWAYS_INLINE void anchor_terms(const InverseContext& c, int D, Index g, const double* yhat,
+  const double* P0, const double* P1, double gamma, double* t0, double* t1, double* Dii, detail::v4d& low)
+{
+  using detail::v4d;
+  const int n = kD > 0 ? kD : D;
+  const double* Y = c.Yt + g;
+  v4d a0[G], a1[G], n2[G];
+  for (int k = 0; k < G; ++k)
+  {
+    const v4d v = BARY_LOAD4(Y + 4 * k) - yhat[0];
+    a0[k] = v * P0[0];
+    a1[k] = v * P1[0];
+    n2[k] = v * v;
+  }
+  for (int d = 1; d < n; ++d)
+  {
+    const double* Yd = Y + d * c.stride;
+    const double y = yhat[d], p0 = P0[d], p1 = P1[d];
+    for (int k = 0; k < G; ++k)
+    {
+      const v4d v = BARY_LOAD4(Yd + 4 * k) - y;
+      a0[k] += v * p0;
+      a1[k] += v * p1;
+      n2[k] += v * v;
+    }
+  }
+  const v4d zero = { 0.0, 0.0, 0.0, 0.0 };
+  for (int k = 0; k < G; ++k)
+  {
+    const v4d t2 = a0[k] * a0[k] + a1[k] * a1[k];
+    const v4d off = n2[k] - t2;
+    const v4d dii = t2 + BARY_SELECT(off > zero, off, zero) * gamma;
+    BARY_STORE4(t0 + g + 4 * k, a0[k]);
+    BARY_STORE4(t1 + g + 4 * k, a1[k]);
+    BARY_STORE4(Dii + g + 4 * k, dii);
+    low = BARY_SELECT(dii < low, dii, low);
+  }
+}
+
 /// The inverse problem (§3.4, Eq. 13) of points [begin, end). See weighted_averages.h.
 template<int kD>
 BARY_ALWAYS_INLINE void inverse_rows(const InverseContext& c, InverseState& s, Index begin, Index end)
@@ -1030,55 +1172,38 @@ BARY_ALWAYS_INLINE void inverse_rows(const InverseContext& c, InverseState& s, I
       const double* v0 = c.E + c0 * D;
       const double* v1 = c.E + c1 * D;
       const double* v2 = c.E + c2 * D;
-      for (int d = 0; d < D; ++d)
+      int d = 0;
+      for (; d + 4 <= D; d += 4)
+        BARY_STORE4(yhat + d, (BARY_LOAD4(v0 + d) * xa + BARY_LOAD4(v1 + d) * xb) + BARY_LOAD4(v2 + d) * xc);
+      for (; d < D; ++d)
         yhat[d] = xa * v0[d] + xb * v1[d] + xc * v2[d];
     }
     // Orthonormal basis of the interpolated tangent plane.
     detail::phong_psi<kD>(c.data + f * detail::kPhongData, c.frames + c0 * 2 * D,
       c.frames + c1 * 2 * D, c.frames + c2 * 2 * D, D, xa, xb, xc, P0);
-    double n0 = 0;
-    for (int d = 0; d < D; ++d)
-      n0 += P0[d] * P0[d];
-    n0 = 1.0 / std::sqrt(n0);
-    double dot = 0;
-    for (int d = 0; d < D; ++d)
-    {
-      P0[d] *= n0;
-      dot += P0[d] * P1[d];
-    }
-    double n1 = 0;
-    for (int d = 0; d < D; ++d)
-    {
-      P1[d] -= dot * P0[d];
-      n1 += P1[d] * P1[d];
-    }
-    n1 = 1.0 / std::sqrt(n1);
-    for (int d = 0; d < D; ++d)
-      P1[d] *= n1;
+    orthonormalize<kD>(P0, P1, D);
     // Per anchor, four at a time (the padding's coordinates are 1e150: D^-2 = 0 there): the
     // tangential coordinates of y_i - yhat (t0, t1, each summed over d in order) and
     // D_ii = |v_T|^2 + gamma |v_O|^2.
     const v4d zero = { 0.0, 0.0, 0.0, 0.0 };
     const double inf = std::numeric_limits<double>::infinity();
     v4d low = { inf, inf, inf, inf };
-    for (Index g = 0; g < n; g += 4)
+    for (Index g = 0; g < n; g += 16)
     {
-      v4d v = BARY_LOAD4(c.Yt + g) - yhat[0];
-      v4d a0 = v * P0[0], a1 = v * P1[0], n2 = v * v;
-      for (int d = 1; d < D; ++d)
+      switch (std::min<Index>(4, (n - g + 3) / 4))
       {
-        v = BARY_LOAD4(c.Yt + d * c.stride + g) - yhat[d];
-        a0 += v * P0[d];
-        a1 += v * P1[d];
-        n2 += v * v;
+      case 4:
+        anchor_terms<kD, 4>(c, D, g, yhat, P0, P1, gamma, t0, t1, Dii, low);
+        break;
+      case 3:
+        anchor_terms<kD, 3>(c, D, g, yhat, P0, P1, gamma, t0, t1, Dii, low);
+        break;
+      case 2:
+        anchor_terms<kD, 2>(c, D, g, yhat, P0, P1, gamma, t0, t1, Dii, low);
+        break;
+      default:
+        anchor_terms<kD, 1>(c, D, g, yhat, P0, P1, gamma, t0, t1, Dii, low);
       }
-      const v4d t2 = a0 * a0 + a1 * a1;
-      const v4d off = n2 - t2;
-      const v4d dii = t2 + BARY_SELECT(off > zero, off, zero) * gamma;
-      BARY_STORE4(t0 + g, a0);
-      BARY_STORE4(t1 + g, a1);
-      BARY_STORE4(Dii + g, dii);
-      low = BARY_SELECT(dii < low, dii, low);
     }
     double smallest = std::min(std::min(low[0], low[1]), std::min(low[2], low[3]));
     double* w = c.W->data() + q * n;
@@ -1382,8 +1507,9 @@ ForwardResult WeightedAverages::forward_rows(const std::vector<SurfacePoint>& an
     ForwardWorkspace ws;
     ws.stamp.assign(static_cast<std::size_t>(mesh_->face_count()), 0);
     ws.queue.reserve(64);
-    ws.order_stride = search_->max_valence + SurfaceSearch::kLanes;
-    ws.order.resize(static_cast<std::size_t>(4 * ws.order_stride));
+    ws.scores_stride = search_->max_valence + SurfaceSearch::kLanes;
+    ws.scores.resize(static_cast<std::size_t>(4 * ws.scores_stride));
+    ws.order.resize(static_cast<std::size_t>(ws.scores_stride));
     ws.dist_stride = search_->max_valence + SurfaceSearch::kLanes;
     ws.dist.resize(static_cast<std::size_t>(4 * ws.dist_stride));
     ws.anchor_distance.resize(static_cast<std::size_t>(stride8));
