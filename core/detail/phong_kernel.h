@@ -198,6 +198,15 @@ BARY_ALWAYS_INLINE bool phong_finish(double a, double b, double* xi)
   return true;
 }
 
+/// Newton converging to a point outside the triangle: the step has at least halved and the
+/// iterate (a, b) is outside by more than twice the step and 1e-9 (where the steps keep halving
+/// at least, it moves less than one more step), so Eq. (9) will fail: stop now.
+BARY_ALWAYS_INLINE bool phong_leaving(double a, double b, double step, double last_step)
+{
+  const double c = 1.0 - a - b;
+  return step < 0.5 * last_step && std::min(std::min(a, b), c) < -1e-9 - 2 * step;
+}
+
 /// Phong projection of y onto one triangle from its dot products (phong_dots) and its
 /// kPhongData numbers. Newton starts at (a0, b0) (barycentric coordinates of v1 and v2), or at
 /// the Euclidean projection of y onto the triangle's plane when @p euclidean_start. Returns true
@@ -290,10 +299,11 @@ BARY_ALWAYS_INLINE bool phong_newton(
     if (step < kPhongStepTolerance || step * step < kPhongPredictedTolerance * last_step ||
       G[0] * G[0] + G[1] * G[1] <= tolerance2 * (s * s))
       return phong_finish(a, b, xi);
-    last_step = step;
-    // Far outside the triangle: no projection here (Eq. 9 cannot hold).
-    if (std::abs(a) > 1e3 || std::abs(b) > 1e3)
+    // Far outside the triangle, or on the way to a point outside it: no projection here
+    // (Eq. 9 cannot hold).
+    if (phong_leaving(a, b, step, last_step) || std::abs(a) > 1e3 || std::abs(b) > 1e3)
       break;
+    last_step = step;
   }
   xi[0] = a;
   xi[1] = b;
@@ -404,9 +414,15 @@ BARY_ALWAYS_INLINE void phong_newton4(const double* const* dots, const double* c
         ~(step * step < last_step * kPhongPredictedTolerance) &
         ~(G0 * G0 + G1 * G1 <= tolerance2 * (s * s)) & ~(BARY_VABS(an) > huge) & ~(BARY_VABS(bn) > huge);
 #undef BARY_VABS
+      // phong_leaving, as a mask
+      const v4d cn = (one - an) - bn;
+      v4d lowest = BARY_SELECT(bn < an, bn, an);
+      lowest = BARY_SELECT(cn < lowest, cn, lowest);
+      const v4d margin = { -1e-9, -1e-9, -1e-9, -1e-9 };
+      const v4l leaving = (step < last_step * 0.5) & (lowest < margin - step * 2.0);
       bool all = true;
       for (int l = 0; l < 4; ++l)
-        all = all && (!running[l] || keep[l] != 0);
+        all = all && (!running[l] || (keep[l] != 0 && leaving[l] == 0));
       if (all)
       {
         a = an;
@@ -416,7 +432,9 @@ BARY_ALWAYS_INLINE void phong_newton4(const double* const* dots, const double* c
       }
     }
 #endif
-    double S[4], DET[4], DA[4], DB[4], AN[4], BN[4], RES[4], TS[4];
+    double S[4], DET[4], DA[4], DB[4], AN[4], BN[4], RES[4], TS[4], A[4], B[4];
+    BARY_STORE4(A, a);
+    BARY_STORE4(B, b);
     BARY_STORE4(S, s);
     BARY_STORE4(DET, det);
     BARY_STORE4(DA, da);
@@ -436,15 +454,26 @@ BARY_ALWAYS_INLINE void phong_newton4(const double* const* dots, const double* c
         status[l] = -1; // a corner: phong_newton decides
       else if (!(std::abs(DET[l]) > 0) || !(std::abs(DET[l]) < std::numeric_limits<double>::infinity()) ||
         !std::isfinite(DA[l]) || !std::isfinite(DB[l]))
+      {
         status[l] = 0;
+        xi[l][0] = A[l];
+        xi[l][1] = B[l];
+        xi[l][2] = 1.0 - A[l] - B[l];
+      }
       else
       {
         const double step = std::abs(DA[l]) + std::abs(DB[l]);
         if (step < kPhongStepTolerance || step * step < kPhongPredictedTolerance * LAST[l] ||
           RES[l] <= TS[l])
           status[l] = phong_finish(AN[l], BN[l], xi[l]) ? 1 : 0;
-        else if (std::abs(AN[l]) > 1e3 || std::abs(BN[l]) > 1e3)
+        else if (phong_leaving(AN[l], BN[l], step, LAST[l]) || std::abs(AN[l]) > 1e3 ||
+          std::abs(BN[l]) > 1e3)
+        {
           status[l] = 0;
+          xi[l][0] = AN[l];
+          xi[l][1] = BN[l];
+          xi[l][2] = 1.0 - AN[l] - BN[l];
+        }
         else
         {
           LAST[l] = step;
@@ -461,6 +490,17 @@ BARY_ALWAYS_INLINE void phong_newton4(const double* const* dots, const double* c
     b = bn;
     last_step = v4d{ LAST[0], LAST[1], LAST[2], LAST[3] };
   }
+  // Lanes still running: no convergence in kPhongMaxIterations steps.
+  double A[4], B[4];
+  BARY_STORE4(A, a);
+  BARY_STORE4(B, b);
+  for (int l = 0; l < 4; ++l)
+    if (running[l])
+    {
+      xi[l][0] = A[l];
+      xi[l][1] = B[l];
+      xi[l][2] = 1.0 - A[l] - B[l];
+    }
 }
 
 /// Phong projection of @p y onto a triangle: its data, its corners' frames and positions;

@@ -24,12 +24,13 @@ namespace detail
 ///   kLanes vertices (structure of arrays, entry [(block D + d) kLanes + lane]; the last block
 ///   padded with kPad, whose squared distance overflows to +inf): one step of the greedy walk
 ///   measures a ring of up to eight vertices in one pass over D;
-/// - per triangle of v's fan (SurfaceMesh::vertex_faces order) the ring positions of its two
-///   other corners and the inverse Gram matrix of the edges to them, and per ring vertex u the
-///   squared edge length |u - v|^2: with the walk's last distances these give the Euclidean
-///   barycentric coordinates of the query in each triangle of the fan, from
-///   (u - v) . (y - v) = (|u - v|^2 + |y - v|^2 - |u - y|^2) / 2 (as kLanes-wide blocks where
-///   the ring and the fan have at most kLanes entries, the usual case);
+/// - v's tangent frame in single precision and, per triangle of v's fan (SurfaceMesh::
+///   vertex_faces order), the inverse of the 2 by 2 matrix of its edges from v seen in that
+///   frame: with the frame's two dot products with ybar - v they give the barycentric
+///   coordinates, in the triangle seen in v's tangent plane, of the foot of ybar on that plane
+///   (where a Phong projection at v would be, Property 3): the triangles are tried in order of
+///   how far inside that point falls (as kLanes-wide blocks where the fan has at most kLanes
+///   triangles, the usual case);
 /// - a grid that proposes a start vertex near any point (grid_vertex).
 /// Single precision only chooses where the search starts (the walk's end and the first
 /// triangle); every Phong projection is computed in double precision.
@@ -39,23 +40,24 @@ struct SurfaceSearch
   static constexpr float kPad = 1e30f;
   struct Fan
   {
-    int face = 0, i = 0, j = 0; ///< the triangle; ring positions of its corners other than v
-    float g00 = 0, g01 = 0, g11 = 0; ///< G^-1 of e_i = u_i - v, e_j = u_j - v
+    int face = 0;                 ///< the triangle
+    int corners[3] = { 0, 0, 0 }; ///< F(face, 0..2)
+    /// The inverse of [T (u - v), T (w - v)] (T: v's frame; u, w: the triangle's corners after v)
+    float t00 = 0, t01 = 0, t10 = 0, t11 = 0;
   };
-  /// A fan of at most kLanes triangles around a ring of at most kLanes vertices.
+  /// A fan of at most kLanes triangles: the Fans' members as lanes (0 in the padding).
   struct FanBlock
   {
-    float g00[kLanes], g01[kLanes], g11[kLanes]; ///< per triangle (0 in the padding)
-    float edge2[kLanes];                         ///< per ring vertex: |u - v|^2
-    float pad[kLanes];                           ///< 0 per triangle, +inf in the padding
-    int i[kLanes], j[kLanes], face[kLanes];      ///< per triangle (0 in the padding)
-    int corners[3][kLanes];                      ///< per triangle: F(face, 0..2)
+    float t00[kLanes], t01[kLanes], t10[kLanes], t11[kLanes];
+    float pad[kLanes];       ///< 0 per triangle, +inf in the padding
+    int face[kLanes];
+    int corners[3][kLanes];
   };
+  std::vector<float> frames;           ///< #V by 2 D, single precision (t1, then t2)
   std::vector<int> block_offsets;      ///< #V + 1: first block of each ring
   std::vector<float, AlignedAllocator<float>> blocks;
   std::vector<float> E;                ///< #V by D, row-major, single precision
   std::vector<Fan> fans;               ///< indexed like SurfaceMesh::vertex_faces
-  std::vector<float> edge2;            ///< indexed like SurfaceMesh::ring: |u - v|^2
   std::vector<int> fan_block;          ///< per vertex: its FanBlock, or -1
   std::vector<FanBlock, AlignedAllocator<FanBlock>> fan_blocks;
   int max_valence = 0;
@@ -84,8 +86,12 @@ struct SurfaceSearch
     return grid[static_cast<std::size_t>(index)];
   }
 
-  SurfaceSearch(const SurfaceMesh& mesh, const Eigen::MatrixXd& Ed)
+  SurfaceSearch(const SurfaceMesh& mesh, const Eigen::MatrixXd& Ed, const Eigen::MatrixXd& Fr)
   {
+    frames.resize(static_cast<std::size_t>(Fr.size()));
+    for (Index v = 0; v < Fr.rows(); ++v)
+      for (Index k = 0; k < Fr.cols(); ++k)
+        frames[static_cast<std::size_t>(v * Fr.cols() + k)] = static_cast<float>(Fr(v, k));
     const Index nv = mesh.vertex_count();
     const int D = static_cast<int>(Ed.cols());
     E.resize(static_cast<std::size_t>(nv * D));
@@ -117,70 +123,55 @@ struct SurfaceSearch
     }
     build_grid(mesh, Ed);
     // Fans.
-    auto distance2 = [&](Index a, Index b) {
-      float s = 0;
-      for (int d = 0; d < D; ++d)
-      {
-        const float t = E[static_cast<std::size_t>(a * D + d)] - E[static_cast<std::size_t>(b * D + d)];
-        s += t * t;
-      }
-      return s;
-    };
-    edge2.resize(mesh.ring.size());
-    for (Index v = 0; v < nv; ++v)
-      for (int i = mesh.ring_offsets[static_cast<std::size_t>(v)];
-           i < mesh.ring_offsets[static_cast<std::size_t>(v + 1)]; ++i)
-        edge2[static_cast<std::size_t>(i)] = distance2(v, mesh.ring[static_cast<std::size_t>(i)]);
     fans.resize(mesh.vertex_faces.size());
     fan_block.assign(static_cast<std::size_t>(nv), -1);
     for (Index v = 0; v < nv; ++v)
     {
-      const int begin = mesh.ring_offsets[static_cast<std::size_t>(v)];
-      const int end = mesh.ring_offsets[static_cast<std::size_t>(v + 1)];
-      auto position = [&](int u) {
-        for (int i = begin; i < end; ++i)
-          if (mesh.ring[static_cast<std::size_t>(i)] == u)
-            return i - begin;
-        return 0; // not reached: a triangle's corners are in each other's rings
-      };
       const int t0 = mesh.face_offsets[static_cast<std::size_t>(v)];
       const int t1 = mesh.face_offsets[static_cast<std::size_t>(v + 1)];
       for (int t = t0; t < t1; ++t)
       {
         Fan& fan = fans[static_cast<std::size_t>(t)];
         fan.face = mesh.vertex_faces[static_cast<std::size_t>(t)];
-        const int k = mesh.F(fan.face, 0) == v ? 0 : mesh.F(fan.face, 1) == v ? 1 : 2;
-        const int u = mesh.F(fan.face, (k + 1) % 3), w = mesh.F(fan.face, (k + 2) % 3);
-        fan.i = position(u);
-        fan.j = position(w);
-        const Eigen::RowVectorXd ei = Ed.row(u) - Ed.row(v), ej = Ed.row(w) - Ed.row(v);
-        Eigen::Matrix2d G;
-        G << ei.squaredNorm(), ei.dot(ej), ei.dot(ej), ej.squaredNorm();
-        const Eigen::Matrix2d Gi = G.inverse();
-        fan.g00 = static_cast<float>(Gi(0, 0));
-        fan.g01 = static_cast<float>(Gi(0, 1));
-        fan.g11 = static_cast<float>(Gi(1, 1));
+        for (int k = 0; k < 3; ++k)
+          fan.corners[k] = mesh.F(fan.face, k);
+        const int k = fan.corners[0] == v ? 0 : fan.corners[1] == v ? 1 : 2;
+        const int u = fan.corners[(k + 1) % 3], w = fan.corners[(k + 2) % 3];
+        Eigen::Matrix2d T;
+        for (int r = 0; r < 2; ++r)
+        {
+          const Eigen::RowVectorXd tr = Fr.row(v).segment(r * D, D);
+          T(r, 0) = tr.dot(Ed.row(u) - Ed.row(v));
+          T(r, 1) = tr.dot(Ed.row(w) - Ed.row(v));
+        }
+        // A triangle seen edge-on from v's plane (not in a valid embedding) scores 0.
+        const double det = T.determinant();
+        if (std::abs(det) > 1e-12 * T.cwiseAbs().maxCoeff() * T.cwiseAbs().maxCoeff())
+        {
+          const Eigen::Matrix2d Ti = T.inverse();
+          fan.t00 = static_cast<float>(Ti(0, 0));
+          fan.t01 = static_cast<float>(Ti(0, 1));
+          fan.t10 = static_cast<float>(Ti(1, 0));
+          fan.t11 = static_cast<float>(Ti(1, 1));
+        }
       }
-      if (end - begin <= kLanes && t1 - t0 <= kLanes)
+      if (t1 - t0 <= kLanes)
       {
         FanBlock b{};
         for (int l = 0; l < kLanes; ++l)
           b.pad[l] = std::numeric_limits<float>::infinity();
-        for (int i = begin; i < end; ++i)
-          b.edge2[i - begin] = edge2[static_cast<std::size_t>(i)];
         for (int t = t0; t < t1; ++t)
         {
           const Fan& fan = fans[static_cast<std::size_t>(t)];
           const int l = t - t0;
-          b.g00[l] = fan.g00;
-          b.g01[l] = fan.g01;
-          b.g11[l] = fan.g11;
+          b.t00[l] = fan.t00;
+          b.t01[l] = fan.t01;
+          b.t10[l] = fan.t10;
+          b.t11[l] = fan.t11;
           b.pad[l] = 0;
-          b.i[l] = fan.i;
-          b.j[l] = fan.j;
           b.face[l] = fan.face;
           for (int k = 0; k < 3; ++k)
-            b.corners[k][l] = mesh.F(fan.face, k);
+            b.corners[k][l] = fan.corners[k];
         }
         fan_block[static_cast<std::size_t>(v)] = static_cast<int>(fan_blocks.size());
         fan_blocks.push_back(b);
@@ -331,8 +322,7 @@ struct ForwardWorkspace
   std::vector<std::pair<float, int>> order; ///< the walk's last vertex's triangles, ordered
   std::vector<float> scores; ///< per lane: the scores of the walk's last vertex's triangles
   int scores_stride = 0;
-  std::vector<float> dist;   ///< per lane: the walk's last squared distances (its ring)
-  int dist_stride = 0;
+  std::vector<float> dist;   ///< a walk step's squared distances (a ring)
   std::vector<float> anchor_distance; ///< per anchor: squared distance to ybar
   std::vector<int> row_index;          ///< the row's anchors (sparse weights)
   std::vector<double> row_weight;      ///< the row's weights
@@ -631,8 +621,8 @@ BARY_ALWAYS_INLINE QueryOutcome start_query(const ForwardContext& c, const int* 
 }
 
 /// One step of the greedy walk on the edge graph (single precision): to the ring vertex nearest
-/// to ybar when it is nearer than the current vertex (true), else false (the walk's end; the
-/// ring's distances stay in the lane's buffer). A vertex's squared distance is the same
+/// to ybar when it is nearer than the current vertex (true), else false (the walk's end). A
+/// vertex's squared distance is the same
 /// wherever it is computed, so the walk strictly descends and ends, at a vertex nearer than all
 /// its neighbours.
 template<int kD>
@@ -651,7 +641,7 @@ BARY_ALWAYS_INLINE bool walk_step(const ForwardContext& c, ForwardWorkspace& ws,
   const int k = mesh.ring_offsets[static_cast<std::size_t>(v + 1)] - r0;
   const float* blk = search.blocks.data() +
     static_cast<std::size_t>(search.block_offsets[static_cast<std::size_t>(v)]) * D * L;
-  float* dist = ws.dist.data() + lane * ws.dist_stride;
+  float* dist = ws.dist.data();
   block_distances<kD>(blk, L, D, yf, dist);
   v8f dmin = BARY_LOAD8F(dist);
   v8i imin = iota;
@@ -673,24 +663,45 @@ BARY_ALWAYS_INLINE bool walk_step(const ForwardContext& c, ForwardWorkspace& ws,
   return true;
 }
 
-/// After the walk: v's triangles scored, the first one to try and its dot products (phong_dots).
+/// After the walk: v's triangles scored, the first one to try. A triangle's score is minus the
+/// smallest barycentric coordinate, in the triangle seen in v's tangent plane, of the foot of
+/// ybar on that plane (SurfaceSearch): the smallest score (the point deepest inside) first.
 template<int kD>
 BARY_ALWAYS_INLINE void choose_triangle(const ForwardContext& c, ForwardWorkspace& ws, int lane, Pending& p)
 {
   using detail::v8f;
   using detail::v8i;
   const int D = kD > 0 ? kD : c.D;
-  constexpr int L = SurfaceSearch::kLanes;
   const v8i iota = { 0, 1, 2, 3, 4, 5, 6, 7 };
   const SurfaceSearch& search = *c.search;
   const SurfaceMesh& mesh = *c.mesh;
-  const double* y = ws.ybar.data() + lane * D;
-  const float* distances = ws.dist.data() + lane * ws.dist_stride;
   const int v = p.v;
-  const float best = p.best;
-  // The first triangle to try: among v's, the one where the smallest Euclidean barycentric
-  // coordinate of ybar is largest, from (u - v) . (ybar - v) = (|u - v|^2 + |y - v|^2 -
-  // |u - y|^2) / 2 with the walk's last distances.
+  // The frame's dot products with ybar - v.
+  float p0, p1;
+  {
+    const float* t = search.frames.data() + static_cast<Index>(v) * 2 * D;
+    const float* e = search.E.data() + static_cast<Index>(v) * D;
+    const float* y = ws.ybar_float.data() + lane * D;
+    if (kD == 8)
+    {
+      const v8f w = BARY_LOAD8F(y) - BARY_LOAD8F(e);
+      float a[8], b[8];
+      BARY_STORE8F(a, BARY_LOAD8F(t) * w);
+      BARY_STORE8F(b, BARY_LOAD8F(t + 8) * w);
+      p0 = ((a[0] + a[1]) + (a[2] + a[3])) + ((a[4] + a[5]) + (a[6] + a[7]));
+      p1 = ((b[0] + b[1]) + (b[2] + b[3])) + ((b[4] + b[5]) + (b[6] + b[7]));
+    }
+    else
+    {
+      p0 = p1 = 0.0f;
+      for (int d = 0; d < D; ++d)
+      {
+        const float w = y[d] - e[d];
+        p0 += t[d] * w;
+        p1 += t[D + d] * w;
+      }
+    }
+  }
   const int f0 = mesh.face_offsets[static_cast<std::size_t>(v)];
   const int fan_size = mesh.face_offsets[static_cast<std::size_t>(v + 1)] - f0;
   float* scores = ws.scores.data() + lane * ws.scores_stride;
@@ -699,13 +710,8 @@ BARY_ALWAYS_INLINE void choose_triangle(const ForwardContext& c, ForwardWorkspac
   if (fb >= 0)
   {
     const SurfaceSearch::FanBlock& b = search.fan_blocks[static_cast<std::size_t>(fb)];
-    const v8f t = (BARY_LOAD8F(b.edge2) + best - BARY_LOAD8F(distances)) * 0.5f;
-    float ti[L], tj[L];
-    detail::permute8(t, BARY_LOAD8I(b.i), ti);
-    detail::permute8(t, BARY_LOAD8I(b.j), tj);
-    const v8f TI = BARY_LOAD8F(ti), TJ = BARY_LOAD8F(tj);
-    const v8f alpha = BARY_LOAD8F(b.g00) * TI + BARY_LOAD8F(b.g01) * TJ;
-    const v8f beta = BARY_LOAD8F(b.g01) * TI + BARY_LOAD8F(b.g11) * TJ;
+    const v8f alpha = BARY_LOAD8F(b.t00) * p0 + BARY_LOAD8F(b.t01) * p1;
+    const v8f beta = BARY_LOAD8F(b.t10) * p0 + BARY_LOAD8F(b.t11) * p1;
     const v8f one = { 1, 1, 1, 1, 1, 1, 1, 1 };
     const v8f gamma = (one - alpha) - beta;
     v8f low = BARY_SELECT(alpha < gamma, alpha, gamma);
@@ -716,38 +722,30 @@ BARY_ALWAYS_INLINE void choose_triangle(const ForwardContext& c, ForwardWorkspac
     int at;
     detail::lane_min(score, iota, value, at);
     first = at;
-  }
-  else
-  {
-    first = 0;
-    const int r0 = mesh.ring_offsets[static_cast<std::size_t>(v)];
-    for (int l = 0; l < fan_size; ++l)
-    {
-      const SurfaceSearch::Fan& fan = search.fans[static_cast<std::size_t>(f0 + l)];
-      const float ti = (search.edge2[static_cast<std::size_t>(r0 + fan.i)] + best - distances[fan.i]) * 0.5f;
-      const float tj = (search.edge2[static_cast<std::size_t>(r0 + fan.j)] + best - distances[fan.j]) * 0.5f;
-      const float alpha = fan.g00 * ti + fan.g01 * tj, beta = fan.g01 * ti + fan.g11 * tj;
-      scores[l] = -std::min(std::min((1.0f - alpha) - beta, alpha), beta);
-      if (scores[l] < scores[first])
-        first = l;
-    }
-  }
-  p.first = first;
-  p.fan_size = fan_size;
-  const int f = mesh.vertex_faces[static_cast<std::size_t>(f0 + first)];
-  p.face = f;
-  if (fb >= 0)
-  {
-    const SurfaceSearch::FanBlock& b = search.fan_blocks[static_cast<std::size_t>(fb)];
     for (int k = 0; k < 3; ++k)
       p.corners[k] = b.corners[k][first];
   }
   else
+  {
+    first = 0;
+    for (int l = 0; l < fan_size; ++l)
+    {
+      const SurfaceSearch::Fan& fan = search.fans[static_cast<std::size_t>(f0 + l)];
+      const float alpha = fan.t00 * p0 + fan.t01 * p1, beta = fan.t10 * p0 + fan.t11 * p1;
+      const float gamma = (1.0f - alpha) - beta;
+      float low = alpha < gamma ? alpha : gamma;
+      low = beta < low ? beta : low;
+      scores[l] = 0.0f - low;
+      if (scores[l] < scores[first])
+        first = l;
+    }
     for (int k = 0; k < 3; ++k)
-      p.corners[k] = mesh.F(f, k);
-  p.data = c.data + static_cast<std::size_t>(f) * detail::kPhongData;
-  (void)y;
-  (void)D;
+      p.corners[k] = search.fans[static_cast<std::size_t>(f0 + first)].corners[k];
+  }
+  p.first = first;
+  p.fan_size = fan_size;
+  p.face = mesh.vertex_faces[static_cast<std::size_t>(f0 + first)];
+  p.data = c.data + static_cast<std::size_t>(p.face) * detail::kPhongData;
 }
 
 /// The dot products of the first triangle to try (phong_dots).
@@ -762,11 +760,13 @@ BARY_ALWAYS_INLINE void first_dots(const ForwardContext& c, ForwardWorkspace& ws
 }
 
 /// The rest of a forward query whose first triangle has no projection (rarely): the
-/// breadth-first search over triangles, v's other triangles first (in order), then the
-/// neighbours of each triangle tried. True and @p out when a projection is found.
+/// breadth-first search over triangles, from v's other triangles. Newton's last iterate on the
+/// first triangle (@p last) shows where the projection lies: the triangle across the edge
+/// opposite its most negative coordinate is tried first, then v's other triangles in order,
+/// then the neighbours of each triangle tried. True and @p out when a projection is found.
 template<int kD>
 BARY_ALWAYS_INLINE bool search_rest(const ForwardContext& c, ForwardWorkspace& ws, int lane,
-  const Pending& p, SurfacePoint& out)
+  const Pending& p, const double* last, SurfacePoint& out)
 {
   const int D = kD > 0 ? kD : c.D;
   const double* y = ws.ybar.data() + lane * D;
@@ -781,11 +781,24 @@ BARY_ALWAYS_INLINE bool search_rest(const ForwardContext& c, ForwardWorkspace& w
   for (int l = 0; l < fan_size; ++l)
     ws.stamp[static_cast<std::size_t>(order[l].second)] = query;
   ws.queue.clear();
-  ws.queue.push_back(order[first].second);
+  ws.queue.push_back(p.face);
+  // The triangle across the edge where Newton left the first one (when it did).
+  int across = -1;
+  {
+    const int k = last[0] <= last[1] && last[0] <= last[2] ? 0 : last[1] <= last[2] ? 1 : 2;
+    if (last[k] < 0)
+      across = c.mesh->face_neighbors(p.face, k);
+  }
+  if (across >= 0)
+  {
+    ws.queue.push_back(across);
+    ws.stamp[static_cast<std::size_t>(across)] = query;
+  }
   std::swap(order[first], order[fan_size - 1]);
   std::sort(order, order + fan_size - 1);
   for (int l = 0; l + 1 < fan_size; ++l)
-    ws.queue.push_back(order[l].second);
+    if (order[l].second != across)
+      ws.queue.push_back(order[l].second);
   const Eigen::MatrixXi& neighbors = c.mesh->face_neighbors;
   for (std::size_t head = 0; head < ws.queue.size() && static_cast<Index>(head) < c.cap; ++head)
   {
@@ -935,7 +948,7 @@ BARY_ALWAYS_INLINE void forward_chunk(const ForwardContext& c, const ForwardRows
           ok = true;
         }
         else
-          ok = search_rest<kD>(c, ws, l, pending[l], out);
+          ok = search_rest<kD>(c, ws, l, pending[l], xi[l], out);
       }
       o.valid[q] = ok ? 1 : 0;
       if (!ok)
@@ -1393,7 +1406,7 @@ void validate_surface_points(
 WeightedAverages::WeightedAverages(SurfaceMesh mesh, const Eigen::MatrixXd& E)
   : mesh_(std::make_shared<const SurfaceMesh>(std::move(mesh)))
   , phong_(std::make_shared<const PhongProjection>(*mesh_, E))
-  , search_(std::make_shared<const detail::SurfaceSearch>(*mesh_, E))
+  , search_(std::make_shared<const detail::SurfaceSearch>(*mesh_, E, phong_->frames()))
   , E_(E)
 {
 }
@@ -1510,8 +1523,7 @@ ForwardResult WeightedAverages::forward_rows(const std::vector<SurfacePoint>& an
     ws.scores_stride = search_->max_valence + SurfaceSearch::kLanes;
     ws.scores.resize(static_cast<std::size_t>(4 * ws.scores_stride));
     ws.order.resize(static_cast<std::size_t>(ws.scores_stride));
-    ws.dist_stride = search_->max_valence + SurfaceSearch::kLanes;
-    ws.dist.resize(static_cast<std::size_t>(4 * ws.dist_stride));
+    ws.dist.resize(static_cast<std::size_t>(search_->max_valence + SurfaceSearch::kLanes));
     ws.anchor_distance.resize(static_cast<std::size_t>(stride8));
     ws.ybar.resize(static_cast<std::size_t>(4 * D));
     ws.ybar_float.resize(static_cast<std::size_t>(4 * D));
