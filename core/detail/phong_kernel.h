@@ -517,7 +517,7 @@ BARY_ALWAYS_INLINE bool phong_project(const double* data, const double* T1, cons
 
 /// The interpolated tangent basis Psi(a, b, c) of a triangle (its data and corners' frames):
 /// 2 D numbers into @p out (row 0, then row 1), N1 T1 + N2 T2 + N3 T3 with the 2 by 2 matrices
-/// N1 = k1 M1 + k6 M6, N2 = k2 M2 + k3 M3, N3 = k4 M4 + k5 M5 (k_m = mono_m / s + abc / (2 s)).
+/// N1 = k1 M1 + k6 M6, N2 = k2 M2 + k3 M3, N3 = k4 M4 + k5 M5 (k_m = (mono_m + abc / 2) / s).
 /// At a corner (the blend's denominator below 1e-300) the corner's basis (A1, A3 or A5).
 template<int kD>
 BARY_ALWAYS_INLINE void phong_psi(const double* data, const double* T1, const double* T2,
@@ -534,10 +534,11 @@ BARY_ALWAYS_INLINE void phong_psi(const double* data, const double* T1, const do
   }
   else
   {
-    const double h = 0.5 * (a * b * c / s);
+    const double inverse = 1.0 / s;
+    const double h = 0.5 * (a * b * c * inverse);
     const double mono[6] = { a * a * b, a * b * b, b * b * c, b * c * c, c * c * a, c * a * a };
     for (int m = 0; m < 6; ++m)
-      k[m] = mono[m] / s + h;
+      k[m] = mono[m] * inverse + h;
   }
   const double* c0 = data + PhongData::col0;
   const double* c1 = data + PhongData::col1;

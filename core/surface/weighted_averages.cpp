@@ -69,21 +69,21 @@ struct SurfaceSearch
   int axes[3] = { 0, 1, 0 };
   int cells[3] = { 1, 1, 1 };
   float origin[3] = { 0, 0, 0 }, inverse_size[3] = { 0, 0, 0 };
+  float extent[3] = { 1, 1, 1 }; ///< cells[a] as float
   float grid_accept = 0; ///< (2 cells)^2: a grid vertex this near to ybar is start enough
   std::vector<int> grid;
 
   /// The grid's vertex for the point y (single precision, D numbers), or -1.
   int grid_vertex(const float* y) const
   {
-    int index = 0;
-    for (int a = 2; a >= 0; --a)
-    {
-      const float x = (y[axes[a]] - origin[a]) * inverse_size[a];
-      if (!(x >= 0.0f && x < static_cast<float>(cells[a])))
-        return -1;
-      index = index * cells[a] + static_cast<int>(x);
-    }
-    return grid[static_cast<std::size_t>(index)];
+    const float x0 = (y[axes[0]] - origin[0]) * inverse_size[0];
+    const float x1 = (y[axes[1]] - origin[1]) * inverse_size[1];
+    const float x2 = (y[axes[2]] - origin[2]) * inverse_size[2];
+    if (!(x0 >= 0.0f && x0 < extent[0] && x1 >= 0.0f && x1 < extent[1] && x2 >= 0.0f &&
+          x2 < extent[2]))
+      return -1;
+    return grid[static_cast<std::size_t>(
+      (static_cast<int>(x2) * cells[1] + static_cast<int>(x1)) * cells[0] + static_cast<int>(x0))];
   }
 
   SurfaceSearch(const SurfaceMesh& mesh, const Eigen::MatrixXd& Ed, const Eigen::MatrixXd& Fr)
@@ -225,6 +225,8 @@ struct SurfaceSearch
       }
     }
     grid_accept = static_cast<float>(4 * size * size);
+    for (int a = 0; a < 3; ++a)
+      extent[a] = static_cast<float>(cells[a]);
     grid.assign(static_cast<std::size_t>(cells[0]) * cells[1] * cells[2], -1);
     std::vector<float> nearest(grid.size(), std::numeric_limits<float>::infinity());
     for (Index v = 0; v < mesh.vertex_count(); ++v)
@@ -367,15 +369,25 @@ BARY_ALWAYS_INLINE void weighted_sum(const double* Y, int D, const int* index,
     const v4d zero = { 0.0, 0.0, 0.0, 0.0 };
     v4d even0 = zero, even1 = zero, odd0 = zero, odd1 = zero;
     int j = 0;
-    for (; j + 2 <= count; j += 2)
-    {
-      const double* r0 = Y + (index ? index[j] : j) * 8;
-      const double* r1 = Y + (index ? index[j + 1] : j + 1) * 8;
-      even0 += BARY_LOAD4(r0) * weight[j];
-      even1 += BARY_LOAD4(r0 + 4) * weight[j];
-      odd0 += BARY_LOAD4(r1) * weight[j + 1];
-      odd1 += BARY_LOAD4(r1 + 4) * weight[j + 1];
-    }
+    if (!index)
+      for (; j + 2 <= count; j += 2)
+      {
+        const double* r0 = Y + j * 8;
+        even0 += BARY_LOAD4(r0) * weight[j];
+        even1 += BARY_LOAD4(r0 + 4) * weight[j];
+        odd0 += BARY_LOAD4(r0 + 8) * weight[j + 1];
+        odd1 += BARY_LOAD4(r0 + 12) * weight[j + 1];
+      }
+    else
+      for (; j + 2 <= count; j += 2)
+      {
+        const double* r0 = Y + index[j] * 8;
+        const double* r1 = Y + index[j + 1] * 8;
+        even0 += BARY_LOAD4(r0) * weight[j];
+        even1 += BARY_LOAD4(r0 + 4) * weight[j];
+        odd0 += BARY_LOAD4(r1) * weight[j + 1];
+        odd1 += BARY_LOAD4(r1 + 4) * weight[j + 1];
+      }
     if (j < count)
     {
       const double* r0 = Y + (index ? index[j] : j) * 8;
@@ -479,32 +491,42 @@ BARY_ALWAYS_INLINE bool project_face(const ForwardContext& c, int D, int f, cons
 }
 
 /// A row of weights is an average's when every weight is finite and they sum to 1 within 1e-9
-/// of the sum of their magnitudes (four partial sums, added pairwise).
+/// of the sum of their magnitudes (four partial sums, added pairwise). @p sum: the row's sum, or
+/// NaN when a weight is not finite.
 BARY_ALWAYS_INLINE bool weights_row_valid(const double* w, int count, double& sum)
 {
   using detail::v4d;
   const v4d zero = { 0.0, 0.0, 0.0, 0.0 };
-  v4d s = zero, a = zero, z = zero;
+  v4d s = zero, a = zero;
   int i = 0;
   for (; i + 4 <= count; i += 4)
   {
     const v4d x = BARY_LOAD4(w + i);
     s += x;
+#if defined(__GNUC__)
+    typedef long long v4l __attribute__((vector_size(32)));
+    const v4l magnitude_bits = { ~(1LL << 63), ~(1LL << 63), ~(1LL << 63), ~(1LL << 63) };
+    a += reinterpret_cast<v4d>(reinterpret_cast<v4l>(x) & magnitude_bits);
+#else
     a += BARY_SELECT(x < zero, zero - x, x);
-    z += x - x; // NaN once a weight is not finite
+#endif
   }
-  double tail = 0, tail_magnitude = 0, tail_z = 0;
+  double tail = 0, tail_magnitude = 0;
   for (; i < count; ++i)
   {
     tail += w[i];
     tail_magnitude += std::abs(w[i]);
-    tail_z += w[i] - w[i];
   }
   sum = ((s[0] + s[1]) + (s[2] + s[3])) + tail;
   const double magnitude = ((a[0] + a[1]) + (a[2] + a[3])) + tail_magnitude;
-  if (!(((z[0] + z[1]) + (z[2] + z[3])) + tail_z == 0.0))
+  if (!(magnitude <= std::numeric_limits<double>::max()))
   {
-    sum = std::numeric_limits<double>::quiet_NaN(); // not finite
+    // NaN or infinite: a weight is not finite, or finite ones overflow (then say what they sum to)
+    bool finite = true;
+    for (int k = 0; k < count; ++k)
+      finite = finite && std::isfinite(w[k]);
+    if (!finite)
+      sum = std::numeric_limits<double>::quiet_NaN();
     return false;
   }
   return std::abs(sum - 1.0) <= 1e-9 * std::max(1.0, magnitude);
@@ -685,11 +707,18 @@ BARY_ALWAYS_INLINE void choose_triangle(const ForwardContext& c, ForwardWorkspac
     if (kD == 8)
     {
       const v8f w = BARY_LOAD8F(y) - BARY_LOAD8F(e);
-      float a[8], b[8];
-      BARY_STORE8F(a, BARY_LOAD8F(t) * w);
-      BARY_STORE8F(b, BARY_LOAD8F(t + 8) * w);
-      p0 = ((a[0] + a[1]) + (a[2] + a[3])) + ((a[4] + a[5]) + (a[6] + a[7]));
-      p1 = ((b[0] + b[1]) + (b[2] + b[3])) + ((b[4] + b[5]) + (b[6] + b[7]));
+      const v8f a = BARY_LOAD8F(t) * w, b = BARY_LOAD8F(t + 8) * w;
+#if defined(__GNUC__) && !defined(__clang__)
+      // lanes (l, l + 4) of a and b side by side, then pairs, then the last two
+      v8f h = __builtin_shuffle(a, b, v8i{ 0, 1, 2, 3, 8, 9, 10, 11 }) +
+        __builtin_shuffle(a, b, v8i{ 4, 5, 6, 7, 12, 13, 14, 15 });
+      h = h + __builtin_shuffle(h, v8i{ 2, 3, 0, 1, 6, 7, 4, 5 });
+      p0 = h[0] + h[1];
+      p1 = h[4] + h[5];
+#else
+      p0 = ((a[0] + a[4]) + (a[2] + a[6])) + ((a[1] + a[5]) + (a[3] + a[7]));
+      p1 = ((b[0] + b[4]) + (b[2] + b[6])) + ((b[1] + b[5]) + (b[3] + b[7]));
+#endif
     }
     else
     {
@@ -959,10 +988,15 @@ BARY_ALWAYS_INLINE void forward_chunk(const ForwardContext& c, const ForwardRows
           o.positions[k * o.queries + q] = std::numeric_limits<double>::quiet_NaN();
         continue;
       }
-      const double* b = out.barycentric.data();
-      for (int k = 0; k < 3; ++k)
-        o.positions[k * o.queries + q] =
-          b[0] * V(F(out.face, 0), k) + b[1] * V(F(out.face, 1), k) + b[2] * V(F(out.face, 2), k);
+      const double b0 = out.barycentric(0), b1 = out.barycentric(1), b2 = out.barycentric(2);
+      const Index nv = V.rows();
+      const double* v0 = V.data() + F(out.face, 0);
+      const double* v1 = V.data() + F(out.face, 1);
+      const double* v2 = V.data() + F(out.face, 2);
+      double* position = o.positions + q;
+      position[0] = b0 * v0[0] + b1 * v1[0] + b2 * v2[0];
+      position[o.queries] = b0 * v0[nv] + b1 * v1[nv] + b2 * v2[nv];
+      position[2 * o.queries] = b0 * v0[2 * nv] + b1 * v1[2 * nv] + b2 * v2[2 * nv];
     }
   }
   (void)D;
@@ -1232,21 +1266,14 @@ BARY_ALWAYS_INLINE void inverse_rows(const InverseContext& c, InverseState& s, I
     }
     // w = D^-2 A^T (A D^-2 A^T)^+ b with A's rows (t0, t1, 1) and b = (0, 0, 1): the
     // tangential constraint written on y_i - yhat (equivalent given sum w = 1, better
-    // conditioned). D^-2 is scaled to a largest entry of 1. Sums over the anchors: four
-    // partial sums (one per lane), then added pairwise.
-    v4d high = zero;
-    for (Index g = 0; g < n; g += 4)
-    {
-      const v4d dii = BARY_LOAD4(Dii + g);
-      const v4d xi = v4d{ 1.0, 1.0, 1.0, 1.0 } / (dii * dii);
-      BARY_STORE4(x + g, xi);
-      high = BARY_SELECT(xi > high, xi, high);
-    }
-    const double largest = std::max(std::max(high[0], high[1]), std::max(high[2], high[3]));
+    // conditioned). D^-2 is scaled to a largest entry of 1: (D_min / D_ii)^2. Sums over the
+    // anchors: four partial sums (one per lane), then added pairwise.
     v4d m00 = zero, m01 = zero, m02 = zero, m11 = zero, m12 = zero, m22 = zero;
+    const v4d closest = { smallest, smallest, smallest, smallest };
     for (Index g = 0; g < n; g += 4)
     {
-      const v4d v = BARY_LOAD4(x + g) / largest; // now the weights of D^-2
+      const v4d r = closest / BARY_LOAD4(Dii + g);
+      const v4d v = r * r; // the weights of D^-2
       BARY_STORE4(x + g, v);
       const v4d a0 = BARY_LOAD4(t0 + g), a1 = BARY_LOAD4(t1 + g);
       const v4d va0 = v * a0, va1 = v * a1;
@@ -1297,8 +1324,13 @@ BARY_ALWAYS_INLINE void inverse_rows(const InverseContext& c, InverseState& s, I
     // sense. A row that sums to (almost) 0 has no such scaling: it falls back to the anchor
     // nearest in the metric of D (the round trip then tells whether the point is reached).
     if (std::abs(sum) > 1e-12)
-      for (Index i = 0; i < n; ++i)
+    {
+      Index i = 0;
+      for (; i + 4 <= n; i += 4)
+        BARY_STORE4(w + i, BARY_LOAD4(x + i) / sum);
+      for (; i < n; ++i)
         w[i] = x[i] / sum;
+    }
     else
     {
       Index nearest = 0;
