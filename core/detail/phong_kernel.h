@@ -313,7 +313,7 @@ BARY_ALWAYS_INLINE bool phong_newton(
 
 /// Four Phong projections at once, one per lane of the vectors (each a triangle and a target:
 /// @p dots[l], @p data[l], Newton from the Euclidean projection): the operations of
-/// phong_newton in the same order, so each lane gives phong_newton's bits, while the four
+/// phong_newton in the same order, so each lane gives phong_newton's result, while the four
 /// iterations' latencies overlap. @p status[l] on return: 1 converged in the triangle (its
 /// coordinates in @p xi[l]), 0 no projection, -1 a corner was reached (rare: run phong_newton
 /// for that lane). Lanes with @p active[l] false are ignored (status 0).

@@ -36,8 +36,8 @@
 ///   Per query and triangle the R^D work is eight dot products (the three corners' frames and
 ///   the triangle's two edges with the target minus a corner); Newton's steps are then 2 by 2
 ///   arithmetic on twelve residual rows.
-/// - The kernels run in an AVX2 instantiation where the CPU has AVX2 and in a portable one
-///   otherwise (detail/simd.h); both give the same bits.
+/// - The kernels run in an AVX2 + FMA instantiation where the CPU has both and in a portable one
+///   otherwise (detail/simd.h); they agree to rounding (1e-12).
 
 #include "core/common/types.h"
 #include "core/detail/simd.h"

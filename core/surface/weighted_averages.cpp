@@ -429,7 +429,7 @@ BARY_ALWAYS_INLINE void weighted_sum(const double* Y, int D, const int* index,
 
 /// Squared distances (single precision) from y to the eight points of a structure-of-arrays
 /// block (entry [d * stride + lane]). D = 8: summed as a balanced tree over d; otherwise in
-/// order. point_distance computes the same for one point, bit for bit.
+/// order. point_distance computes the same for one point.
 template<int kD>
 BARY_ALWAYS_INLINE void block_distances(const float* block, Index stride, int D,
   const float* y, float* out)
@@ -643,10 +643,10 @@ BARY_ALWAYS_INLINE QueryOutcome start_query(const ForwardContext& c, const int* 
 }
 
 /// One step of the greedy walk on the edge graph (single precision): to the ring vertex nearest
-/// to ybar when it is nearer than the current vertex (true), else false (the walk's end). A
-/// vertex's squared distance is the same
-/// wherever it is computed, so the walk strictly descends and ends, at a vertex nearer than all
-/// its neighbours.
+/// to ybar when it is nearer than the current vertex (true), else false (the walk's end). From
+/// the first step on, the distances compared are the ring kernel's, which gives a vertex the
+/// same value in every ring it belongs to: the walk strictly descends and ends, at a vertex
+/// nearer than all its neighbours.
 template<int kD>
 BARY_ALWAYS_INLINE bool walk_step(const ForwardContext& c, ForwardWorkspace& ws, int lane, Pending& p)
 {

@@ -40,9 +40,9 @@
 ///
 /// Both are per-query: OpenMP over queries in fixed chunks; results do not depend on the
 /// thread count (a warm start only follows the previous query of the same chunk). The
-/// per-query kernels run in an AVX2 instantiation where the CPU has AVX2 and a portable one
-/// otherwise (core/detail/simd.h; BARYLAB_SIMD=0 forces the portable one); both give the same
-/// results, bit for bit. No allocation per query.
+/// per-query kernels run in an AVX2 + FMA instantiation where the CPU has both and a portable one
+/// otherwise (core/detail/simd.h; BARYLAB_SIMD=0 forces the portable one); their results agree
+/// to rounding. No allocation per query.
 
 #include "core/common/progress.h"
 #include "core/common/types.h"

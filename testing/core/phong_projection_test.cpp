@@ -263,12 +263,13 @@ TEST(PhongProjection, PreimagesAreAffine)
   }
 }
 
-// The AVX2 kernel and the portable one give the same bits, converged or not (points near and
-// off the surface, starts anywhere in the triangle, D = 3 and D = 8).
-TEST(PhongProjection, InstructionSetsGiveTheSameResults)
+// The AVX2 + FMA kernel and the portable one agree to rounding: the same triangles have a
+// projection, at the same coordinates within 1e-12 (points near and off the surface, starts
+// anywhere in the triangle, D = 3 and D = 8).
+TEST(PhongProjection, InstructionSetsAgree)
 {
   if (detail::supported_simd_level() != detail::SimdLevel::AVX2)
-    GTEST_SKIP() << "this CPU has no AVX2: only the portable kernel runs";
+    GTEST_SKIP() << "this CPU has no AVX2 and FMA: only the portable kernel runs";
   std::mt19937 rng(9);
   std::uniform_real_distribution<double> u(0, 1);
   std::normal_distribution<double> g;
@@ -278,6 +279,7 @@ TEST(PhongProjection, InstructionSetsGiveTheSameResults)
     const Eigen::MatrixXd E = c.lift ? test::lift8(m.V) : m.V;
     const PhongProjection phong(m, E);
     int converged = 0;
+    double largest = 0;
     for (int t = 0; t < 2000; ++t)
     {
       const Index f = static_cast<Index>(u(rng) * m.face_count());
@@ -295,9 +297,11 @@ TEST(PhongProjection, InstructionSetsGiveTheSameResults)
       const bool ok_b = phong.project(f, y.data(), b, start);
       detail::set_simd_level(detail::supported_simd_level());
       EXPECT_EQ(ok_a, ok_b) << c.name << " face " << f;
-      EXPECT_TRUE(a == b || (a.hasNaN() && b.hasNaN())) << c.name << " face " << f;
+      if (ok_a && ok_b)
+        largest = std::max(largest, (a - b).cwiseAbs().maxCoeff());
       converged += ok_a;
     }
+    EXPECT_LT(largest, 1e-12) << c.name;
     // both outcomes are compared
     EXPECT_GT(converged, 300) << c.name;
     EXPECT_LT(converged, 1700) << c.name;
