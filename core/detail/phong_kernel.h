@@ -47,7 +47,7 @@ struct PhongData
 /// (|step_k|^2 / |step_{k-1}|: Newton's rate, also where convergence is only linear, near a corner
 /// of the triangle), is below kPhongPredictedTolerance.
 inline constexpr double kPhongStepTolerance = 1e-13;
-inline constexpr double kPhongPredictedTolerance = 1e-10;
+inline constexpr double kPhongPredictedTolerance = 1e-8;
 
 /// out[0..4) = the sums of the lanes of a, b, c, d: ((lane 0 + lane 1) + (lane 2 + lane 3)).
 BARY_ALWAYS_INLINE void lane_sums(const v4d& a, const v4d& b, const v4d& c, const v4d& d, double* out)

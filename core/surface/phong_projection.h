@@ -28,11 +28,14 @@
 ///   free barycentric coordinates, on Psi r / s, which has the same roots in the triangle as
 ///   Eq. (7) and stays well scaled near its corners. Converged when the step is below 1e-13,
 ///   when the next step predicted from the last two (|step_k|^2 / |step_{k-1}|, Newton's
-///   contraction, which also bounds the error where convergence is only linear, near a corner)
-///   is below 1e-10, or when |Psi r / s| is below 1e-14 times the triangle's longest edge; so
-///   the returned coordinates are within about 1e-10 of the converged ones (two iterations from
-///   the Euclidean start, usually). Rejected when it does not converge in 30 steps or when
-///   Eq. (9) fails (a coordinate below -1e-9; coordinates in [-1e-9, 0) are set to 0).
+///   contraction) is below 1e-8, or when |Psi r / s| is below 1e-14 times the triangle's longest
+///   edge. The prediction bounds the error left where convergence is only linear (near a
+///   corner); where it is quadratic, as elsewhere, the error left is of the order of the
+///   prediction's square: on the benchmark meshes forward(inverse(x)) returns within 3e-10 mean
+///   edge lengths. Two or three iterations from the Euclidean start. Rejected when it does not
+///   converge in 30 steps, when it converges to a point outside the triangle (the step halved
+///   and the iterate outside by more than twice the step) or when Eq. (9) fails (a coordinate
+///   below -1e-9; coordinates in [-1e-9, 0) are set to 0).
 ///   Per query and triangle the R^D work is eight dot products (the three corners' frames and
 ///   the triangle's two edges with the target minus a corner); Newton's steps are then 2 by 2
 ///   arithmetic on twelve residual rows.
