@@ -336,6 +336,11 @@ struct ForwardWorkspace
   Index failures = 0;      ///< queries without a projection
   Index bad_row = std::numeric_limits<Index>::max(); ///< the first row not an average's
   double bad_sum = 0;      ///< its sum (NaN: a weight is not finite)
+  struct Retry;            ///< a second try waiting (flush_retries)
+  std::vector<Retry> retry; ///< four
+  int retries = 0;
+  std::vector<double> retry_y;     ///< per retry: ybar (D numbers)
+  std::vector<float> retry_scores; ///< per retry: the scores of its first vertex's triangles
 };
 
 /// What a forward query reads (shared by the threads).
@@ -550,6 +555,17 @@ struct Pending
   int first = 0;            ///< the first triangle to try: order[first]
   int fan_size = 0;         ///< v's triangles, in the lane's order buffer
   double dots[8];           ///< phong_dots of the first triangle
+  const double* data = nullptr;
+};
+
+/// A second try waiting: query q, whose first triangle (p.face) had no projection, on the
+/// triangle across the edge Newton left it by.
+struct ForwardWorkspace::Retry
+{
+  Index q = 0;
+  Pending p;
+  int across = -1;
+  double dots[8];           ///< phong_dots of the across triangle
   const double* data = nullptr;
 };
 
@@ -788,19 +804,28 @@ BARY_ALWAYS_INLINE void first_dots(const ForwardContext& c, ForwardWorkspace& ws
     c.E + c0 * D, c.E + c1 * D, c.E + c2 * D, D, y, p.dots);
 }
 
+/// The triangle across the edge where Newton's iterate @p last left triangle f (its most
+/// negative coordinate), or -1 (none negative, or the boundary).
+inline int across_edge(const SurfaceMesh& mesh, int f, const double* last)
+{
+  const int k = last[0] <= last[1] && last[0] <= last[2] ? 0 : last[1] <= last[2] ? 1 : 2;
+  return last[k] < 0 ? mesh.face_neighbors(f, k) : -1;
+}
+
 /// The rest of a forward query whose first triangle has no projection (rarely): the
 /// breadth-first search over triangles, from v's other triangles. Newton's last iterate on the
-/// first triangle (@p last) shows where the projection lies: the triangle across the edge
-/// opposite its most negative coordinate is tried first, then v's other triangles in order,
-/// then the neighbours of each triangle tried. True and @p out when a projection is found.
+/// first triangle shows where the projection lies: the triangle across the edge it left by
+/// (@p across; -1: none) comes first, then v's other triangles in order, then the neighbours of
+/// each triangle tried. @p tried: how many of the first and the across triangle were tried
+/// already. @p y: ybar; @p scores: the scores of v's triangles. True and @p out when a
+/// projection is found.
 template<int kD>
-BARY_ALWAYS_INLINE bool search_rest(const ForwardContext& c, ForwardWorkspace& ws, int lane,
-  const Pending& p, const double* last, SurfacePoint& out)
+BARY_ALWAYS_INLINE bool search_rest(const ForwardContext& c, ForwardWorkspace& ws,
+  const double* y, const float* scores, const Pending& p, int across, int tried,
+  SurfacePoint& out)
 {
   const int D = kD > 0 ? kD : c.D;
-  const double* y = ws.ybar.data() + lane * D;
   std::pair<float, int>* order = ws.order.data();
-  const float* scores = ws.scores.data() + lane * ws.scores_stride;
   const int fan_size = p.fan_size, first = p.first;
   const int f0 = c.mesh->face_offsets[static_cast<std::size_t>(p.v)];
   for (int l = 0; l < fan_size; ++l)
@@ -811,13 +836,6 @@ BARY_ALWAYS_INLINE bool search_rest(const ForwardContext& c, ForwardWorkspace& w
     ws.stamp[static_cast<std::size_t>(order[l].second)] = query;
   ws.queue.clear();
   ws.queue.push_back(p.face);
-  // The triangle across the edge where Newton left the first one (when it did).
-  int across = -1;
-  {
-    const int k = last[0] <= last[1] && last[0] <= last[2] ? 0 : last[1] <= last[2] ? 1 : 2;
-    if (last[k] < 0)
-      across = c.mesh->face_neighbors(p.face, k);
-  }
   if (across >= 0)
   {
     ws.queue.push_back(across);
@@ -832,7 +850,7 @@ BARY_ALWAYS_INLINE bool search_rest(const ForwardContext& c, ForwardWorkspace& w
   for (std::size_t head = 0; head < ws.queue.size() && static_cast<Index>(head) < c.cap; ++head)
   {
     const int f = ws.queue[head];
-    if (head > 0)
+    if (static_cast<int>(head) >= tried)
     {
       ++ws.tried;
       if (project_face<kD>(c, D, f, y, xi))
@@ -876,6 +894,76 @@ struct ForwardOutput
   Index queries = 0;
 };
 
+/// Query q's result into the output (valid, point, position; a failure: NaN, counted).
+BARY_ALWAYS_INLINE void write_result(const ForwardContext& c, const ForwardOutput& o, Index q,
+  bool ok, ForwardWorkspace& ws)
+{
+  SurfacePoint& out = o.points[q];
+  o.valid[q] = ok ? 1 : 0;
+  if (!ok)
+  {
+    out = SurfacePoint{};
+    ++ws.failures;
+    for (int k = 0; k < 3; ++k)
+      o.positions[k * o.queries + q] = std::numeric_limits<double>::quiet_NaN();
+    return;
+  }
+  const Eigen::MatrixXi& F = c.mesh->F;
+  const Eigen::MatrixXd& V = c.mesh->V;
+  const double b0 = out.barycentric(0), b1 = out.barycentric(1), b2 = out.barycentric(2);
+  const Index nv = V.rows();
+  const double* v0 = V.data() + F(out.face, 0);
+  const double* v1 = V.data() + F(out.face, 1);
+  const double* v2 = V.data() + F(out.face, 2);
+  double* position = o.positions + q;
+  position[0] = b0 * v0[0] + b1 * v1[0] + b2 * v2[0];
+  position[o.queries] = b0 * v0[nv] + b1 * v1[nv] + b2 * v2[nv];
+  position[2 * o.queries] = b0 * v0[2 * nv] + b1 * v1[2 * nv] + b2 * v2[2 * nv];
+}
+
+/// The second tries waiting in ws (queries whose first triangle had no projection), four at a
+/// time in phong_newton4: the triangles across the edges Newton left their first ones by; the
+/// queries whose second try has no projection either go on with search_rest.
+template<int kD>
+BARY_ALWAYS_INLINE void flush_retries(const ForwardContext& c, ForwardWorkspace& ws, const ForwardOutput& o)
+{
+  const int D = kD > 0 ? kD : c.D;
+  const int n = ws.retries;
+  if (n == 0)
+    return;
+  const double* dots[4];
+  const double* data[4];
+  bool active[4];
+  for (int l = 0; l < 4; ++l)
+  {
+    active[l] = l < n;
+    dots[l] = ws.retry[l].dots;
+    data[l] = ws.retry[l].data;
+  }
+  int status[4];
+  double xi[4][3];
+  detail::phong_newton4(dots, data, active, status, xi);
+  for (int l = 0; l < n; ++l)
+  {
+    ForwardWorkspace::Retry& r = ws.retry[l];
+    ++ws.tried;
+    if (status[l] < 0)
+      status[l] = detail::phong_newton(dots[l], data[l], true, 0.0, 0.0, xi[l]) ? 1 : 0;
+    SurfacePoint& out = o.points[r.q];
+    bool ok = status[l] == 1;
+    if (ok)
+    {
+      out.face = r.across;
+      out.barycentric = Eigen::Vector3d(xi[l][0], xi[l][1], xi[l][2]);
+    }
+    else
+      ok = search_rest<kD>(c, ws, ws.retry_y.data() + l * D,
+        ws.retry_scores.data() + l * ws.scores_stride, r.p, r.across, 2, out);
+    write_result(c, o, r.q, ok, ws);
+  }
+  ws.retries = 0;
+}
+
 /// The forward queries [begin, end): four at a time (their Phong projections by phong_newton4,
 /// whose latencies overlap), one at a time with a warm start (each starts where the previous
 /// one ended). The first row that is not an average's is recorded in ws (bad_row, bad_sum).
@@ -885,7 +973,6 @@ BARY_ALWAYS_INLINE void forward_chunk(const ForwardContext& c, const ForwardRows
 {
   const int D = kD > 0 ? kD : c.D;
   const Eigen::MatrixXi& F = c.mesh->F;
-  const Eigen::MatrixXd& V = c.mesh->V;
   const int group = rows.warm_start ? 1 : 4;
   for (Index q0 = begin; q0 < end; q0 += group)
   {
@@ -977,29 +1064,36 @@ BARY_ALWAYS_INLINE void forward_chunk(const ForwardContext& c, const ForwardRows
           ok = true;
         }
         else
-          ok = search_rest<kD>(c, ws, l, pending[l], xi[l], out);
+        {
+          const Pending& p = pending[l];
+          const float* scores = ws.scores.data() + l * ws.scores_stride;
+          const int across = across_edge(*c.mesh, p.face, xi[l]);
+          if (across < 0 || rows.warm_start)
+            ok = search_rest<kD>(c, ws, ws.ybar.data() + l * D, scores, p, across, 1, out);
+          else
+          {
+            // Later, with three others: the second try usually succeeds.
+            ForwardWorkspace::Retry& r = ws.retry[ws.retries];
+            r.q = q;
+            r.p = p;
+            r.across = across;
+            const double* y = ws.ybar.data() + l * D;
+            std::copy(y, y + D, ws.retry_y.data() + ws.retries * D);
+            std::copy(scores, scores + p.fan_size, ws.retry_scores.data() + ws.retries * ws.scores_stride);
+            const int c0 = F(across, 0), c1 = F(across, 1), c2 = F(across, 2);
+            r.data = c.data + static_cast<std::size_t>(across) * detail::kPhongData;
+            detail::phong_dots<kD>(c.frames + c0 * 2 * D, c.frames + c1 * 2 * D,
+              c.frames + c2 * 2 * D, c.E + c0 * D, c.E + c1 * D, c.E + c2 * D, D, y, r.dots);
+            if (++ws.retries == 4)
+              flush_retries<kD>(c, ws, o);
+            continue;
+          }
+        }
       }
-      o.valid[q] = ok ? 1 : 0;
-      if (!ok)
-      {
-        out = SurfacePoint{};
-        ++ws.failures;
-        for (int k = 0; k < 3; ++k)
-          o.positions[k * o.queries + q] = std::numeric_limits<double>::quiet_NaN();
-        continue;
-      }
-      const double b0 = out.barycentric(0), b1 = out.barycentric(1), b2 = out.barycentric(2);
-      const Index nv = V.rows();
-      const double* v0 = V.data() + F(out.face, 0);
-      const double* v1 = V.data() + F(out.face, 1);
-      const double* v2 = V.data() + F(out.face, 2);
-      double* position = o.positions + q;
-      position[0] = b0 * v0[0] + b1 * v1[0] + b2 * v2[0];
-      position[o.queries] = b0 * v0[nv] + b1 * v1[nv] + b2 * v2[nv];
-      position[2 * o.queries] = b0 * v0[2 * nv] + b1 * v1[2 * nv] + b2 * v2[2 * nv];
+      write_result(c, o, q, ok, ws);
     }
   }
-  (void)D;
+  flush_retries<kD>(c, ws, o);
 }
 
 void forward_chunk_portable(const ForwardContext& c, const ForwardRows& rows, Index begin,
@@ -1559,6 +1653,9 @@ ForwardResult WeightedAverages::forward_rows(const std::vector<SurfacePoint>& an
     ws.anchor_distance.resize(static_cast<std::size_t>(stride8));
     ws.ybar.resize(static_cast<std::size_t>(4 * D));
     ws.ybar_float.resize(static_cast<std::size_t>(4 * D));
+    ws.retry.resize(4);
+    ws.retry_y.resize(static_cast<std::size_t>(4 * D));
+    ws.retry_scores.resize(static_cast<std::size_t>(4 * ws.scores_stride));
     ws.point.resize(static_cast<std::size_t>(D));
     return ws;
   };
