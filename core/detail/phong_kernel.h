@@ -409,10 +409,11 @@ BARY_ALWAYS_INLINE void phong_newton4(const double* const* dots, const double* c
         std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity() };
       const v4d step_tolerance = { kPhongStepTolerance, kPhongStepTolerance, kPhongStepTolerance,
         kPhongStepTolerance };
-      const v4l keep = (BARY_VABS(s) > tiny) & (abs_det > zero) & (abs_det < infinite) &
-        ((da - da) == zero) & ((db - db) == zero) & ~(step < step_tolerance) &
-        ~(step * step < last_step * kPhongPredictedTolerance) &
-        ~(G0 * G0 + G1 * G1 <= tolerance2 * (s * s)) & ~(BARY_VABS(an) > huge) & ~(BARY_VABS(bn) > huge);
+      const v4l valid = (BARY_VABS(s) > tiny) & (abs_det > zero) & (abs_det < infinite) &
+        ((da - da) == zero) & ((db - db) == zero);
+      const v4l converged = (step < step_tolerance) | (step * step < last_step * kPhongPredictedTolerance) |
+        (G0 * G0 + G1 * G1 <= tolerance2 * (s * s));
+      const v4l far = (BARY_VABS(an) > huge) | (BARY_VABS(bn) > huge);
 #undef BARY_VABS
       // phong_leaving, as a mask
       const v4d cn = (one - an) - bn;
@@ -420,15 +421,41 @@ BARY_ALWAYS_INLINE void phong_newton4(const double* const* dots, const double* c
       lowest = BARY_SELECT(cn < lowest, cn, lowest);
       const v4d margin = { -1e-9, -1e-9, -1e-9, -1e-9 };
       const v4l leaving = (step < last_step * 0.5) & (lowest < margin - step * 2.0);
-      bool all = true;
-      for (int l = 0; l < 4; ++l)
-        all = all && (!running[l] || (keep[l] != 0 && leaving[l] == 0));
-      if (all)
+      const v4l idle = { running[0] ? 0LL : -1LL, running[1] ? 0LL : -1LL, running[2] ? 0LL : -1LL,
+        running[3] ? 0LL : -1LL };
+      const v4l go_on = (valid & ~converged & ~far & ~leaving) | idle;
+      if ((go_on[0] & go_on[1] & go_on[2] & go_on[3]) != 0)
       {
         a = an;
         b = bn;
         last_step = step;
         continue;
+      }
+      const v4l finish = (valid & converged) | idle;
+      if ((finish[0] & finish[1] & finish[2] & finish[3]) != 0)
+      {
+        // Every running lane converged (the usual end): phong_finish, four at a time.
+        const v4d x[3] = { an, bn, cn };
+        const v4d low_bound = { -1e-9, -1e-9, -1e-9, -1e-9 };
+        const v4l outside = (x[0] < low_bound) | (x[1] < low_bound) | (x[2] < low_bound);
+        v4d y[3];
+        for (int k = 0; k < 3; ++k)
+          y[k] = BARY_SELECT(x[k] < zero, zero, x[k]);
+        const v4d sum = (y[0] + y[1]) + y[2];
+        double X[3][4], Y[3][4];
+        for (int k = 0; k < 3; ++k)
+        {
+          BARY_STORE4(X[k], x[k]);
+          BARY_STORE4(Y[k], y[k] / sum);
+        }
+        for (int l = 0; l < 4; ++l)
+          if (running[l])
+          {
+            status[l] = outside[l] != 0 ? 0 : 1;
+            for (int k = 0; k < 3; ++k)
+              xi[l][k] = outside[l] != 0 ? X[k][l] : Y[k][l];
+          }
+        return;
       }
     }
 #endif

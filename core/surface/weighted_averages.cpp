@@ -546,16 +546,18 @@ enum class QueryOutcome
 };
 
 /// A forward query in flight (lane l of a group): its triangles to try and its Phong setup.
+/// (No initialisers: four are made per group of queries; the stages fill what they use, and
+/// only an active lane's are read.)
 struct Pending
 {
-  int v = 0;                ///< the walk's vertex (at the end: its last)
-  float best = 0;           ///< its squared distance to ybar (single precision)
-  int face = 0;             ///< the first triangle to try
-  int corners[3] = { 0, 0, 0 }; ///< its corners
-  int first = 0;            ///< the first triangle to try: order[first]
-  int fan_size = 0;         ///< v's triangles, in the lane's order buffer
+  int v;                    ///< the walk's vertex (at the end: its last)
+  float best;               ///< its squared distance to ybar (single precision)
+  int face;                 ///< the first triangle to try
+  int corners[3];           ///< its corners
+  int first;                ///< the first triangle to try: order[first]
+  int fan_size;             ///< v's triangles, in the lane's order buffer
   double dots[8];           ///< phong_dots of the first triangle
-  const double* data = nullptr;
+  const double* data;
 };
 
 /// A second try waiting: query q, whose first triangle (p.face) had no projection, on the
@@ -563,7 +565,7 @@ struct Pending
 struct ForwardWorkspace::Retry
 {
   Index q = 0;
-  Pending p;
+  Pending p{};
   int across = -1;
   double dots[8];           ///< phong_dots of the across triangle
   const double* data = nullptr;
@@ -1035,7 +1037,7 @@ BARY_ALWAYS_INLINE void forward_chunk(const ForwardContext& c, const ForwardRows
     for (int l = 0; l < 4; ++l)
     {
       dots[l] = pending[l].dots;
-      data[l] = pending[l].data;
+      data[l] = active[l] ? pending[l].data : nullptr;
     }
     int status[4];
     double xi[4][3];
