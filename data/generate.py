@@ -995,8 +995,9 @@ IMAGE2D_SIZE = 256          # pixels per side of gingerbread.png
 IMAGE2D_MARGIN = 0.05       # the picture covers the cage's bounding box enlarged by 5% per side
 
 
-def png_bytes(width, height, rgb_rows):
-    """A minimal truecolour PNG (standard library only: zlib, struct)."""
+def png_bytes(width, height, rgb_rows, channels=3):
+    """A minimal 8-bit PNG (standard library only: zlib, struct): truecolour rows of r, g, b
+    values (channels=3) or greyscale rows of one value per pixel (channels=1)."""
     import struct
     import zlib
 
@@ -1006,7 +1007,7 @@ def png_bytes(width, height, rgb_rows):
 
     raw = b"".join(b"\x00" + bytes(row) for row in rgb_rows)
     return (b"\x89PNG\r\n\x1a\n"
-            + chunk(b"IHDR", struct.pack(">IIBBBBB", width, height, 8, 2, 0, 0, 0))
+            + chunk(b"IHDR", struct.pack(">IIBBBBB", width, height, 8, {3: 2, 1: 0}[channels], 0, 0, 0))
             + chunk(b"IDAT", zlib.compress(raw, 9))
             + chunk(b"IEND", b""))
 
@@ -1144,6 +1145,238 @@ def wa_weights_text():
     return "".join(" ".join(repr(float(x)) for x in w) + "\n" for w in rows)
 
 
+# C1 spline deformations (2.5D, Rodrigues et al. 2014, section 5) ----------------------------
+# A nematode-like organism (C. elegans style: a slender, slightly flattened tube with rounded
+# ends, tail at -x thinner than the head at +x) lying straight along the x axis; the 2D domain
+# of the spline (a regular triangulation of a rectangle around it, the base of the single layer
+# of prisms); and a "microscope picture" of the same organism seen from above but bent, the
+# target a user deforms the model towards. The bend is the plane map
+# (x, y) -> (x, y + SPLINE_BEND_AMPLITUDE * sin(pi * x)), the analytic reference for tests.
+SPLINE_HALF_LENGTH = 0.8       # organism: x in [-0.8, 0.8] (pole vertices at the ends)
+SPLINE_HALF_WIDTH = 0.085      # W: y half-width scale (the widest point is 1.011 W)
+SPLINE_FLATTEN = 0.7           # z half-thickness / y half-width, at every cross-section
+SPLINE_TAPER = (0.12, -0.30)   # g(s) = 1 + 0.12 s - 0.30 s^2: tail (s = -1) 0.58, head 0.82
+SPLINE_RINGS = 100             # rings along x (+2 poles) -> 24 * 100 + 2 = 2402 vertices
+SPLINE_RING_SIZE = 24          # vertices per ring -> 2 * 24 * 100 = 4800 triangles
+SPLINE_DOMAIN = (-1.0, 1.0, -0.5, 0.5)   # x0, x1, y0, y1 of the spline's 2D domain
+SPLINE_DOMAIN_STEP = 0.125     # grid spacing (dyadic: every coordinate exact in binary)
+SPLINE_MIN_CLEARANCE = 0.05    # asserted: organism (straight and bent) this far inside
+SPLINE_BEND_AMPLITUDE = 0.18   # the picture's centre line: y = 0.18 sin(pi x)
+SPLINE_PICTURE_SIZE = (512, 256)   # pixels (width, height): 256 pixels per unit
+
+
+def spline_taper(s):
+    """g(s): the profile's taper, s = x / half-length (tail -1, head +1)."""
+    return 1.0 + SPLINE_TAPER[0] * s + SPLINE_TAPER[1] * s * s
+
+
+def spline_profile(x):
+    """Half-width (along y) of the straight organism's cross-section at x; 0 at and beyond
+    the ends. W sqrt(1 - s^4) g(s), s = x / half-length: flat along the body, rounded ends."""
+    s = x / SPLINE_HALF_LENGTH
+    if abs(s) >= 1.0:
+        return 0.0
+    return SPLINE_HALF_WIDTH * math.sqrt(1.0 - s ** 4) * spline_taper(s)
+
+
+def spline_bend(x):
+    """The picture's centre line: y = A sin(pi x)."""
+    return SPLINE_BEND_AMPLITUDE * math.sin(math.pi * x)
+
+
+def spline_organism():
+    """Ring-and-pole tube (ring_tube on the ellipsoid with half-axes (a, 1, 1)), each
+    cross-section rescaled to the profile: a ring vertex at x = -a cos t has radius sin t =
+    sqrt(1 - s^2), so y is scaled by W sqrt(1 + s^2) g(s) (giving W sqrt(1 - s^4) g(s)) and z by
+    SPLINE_FLATTEN times that. A positive scale per x-slice: injective, still outward."""
+    a = SPLINE_HALF_LENGTH
+    S, F = ring_tube(SPLINE_RINGS, SPLINE_RING_SIZE, (a, 1.0, 1.0))
+    V = []
+    for x, y, z in S:
+        s = x / a
+        k = SPLINE_HALF_WIDTH * math.sqrt(1.0 + s * s) * spline_taper(s)
+        V.append((rnd(x), rnd(k * y), rnd(SPLINE_FLATTEN * k * z)))
+    return V, F
+
+
+def spline_domain():
+    """A regular triangulation of the domain rectangle: squares of side SPLINE_DOMAIN_STEP,
+    vertex j * (ni + 1) + i at (x0 + i step, y0 + j step) (row by row, bottom to top). Square
+    (i, j) is cut along its lower-left/upper-right diagonal when (i // 2 + j) is even, along the
+    other one otherwise: interior vertices of degrees 4, 6 and 8. Counter-clockwise."""
+    x0, x1, y0, y1 = SPLINE_DOMAIN
+    h = SPLINE_DOMAIN_STEP
+    ni, nj = int(round((x1 - x0) / h)), int(round((y1 - y0) / h))
+    V = [(x0 + i * h, y0 + j * h) for j in range(nj + 1) for i in range(ni + 1)]
+    F = []
+    for j in range(nj):
+        for i in range(ni):
+            a = j * (ni + 1) + i
+            b, c, d = a + 1, a + ni + 1, a + ni + 2
+            if (i // 2 + j) % 2 == 0:
+                F += [(a, b, d), (a, d, c)]
+            else:
+                F += [(a, b, c), (b, d, c)]
+    return V, F, (ni, nj)
+
+
+def check_spline_domain(V, F, shape):
+    """Counter-clockwise, consistently oriented disk covering the rectangle exactly; returns
+    the degree histogram of the interior vertices."""
+    ni, nj = shape
+    x0, x1, y0, y1 = SPLINE_DOMAIN
+    assert len(V) == (ni + 1) * (nj + 1) and len(F) == 2 * ni * nj
+    for x, y in V:
+        assert x == rnd(x) and y == rnd(y), "spline_domain: vertex not exact in 6 decimals"
+        assert x * 8 == int(x * 8) and y * 8 == int(y * 8), "spline_domain: vertex not dyadic"
+    directed = set()
+    for t in F:
+        assert cross2(V[t[0]], V[t[1]], V[t[2]]) > 0, "spline_domain: triangle %s not CCW" % (t,)
+        for e in ((t[0], t[1]), (t[1], t[2]), (t[2], t[0])):
+            assert e not in directed, "spline_domain: directed edge %s twice" % (e,)
+            directed.add(e)
+    assert len({v for t in F for v in t}) == len(V), "spline_domain: unreferenced vertices"
+    n_edges = len({(min(e), max(e)) for e in directed})
+    assert len(V) - n_edges + len(F) == 1, "spline_domain: not a disk"
+    area = sum(0.5 * cross2(V[a], V[b], V[c]) for a, b, c in F)
+    assert area == (x1 - x0) * (y1 - y0), "spline_domain: area %r" % area
+    neighbours = {}
+    for a, b in directed:
+        neighbours.setdefault(a, set()).add(b)
+        neighbours.setdefault(b, set()).add(a)
+    hist = {}
+    for v, (x, y) in enumerate(V):
+        if x0 < x < x1 and y0 < y < y1:
+            d = len(neighbours[v])
+            hist[d] = hist.get(d, 0) + 1
+    assert sorted(hist) == [4, 6, 8], "spline_domain: interior degrees %s" % hist
+    return hist
+
+
+def check_spline_organism(V, F):
+    """Closed outward manifold sphere without self-intersections, flattened as asked, inside
+    the domain with the clearance, straight and bent."""
+    assert 3000 <= len(F) <= 6000, "spline_organism: %d triangles" % len(F)
+    vol = check_closed_surface(V, F, "spline_organism")
+    tested = check_no_self_intersections(V, F, "spline_organism")
+    x0, x1, y0, y1 = SPLINE_DOMAIN
+    box = [(min(v[k] for v in V), max(v[k] for v in V)) for k in range(3)]
+    clear = min(box[0][0] - x0, x1 - box[0][1], box[1][0] - y0, y1 - box[1][1])
+    assert clear >= SPLINE_MIN_CLEARANCE, "spline_organism: clearance %.4f to the domain" % clear
+    bent = [y + spline_bend(x) for x, y, _ in V]
+    bent_clear = min(min(bent) - y0, y1 - max(bent))     # the bend keeps x
+    assert bent_clear >= SPLINE_MIN_CLEARANCE, "spline_organism: bent, y clearance %.4f" % bent_clear
+    ratio = box[2][1] / box[1][1]
+    assert abs(ratio - SPLINE_FLATTEN) < 0.01, "spline_organism: z / y half-extent %.4f" % ratio
+    assert abs(box[0][0] + SPLINE_HALF_LENGTH) < 1e-9 and abs(box[0][1] - SPLINE_HALF_LENGTH) < 1e-9
+    # The straight organism's vertices lie within the analytic profile (the picture's outline).
+    for x, y, z in V:
+        r = spline_profile(x)
+        assert abs(y) <= r + 1e-6 and abs(z) <= SPLINE_FLATTEN * r + 1e-6
+    return {"volume": vol, "tested": tested, "bbox": box, "clearance": clear,
+            "bent_clearance": bent_clear}
+
+
+def spline_outline(samples=600):
+    """The bent organism's silhouette as a closed polygon (counter-clockwise): the upper side
+    (x, b(x) + r(x)) from tail to head at x = -a cos(pi k / samples), then the lower side back."""
+    a = SPLINE_HALF_LENGTH
+    xs = [-a * math.cos(math.pi * k / samples) for k in range(samples + 1)]
+    lower = [(x, spline_bend(x) - spline_profile(x)) for x in xs]
+    upper = [(x, spline_bend(x) + spline_profile(x)) for x in xs]
+    return lower + list(reversed(upper[1:-1]))
+
+
+def spline_picture():
+    """A greyscale 'microscope picture' of the organism seen from above, bent: pixel (i, j)
+    (column i, row j from the top) is sampled at x = -1 + (i + 0.5) / 256, y = 0.5 - (j + 0.5) /
+    256, so the picture covers the domain rectangle exactly. A point is inside the organism when
+    |y - b(x)| < r(x) (b = spline_bend, r = spline_profile: the straight model's top-view
+    silhouette moved by (x, y) -> (x, y + b(x))). Bright background with vignetting, a soft
+    dark outline (Gaussian in the distance to the silhouette), a lighter interior, darker where
+    the body is thicker, a darker gut along the centre line and a pharynx bulb near the head.
+    Returns (png bytes, rows, stats)."""
+    width, height = SPLINE_PICTURE_SIZE
+    x0, x1, y0, y1 = SPLINE_DOMAIN
+    px = (x1 - x0) / width
+    assert abs((y1 - y0) / height - px) < 1e-15, "spline picture: pixels not square"
+    a = SPLINE_HALF_LENGTH
+    # Silhouette segments binned in square cells of 8 pixels, for the distance to the outline.
+    poly = spline_outline()
+    cell = 8 * px
+    bins = {}
+
+    def cells(u, v):
+        return range(int(math.floor(min(u, v) / cell)), int(math.floor(max(u, v) / cell)) + 1)
+    for k in range(len(poly)):
+        p, q = poly[k], poly[(k + 1) % len(poly)]
+        for ci in cells(p[0], q[0]):
+            for cj in cells(p[1], q[1]):
+                bins.setdefault((ci, cj), []).append((p, q))
+    sigma = 1.5 * px            # outline width
+    rows = []
+    darkest, darkest_d = 255, None
+    for j in range(height):
+        y = y1 - (j + 0.5) * px
+        row = []
+        for i in range(width):
+            x = x0 + (i + 0.5) * px
+            vignette = 1.0 - 0.18 * 0.5 * (x * x + (2.0 * y) ** 2)
+            r = spline_profile(x)
+            yc = y - spline_bend(x)
+            inside = abs(yc) < r
+            ci, cj = int(math.floor(x / cell)), int(math.floor(y / cell))
+            segs = [sg for di in (-1, 0, 1) for dj in (-1, 0, 1)
+                    for sg in bins.get((ci + di, cj + dj), ())]
+            d = min(dist_point_segment2((x, y), p, q) for p, q in segs) if segs else cell
+            d = d if inside else -d         # signed distance, positive inside
+            background = 238.0
+            if inside:
+                q = yc / r
+                thick = math.sqrt(1.0 - q * q)
+                s = x / a
+                body = 214.0 - 30.0 * thick
+                gut = smoothstep((s + 0.85) / 0.2) * smoothstep((0.8 - s) / 0.2)   # fades at the ends
+                body -= 34.0 * math.exp(-(q / 0.22) ** 2) * gut
+                bulb = ((x - 0.5) / 0.045) ** 2 + (yc / (0.45 * SPLINE_HALF_WIDTH)) ** 2   # pharynx
+                body -= 28.0 * math.exp(-bulb)
+            else:
+                body = background
+            cover = smoothstep(0.5 + d / px)      # anti-aliased edge, one pixel wide
+            value = cover * body + (1.0 - cover) * background
+            value -= 125.0 * math.exp(-((d - 0.5 * px) / sigma) ** 2)
+            value = int(round(min(255.0, max(0.0, value * vignette))))
+            if value < darkest:
+                darkest, darkest_d = value, d
+            row.append(value)
+        rows.append(row)
+    stats = {"darkest": darkest, "darkest_distance": darkest_d, "outline_points": len(poly)}
+    return png_bytes(width, height, rows, channels=1), rows, stats
+
+
+def check_spline_picture(rows, stats):
+    """The picture shows the bent organism: the bent centre line is inside (interior grey), the
+    straight one is background there, the darkest pixels are on the outline, the corners are
+    darker than the middle of the background (vignetting)."""
+    width, height = SPLINE_PICTURE_SIZE
+    x0, _, _, y1 = SPLINE_DOMAIN
+    px = 1.0 / 256
+
+    def pixel(x, y):
+        return rows[int(math.floor((y1 - y) / px))][int(math.floor((x - x0) / px))]
+    assert len(rows) == height and all(len(r) == width for r in rows)
+    for x in (-0.5, 0.0, 0.25, 0.5):
+        inner = pixel(x, spline_bend(x))
+        assert 90 < inner < 215, "spline picture: centre line at x = %g is %d" % (x, inner)
+    for x in (-0.5, 0.5):
+        assert pixel(x, 0.0) > 225, "spline picture: the straight centre line is not background"
+    assert stats["darkest"] < 110 and abs(stats["darkest_distance"]) < 2 * px, \
+        "spline picture: the darkest pixel is not on the outline"
+    corners = [rows[0][0], rows[0][-1], rows[-1][0], rows[-1][-1]]
+    assert max(corners) < pixel(0.0, 0.45) - 20, "spline picture: no vignetting"
+    return corners
+
+
 def main(argv):
     out_dir = argv[1] if len(argv) > 1 else os.path.dirname(os.path.abspath(__file__))
     files = {}
@@ -1255,8 +1488,27 @@ def main(argv):
     summary.append("wa_torus: %d vertices, %d triangles, volume %.4f (genus 1), %d face pairs "
                    "tested; %d anchors" % (len(wa_V), len(wa_F), wvol, tested_w, len(WA_ANCHOR_GRID)))
 
+    # C1 spline deformations (2.5D) ---------------------------------------------------
+    sp_V, sp_F = spline_organism()
+    sp = check_spline_organism(sp_V, sp_F)
+    dom_V, dom_F, dom_shape = spline_domain()
+    degrees = check_spline_domain(dom_V, dom_F, dom_shape)
+    files["spline_organism.obj"] = obj_mesh3d_text(sp_V, sp_F)
+    files["spline_domain.obj"] = obj_mesh2d_text(dom_V, dom_F)
+    summary.append("spline_organism: %d vertices, %d triangles, volume %.4f, bbox %s, clearance "
+                   "to the domain %.4f (bent: y clearance %.4f), %d face pairs tested"
+                   % (len(sp_V), len(sp_F), sp["volume"],
+                      " x ".join("[%.3f, %.3f]" % b for b in sp["bbox"]), sp["clearance"],
+                      sp["bent_clearance"], sp["tested"]))
+    summary.append("spline_domain: %d vertices, %d triangles, interior vertex degrees %s"
+                   % (len(dom_V), len(dom_F),
+                      ", ".join("%d: %d" % kv for kv in sorted(degrees.items()))))
+
     # Broken inputs -----------------------------------------------------------
     files.update(bad_files())
+
+    spline_png, spline_rows, spline_stats = spline_picture()
+    spline_corners = check_spline_picture(spline_rows, spline_stats)
 
     # Write (only after every check passed) --------------------------------------
     os.makedirs(os.path.join(out_dir, "bad"), exist_ok=True)
@@ -1269,6 +1521,11 @@ def main(argv):
         fh.write(picture)
     summary.append("gingerbread.png: %d x %d pixels over cage2d's bounding box + %d%%"
                    % (IMAGE2D_SIZE, IMAGE2D_SIZE, round(100 * IMAGE2D_MARGIN)))
+    with open(os.path.join(out_dir, "spline_organism_picture.png"), "wb") as fh:
+        fh.write(spline_png)
+    summary.append("spline_organism_picture.png: %d x %d greyscale pixels over the domain, "
+                   "darkest %d, corners %s, %d bytes"
+                   % (SPLINE_PICTURE_SIZE + (spline_stats["darkest"], spline_corners, len(spline_png))))
     for line in summary:
         print(line)
     for name in sorted(files):
