@@ -312,9 +312,17 @@ SplineEditReport SplineEditor::apply(const SplineEdit& edit)
       break;
   }
 
+  // Step 1: the anchors (named, or nearest to the given positions).
+  std::vector<Index> anchors = edit.anchors;
+  for (const Eigen::Vector2d& x : edit.near)
+  {
+    if (!x.allFinite())
+      throw Error(ErrorCode::NonFinite, "an edit's anchor position is not finite");
+    anchors.push_back(nearest_point(x));
+  }
   SplineEditReport rep;
   // Step 2 (timing the exact part when it is not cached).
-  rep.sets = select(edit.anchors, edit.delta_max);
+  rep.sets = select(anchors, edit.delta_max);
   rep.cached = last_cached_;
   rep.exact_seconds = last_exact_seconds_;
   const EditSets& sets = rep.sets;

@@ -44,6 +44,10 @@ struct SplineEdit
 {
   SplineEditOp op = SplineEditOp::Translate;
   std::vector<Index> anchors;   ///< global control points, distinct
+  /// Positions whose nearest control points (SplineEditor::nearest_point, at the time of the
+  /// edit) are anchors too: how a user who clicks names them. Resolved when the edit is applied
+  /// (the log keeps the positions, so a replay resolves them the same way).
+  std::vector<Eigen::Vector2d> near;
   Eigen::VectorXd by;           ///< Translate: the displacement (one value per spline column)
   Eigen::Vector2d center = Eigen::Vector2d::Zero(); ///< Rotate, Scale
   double angle_degrees = 0;     ///< Rotate

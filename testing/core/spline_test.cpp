@@ -546,7 +546,9 @@ TEST(SplineEditor, RandomEditSequencesKeepC1)
       for (Index p = 0; p < net->num_points(); ++p)
       {
         if (!moved.count(p))
+        {
           ASSERT_EQ(editor.spline().values().row(p), before.row(p)) << "point " << p;
+        }
       }
     }
     for (auto t : { ControlPointType::Corner, ControlPointType::EdgeCorner, ControlPointType::Edge,
