@@ -66,6 +66,7 @@ void ConfigureApp(CLI::App& app, Subcommands& subcommands)
   AddCurveCommand(subcommands);
   AddTransferCommand(subcommands);
   AddRemeshCommand(subcommands);
+  AddSplineCommand(subcommands);
   AddRenderCommand(subcommands);
   AddDemoCommand(subcommands);
 }

@@ -100,6 +100,7 @@ void AddAverageCommand(Subcommands& subcommands);
 void AddCurveCommand(Subcommands& subcommands);
 void AddTransferCommand(Subcommands& subcommands);
 void AddRemeshCommand(Subcommands& subcommands);
+void AddSplineCommand(Subcommands& subcommands);
 
 /// The surface of --mesh with its embedding: read from --embedding, or computed with the
 /// defaults (and written to --save-embedding when given); summary gets "mesh" and "embedding".

@@ -302,10 +302,21 @@ void validate_read(vtkDataSet* data, const std::string& path)
         const int type = types->GetValue(c);
         const int fixed = cell_type_points(type, least);
         const vtkIdType size = cells->GetCellSize(c);
+        if (type == VTK_BEZIER_TRIANGLE)
+        {
+          // BaryLab's spline grids: (d + 1)(d + 2)/2 points, degree 1 to 12.
+          bool triangular = false;
+          for (vtkIdType d = 1; d <= 12; ++d)
+            triangular = triangular || size == (d + 1) * (d + 2) / 2;
+          if (!triangular)
+            throw fail(ErrorCode::Io, "Bézier triangle " + std::to_string(c) + " has " +
+              std::to_string(size) + " points, not (d + 1)(d + 2)/2 for a degree d in [1, 12]");
+          continue;
+        }
         if (fixed < 0)
           throw fail(ErrorCode::Io, "cell " + std::to_string(c) + " has VTK cell type " +
             std::to_string(type) + ", which BaryLab does not read (linear and quadratic "
-            "cells, polygons, strips and poly-lines are read; no polyhedra)");
+            "cells, polygons, strips, poly-lines and Bézier triangles are read; no polyhedra)");
         if ((fixed > 0 && size != fixed) || (fixed == 0 && size < least))
           throw fail(ErrorCode::Io, "cell " + std::to_string(c) + " of VTK cell type " +
             std::to_string(type) + " has " + std::to_string(size) + " points, " +

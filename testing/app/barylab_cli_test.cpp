@@ -1825,3 +1825,66 @@ TEST_F(CLI, RemeshTheTorus)
     "not 4");
   EXPECT_FALSE(fs::exists(out("x.vtp")));
 }
+
+// barylab spline create / edit / deform: the identity on the bundled domain, edits from JSON
+// (translate, rotate, scale, a top-surface edit), the 2.5D organism deformed; the JSON report's
+// C1 residual and sets; errors name the edit and write nothing.
+TEST_F(CLI, SplineCreateEditDeform)
+{
+  ASSERT_EQ(run("spline create --domain " + data("spline_domain.obj") + " --prism -0.1 0.1 --output " +
+              out("s.vtu") + " -q").code, 0);
+  {
+    std::ofstream e(out("edits.json"));
+    e << R"({"edits": [
+      {"op": "translate", "near": [0.5, 0.0], "by": [0.0, 0.05], "delta_max": 4},
+      {"op": "rotate", "index": 60, "center": [0.0, 0.0], "angle_degrees": 5, "delta_max": 2},
+      {"op": "scale", "near": [-0.5, 0.0], "center": [-0.5, 0.0], "factor": 1.05, "delta_max": 3},
+      {"op": "translate", "spline": "top", "near": [0.0, 0.0], "by": 0.02, "delta_max": 4}]})";
+  }
+  const CommandResult r = run("spline edit --spline " + out("s.vtu") + " --edits " + out("edits.json") +
+    " --output " + out("s2.vtu") + " --json " + out("e.json") + " -q");
+  ASSERT_EQ(r.code, 0) << r.output;
+  std::ifstream j(out("e.json"));
+  const nlohmann::json s = nlohmann::json::parse(j);
+  EXPECT_EQ(s["edits"].size(), 4u);
+  EXPECT_LT(s["c1_condition_residual_relative"].get<double>(), 1e-9);
+  EXPECT_LT(s["max_gradient_jump"].get<double>(), 1e-9);
+  EXPECT_TRUE(s["jacobian_positive_everywhere"].get<bool>());
+  EXPECT_EQ(s["edits"][1]["anchors"][0].get<int>(), 60);
+  for (const auto& e : s["edits"])
+    EXPECT_GT(e["derived"].get<int>(), 0);
+  ASSERT_EQ(run("spline deform --spline " + out("s2.vtu") + " --points " + data("spline_organism.obj") +
+              " --output " + out("o.vtp") + " -q").code, 0);
+  auto model = vtkBaryDataIO::Read(data("spline_organism.obj"));
+  auto moved = vtkBaryDataIO::Read(out("o.vtp"));
+  ASSERT_EQ(moved->GetNumberOfPoints(), model->GetNumberOfPoints());
+  double change = 0;
+  for (vtkIdType p = 0; p < model->GetNumberOfPoints(); ++p)
+  {
+    double a[3], b[3];
+    model->GetPoint(p, a);
+    moved->GetPoint(p, b);
+    change = std::max(change, std::hypot(a[0] - b[0], a[1] - b[1]));
+  }
+  EXPECT_GT(change, 0.01);
+  EXPECT_LT(change, 0.2);
+  // Errors: an unknown op, an unknown control point, a model outside, a .vtp spline output.
+  {
+    std::ofstream e(out("bad.json"));
+    e << R"({"edits": [{"op": "twist", "near": [0, 0]}]})";
+  }
+  ExpectError(run("spline edit --spline " + out("s.vtu") + " --edits " + out("bad.json") +
+                " --output " + out("x.vtu") + " -q"), "edit 0 has op \"twist\"");
+  {
+    std::ofstream e(out("bad2.json"));
+    e << R"({"edits": [{"op": "translate", "index": 999999, "by": [0, 1]}]})";
+  }
+  ExpectError(run("spline edit --spline " + out("s.vtu") + " --edits " + out("bad2.json") +
+                " --output " + out("x.vtu") + " -q"), "anchor 999999 is not a control point");
+  ExpectError(run("spline deform --spline " + out("s.vtu") + " --points " + data("wa_torus.obj") +
+                " --output " + out("x.vtp") + " -q"), "outside");
+  EXPECT_EQ(run("spline create --domain " + data("spline_domain.obj") + " --output " + out("x.vtp") + " -q").code, 2);
+  EXPECT_EQ(run("spline create --domain " + data("spline_domain.obj") + " --degree 4 --output " + out("x.vtu") + " -q").code, 2);
+  EXPECT_FALSE(fs::exists(out("x.vtu")));
+  EXPECT_FALSE(fs::exists(out("x.vtp")));
+}
