@@ -87,12 +87,14 @@ struct CreateArgs
   int degree = bary::kDefaultSplineDegree;
   int target_triangles = 200;
   std::vector<double> prism;
+  std::string fit_from, fit_to;
+  bool pin_border = false;
   bool quiet = false;
 };
 
 int run_create(const CreateArgs& a)
 {
-  check_vtu(a.output, { a.domain });
+  check_vtu(a.output, { a.domain, a.fit_from, a.fit_to });
   if (!a.json_path.empty())
     check_output(a.json_path, OutputKind::Json, { a.domain, a.output });
   if (!a.prism.empty() && (a.prism.size() != 2 || !(a.prism[1] > a.prism[0])))
@@ -101,6 +103,17 @@ int run_create(const CreateArgs& a)
   source->SetInputData(vtkBaryDataIO::ReadPolyData(a.domain));
   source->SetDegree(a.degree);
   source->SetTargetTriangles(a.target_triangles);
+  source->SetPinBorder(a.pin_border);
+  if (a.fit_from.empty() != a.fit_to.empty())
+    throw UsageError("--fit-from and --fit-to go together");
+  vtkSmartPointer<vtkDataSet> from, to;
+  if (!a.fit_from.empty())
+  {
+    from = vtkBaryDataIO::Read(a.fit_from);
+    to = vtkBaryDataIO::Read(a.fit_to);
+    source->SetFitFromData(from);
+    source->SetFitToData(to);
+  }
   if (!a.prism.empty())
   {
     source->PrismOn();
@@ -112,9 +125,16 @@ int run_create(const CreateArgs& a)
   json summary = SplineSummary(vtkBarySplineData::FromGrid(source->GetOutput()));
   summary["domain"] = a.domain;
   summary["output"] = a.output;
+  if (from)
+    summary["fit"] = { { "samples", from->GetNumberOfPoints() },
+      { "rms_error", source->GetFitRMSError() }, { "max_error", source->GetFitMaxError() } };
   if (!a.json_path.empty())
     WriteJson(summary, a.json_path);
-  if (!a.quiet)
+  if (!a.quiet && from)
+    std::cerr << "barylab: spline fitted to " << from->GetNumberOfPoints()
+              << " samples (rms error " << source->GetFitRMSError() << ", max "
+              << source->GetFitMaxError() << ")\n";
+  if (!a.quiet && !from)
     std::cerr << "barylab: identity spline of degree " << a.degree << " on "
               << summary["triangles"] << " triangles, " << summary["control_points"]
               << " control points -> " << a.output << "\n";
@@ -357,6 +377,10 @@ void AddSplineCommand(Subcommands& subcommands)
      "triangles to aim for when the domain is a polygon")->default_val(200)->check(CLI::Range(2, 1000000));
   c->add_option("--prism", create->prism, "BOTTOM TOP: a 2.5D deformation with this z range")
     ->expected(2);
+  c->add_option("--fit-from", create->fit_from,
+    "points where a map is sampled (with --fit-to: fit the spline to the map)");
+  c->add_option("--fit-to", create->fit_to, "the images of --fit-from's points, as many");
+  c->add_flag("--pin-border", create->pin_border, "no edit moves the control points on the border");
   c->add_option("--output,-o", create->output, "the spline (.vtu)")->required();
   c->add_option("--json", create->json_path, "write a JSON summary");
   c->add_flag("--quiet,-q", create->quiet, "no summary (errors still)");

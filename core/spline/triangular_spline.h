@@ -106,6 +106,8 @@ public:
   const Eigen::MatrixXi& local_to_global() const noexcept { return L2G_; }
   /// The global control point of (i, j, k) in triangle @p t (k = d - i - j).
   Index point(Index t, int i, int j) const { return L2G_(t, bezier_index(d_, i, j)); }
+  /// The control point @p step steps (1 .. d - 1) from edge @p e's first vertex.
+  Index edge_point(Index e, int step) const { return V_.rows() + e * (d_ - 1) + step - 1; }
   /// #points by 2 nominal positions.
   const Eigen::MatrixXd& nominal() const noexcept { return nominal_; }
   ControlPointType type(Index p) const { return type_[static_cast<size_t>(p)]; }

@@ -5,11 +5,13 @@
 #include "vtkBarySplineData.h"
 
 #include "core/meshing/domain_mesh.h"
+#include "core/spline/spline_fit.h"
 
 #include "vtkCellArray.h"
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
 #include "vtkObjectFactory.h"
+#include "vtkPointSet.h"
 #include "vtkPolyData.h"
 #include "vtkUnstructuredGrid.h"
 
@@ -18,6 +20,7 @@ vtkStandardNewMacro(vtkBarySplineSource);
 vtkBarySplineSource::vtkBarySplineSource()
   : Degree(bary::kDefaultSplineDegree)
 {
+  this->SetNumberOfInputPorts(3);
 }
 
 void vtkBarySplineSource::PrintSelf(ostream& os, vtkIndent indent)
@@ -29,9 +32,15 @@ void vtkBarySplineSource::PrintSelf(ostream& os, vtkIndent indent)
      << "]\n";
 }
 
-int vtkBarySplineSource::FillInputPortInformation(int, vtkInformation* info)
+int vtkBarySplineSource::FillInputPortInformation(int port, vtkInformation* info)
 {
-  info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkPolyData");
+  if (port == 0)
+    info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkPolyData");
+  else
+  {
+    info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkPointSet");
+    info->Set(vtkAlgorithm::INPUT_IS_OPTIONAL(), 1);
+  }
   return 1;
 }
 
@@ -77,7 +86,45 @@ int vtkBarySplineSource::RequestData(
     }
     auto net = std::make_shared<bary::SplineNet>(V, T, this->Degree);
     vtkBarySpline spline;
-    spline.xy.emplace(bary::TriangularSpline::identity(net));
+    vtkPointSet* from = vtkPointSet::GetData(inputVector[1]);
+    vtkPointSet* to = vtkPointSet::GetData(inputVector[2]);
+    if ((from != nullptr) != (to != nullptr))
+      throw bary::Error(bary::ErrorCode::InvalidArgument,
+        "a spline fit needs both the sample points and their images");
+    if (from)
+    {
+      if (from->GetNumberOfPoints() != to->GetNumberOfPoints())
+        throw bary::Error(bary::ErrorCode::SizeMismatch,
+          "the fit's samples have " + std::to_string(from->GetNumberOfPoints()) +
+            " points and their images " + std::to_string(to->GetNumberOfPoints()));
+      if (from->GetNumberOfPoints() == 0)
+        throw bary::Error(bary::ErrorCode::EmptyInput, "the fit has no samples");
+      const Eigen::MatrixXd X = vtkBaryConversion::ToMatrix(from->GetPoints(), 2);
+      const Eigen::MatrixXd Y = vtkBaryConversion::ToMatrix(to->GetPoints(), 2);
+      bary::SplineFit fit = bary::fit_spline(net, X, Y);
+      spline.xy.emplace(std::move(*fit.spline));
+      this->FitRMSError = fit.rms_error;
+      this->FitMaxError = fit.max_error;
+    }
+    else
+      spline.xy.emplace(bary::TriangularSpline::identity(net));
+    if (this->PinBorder)
+    {
+      const auto& E = net->edges();
+      const auto& ET = net->edge_triangles();
+      const int d = net->degree();
+      std::vector<char> mark(static_cast<size_t>(net->num_points()), 0);
+      for (bary::Index e = 0; e < E.rows(); ++e)
+        if (ET(e, 0) < 0 || ET(e, 1) < 0)
+        {
+          mark[static_cast<size_t>(E(e, 0))] = mark[static_cast<size_t>(E(e, 1))] = 1;
+          for (int s = 1; s < d; ++s)
+            mark[static_cast<size_t>(net->edge_point(e, s))] = 1;
+        }
+      for (bary::Index p = 0; p < net->num_points(); ++p)
+        if (mark[static_cast<size_t>(p)])
+          spline.pinned.push_back(p);
+    }
     if (this->Prism)
     {
       spline.bottom.emplace(bary::TriangularSpline::constant(net, this->PrismBottom));

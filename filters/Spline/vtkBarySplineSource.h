@@ -5,7 +5,10 @@
  *          polygon (meshed by CGAL's 2D mesher with about TargetTriangles triangles); output the
  *          spline grid of vtkBarySplineData (Bézier triangles of degree Degree). With Prism on,
  *          a 2.5D deformation: the bottom and top surfaces are the constants PrismBottom and
- *          PrismTop.
+ *          PrismTop. With fit samples on input ports 1 and 2 (two point sets with as many points:
+ *          where in the domain, and where they go), the xy deformation is instead the C1 spline
+ *          fitted to them by least squares (bary::fit_spline), e.g. a cage deformation sampled at
+ *          points. PinBorder pins the control points on the domain's border (no edit moves them).
  *
  * @sa vtkBarySplineData vtkBarySplineEdit vtkBarySplineDeform
  */
@@ -36,6 +39,18 @@ public:
   vtkGetMacro(PrismBottom, double);
   vtkSetMacro(PrismTop, double);
   vtkGetMacro(PrismTop, double);
+  /// Pin the control points on the border edges of the domain. Default off.
+  vtkSetMacro(PinBorder, bool);
+  vtkGetMacro(PinBorder, bool);
+  vtkBooleanMacro(PinBorder, bool);
+  /// Fit samples (optional): the points where the map is sampled (port 1) and their images
+  /// (port 2), as many of each.
+  void SetFitFromData(vtkDataObject* points) { this->SetInputData(1, points); }
+  void SetFitToData(vtkDataObject* points) { this->SetInputData(2, points); }
+
+  /// The last fit's errors (root mean square and largest |phi(x) - y| over the samples).
+  vtkGetMacro(FitRMSError, double);
+  vtkGetMacro(FitMaxError, double);
 
 protected:
   vtkBarySplineSource();
@@ -48,6 +63,9 @@ protected:
   bool Prism = false;
   double PrismBottom = -1.0;
   double PrismTop = 1.0;
+  bool PinBorder = false;
+  double FitRMSError = 0;
+  double FitMaxError = 0;
 
 private:
   vtkBarySplineSource(const vtkBarySplineSource&) = delete;

@@ -1888,3 +1888,48 @@ TEST_F(CLI, SplineCreateEditDeform)
   EXPECT_FALSE(fs::exists(out("x.vtu")));
   EXPECT_FALSE(fs::exists(out("x.vtp")));
 }
+
+// The picture-matching use: a spline fitted to the organism bent as in its picture
+// (y + 0.18 sin(pi x), data/README.md) carries the organism onto the bent one; with the border
+// pinned, an edit of a border control point is refused and nothing is written.
+TEST_F(CLI, SplineFitAndPinnedBorder)
+{
+  auto model = vtkBaryDataIO::Read(data("spline_organism.obj"));
+  auto bent = vtkSmartPointer<vtkPolyData>::New();
+  bent->DeepCopy(model);
+  for (vtkIdType p = 0; p < bent->GetNumberOfPoints(); ++p)
+  {
+    double x[3];
+    bent->GetPoint(p, x);
+    x[1] += 0.18 * std::sin(M_PI * x[0]);
+    vtkPointSet::SafeDownCast(bent)->GetPoints()->SetPoint(p, x);
+  }
+  vtkBaryDataIO::Write(bent, out("bent.vtp"));
+  const CommandResult r = run("spline create --domain " + data("spline_domain.obj") + " --fit-from " +
+    data("spline_organism.obj") + " --fit-to " + out("bent.vtp") + " --pin-border --output " +
+    out("fit.vtu") + " --json " + out("fit.json") + " -q");
+  ASSERT_EQ(r.code, 0) << r.output;
+  std::ifstream j(out("fit.json"));
+  const nlohmann::json s = nlohmann::json::parse(j);
+  EXPECT_LT(s["fit"]["max_error"].get<double>(), 1e-4);
+  EXPECT_TRUE(s["jacobian_positive_everywhere"].get<bool>());
+  ASSERT_EQ(run("spline deform --spline " + out("fit.vtu") + " --points " + data("spline_organism.obj") +
+              " --output " + out("o.vtp") + " -q").code, 0);
+  auto moved = vtkBaryDataIO::Read(out("o.vtp"));
+  double worst = 0;
+  for (vtkIdType p = 0; p < moved->GetNumberOfPoints(); ++p)
+  {
+    double a[3], b[3];
+    moved->GetPoint(p, a);
+    bent->GetPoint(p, b);
+    worst = std::max(worst, std::hypot(a[0] - b[0], a[1] - b[1]));
+  }
+  EXPECT_LT(worst, 1e-4);
+  {
+    std::ofstream e(out("corner.json"));
+    e << R"({"edits": [{"op": "translate", "near": [-1.0, -0.5], "by": [0.1, 0.0]}]})";
+  }
+  ExpectError(run("spline edit --spline " + out("fit.vtu") + " --edits " + out("corner.json") +
+                " --output " + out("x.vtu") + " -q"), "pinned");
+  EXPECT_FALSE(fs::exists(out("x.vtu")));
+}
