@@ -312,9 +312,10 @@ BARY_ALWAYS_INLINE bool phong_newton(
 }
 
 /// Four Phong projections at once, one per lane of the vectors (each a triangle and a target:
-/// @p dots[l], @p data[l], Newton from the Euclidean projection): the operations of
-/// phong_newton in the same order, so each lane gives phong_newton's result, while the four
-/// iterations' latencies overlap. @p status[l] on return: 1 converged in the triangle (its
+/// @p dots[l], @p data[l], Newton from the Euclidean projection): phong_newton's iteration and
+/// stopping rules, while the four iterations' latencies overlap. The residual's rows are summed
+/// monomial by monomial in chains of fused steps (phong_newton sums them four rows at a time),
+/// so a lane agrees with phong_newton to rounding, not to the bit. @p status[l] on return: 1 converged in the triangle (its
 /// coordinates in @p xi[l]), 0 no projection, -1 a corner was reached (rare: run phong_newton
 /// for that lane). Lanes with @p active[l] false are ignored (status 0).
 BARY_ALWAYS_INLINE void phong_newton4(const double* const* dots, const double* const* data,
@@ -347,7 +348,10 @@ BARY_ALWAYS_INLINE void phong_newton4(const double* const* dots, const double* c
       q[2] + PhongData::q2 + 4 * j, q[3] + PhongData::q2 + 4 * j, Q2 + 4 * j);
     transpose4(pw[0] + 4 * j, pw[1] + 4 * j, pw[2] + 4 * j, pw[3] + 4 * j, PW + 4 * j);
   }
-  const v4d zero = { 0, 0, 0, 0 }, one = { 1, 1, 1, 1 };
+  const v4d zero = { 0, 0, 0, 0 }, one = { 1, 1, 1, 1 }, two = { 2, 2, 2, 2 };
+  // The rows' right-hand sides negated once: g_r = Q1_r a + (Q2_r b - PW_r), two fused steps.
+  for (int r = 0; r < 12; ++r)
+    PW[r] = zero - PW[r];
   const v4d tolerance2 = { tol[0], tol[1], tol[2], tol[3] };
   v4d a = { start_a[0], start_a[1], start_a[2], start_a[3] };
   v4d b = { start_b[0], start_b[1], start_b[2], start_b[3] };
@@ -357,37 +361,49 @@ BARY_ALWAYS_INLINE void phong_newton4(const double* const* dots, const double* c
   for (int it = 0; it < kPhongMaxIterations && left > 0; ++it)
   {
     const v4d c = (one - a) - b;
-    const v4d s = (a * b + b * c) + c * a;
-    v4d g[12];
-    for (int r = 0; r < 12; ++r)
-      g[r] = (Q1[r] * a + Q2[r] * b) - PW[r];
     const v4d ab = a * b, bc = b * c, ca = c * a, aa = a * a, bb = b * b, cc = c * c;
+    const v4d s = (ab + bc) + ca;
     const v4d h = (ab * c) * 0.5, ha = (bc - ab) * 0.5, hb = (ca - ab) * 0.5;
-    const v4d two = { 2, 2, 2, 2 };
-    const v4d m[6] = { aa * b + h, a * bb + h, bb * c + h, b * cc + h, cc * a + h, c * aa + h };
-    const v4d ma[6] = { two * ab + ha, bb + ha, (zero - bb) + ha, (zero - two * bc) + ha,
-      (cc - two * ca) + ha, (two * ca - aa) + ha };
-    const v4d mb[6] = { aa + hb, two * ab + hb, (two * bc - bb) + hb, (cc - two * bc) + hb,
-      (zero - two * ca) + hb, (zero - aa) + hb };
-    // Position p of phong_newton's vectors: rows 4 j + p with monomial 2 j + p / 2.
-    v4d acc[3][4];
-    for (int p = 0; p < 4; ++p)
-    {
-      v4d g0 = zero, ga = zero, gb = zero;
-      for (int j = 0; j < 3; ++j)
-      {
-        const int r = 4 * j + p, k = 2 * j + p / 2;
-        g0 += m[k] * g[r];
-        ga += ma[k] * g[r] + m[k] * Q1[r];
-        gb += mb[k] * g[r] + m[k] * Q2[r];
-      }
-      acc[0][p] = g0;
-      acc[1][p] = ga;
-      acc[2][p] = gb;
-    }
-    const v4d G0 = acc[0][0] + acc[0][2], G1 = acc[0][1] + acc[0][3];
-    const v4d GA0 = acc[1][0] + acc[1][2], GA1 = acc[1][1] + acc[1][3];
-    const v4d GB0 = acc[2][0] + acc[2][2], GB1 = acc[2][1] + acc[2][3];
+    // Monomial k (B's a b c shared out) and its derivatives along a and b weigh rows 2 k and
+    // 2 k + 1 (row i of A_{k+1}); each monomial is made where its rows are summed, so few
+    // vectors are live at once.
+    // Each sum is a chain of fused steps (one product added at a time), started by monomial 0.
+    v4d G0, G1, GA0, GA1, GB0, GB1;
+#define BARY_PHONG_ROWS(k, m, ma, mb)                                                            \
+  {                                                                                              \
+    const v4d mk = (m), mak = (ma), mbk = (mb);                                                  \
+    const v4d g0 = Q1[2 * (k)] * a + (Q2[2 * (k)] * b + PW[2 * (k)]);                            \
+    const v4d g1 = Q1[2 * (k) + 1] * a + (Q2[2 * (k) + 1] * b + PW[2 * (k) + 1]);                \
+    if ((k) == 0)                                                                                \
+    {                                                                                            \
+      G0 = mk * g0;                                                                              \
+      G1 = mk * g1;                                                                              \
+      GA0 = mak * g0;                                                                            \
+      GA1 = mak * g1;                                                                            \
+      GB0 = mbk * g0;                                                                            \
+      GB1 = mbk * g1;                                                                            \
+    }                                                                                            \
+    else                                                                                         \
+    {                                                                                            \
+      G0 = G0 + mk * g0;                                                                         \
+      G1 = G1 + mk * g1;                                                                         \
+      GA0 = GA0 + mak * g0;                                                                      \
+      GA1 = GA1 + mak * g1;                                                                      \
+      GB0 = GB0 + mbk * g0;                                                                      \
+      GB1 = GB1 + mbk * g1;                                                                      \
+    }                                                                                            \
+    GA0 = GA0 + mk * Q1[2 * (k)];                                                                \
+    GA1 = GA1 + mk * Q1[2 * (k) + 1];                                                            \
+    GB0 = GB0 + mk * Q2[2 * (k)];                                                                \
+    GB1 = GB1 + mk * Q2[2 * (k) + 1];                                                            \
+  }
+    BARY_PHONG_ROWS(0, aa * b + h, two * ab + ha, aa + hb)
+    BARY_PHONG_ROWS(1, a * bb + h, bb + ha, two * ab + hb)
+    BARY_PHONG_ROWS(2, bb * c + h, ha - bb, (two * bc - bb) + hb)
+    BARY_PHONG_ROWS(3, b * cc + h, ha - two * bc, (cc - two * bc) + hb)
+    BARY_PHONG_ROWS(4, cc * a + h, (cc - two * ca) + ha, hb - two * ca)
+    BARY_PHONG_ROWS(5, c * aa + h, (two * ca - aa) + ha, hb - aa)
+#undef BARY_PHONG_ROWS
     const v4d sa = c - a, sb = c - b;
     const v4d M00 = s * GA0 - G0 * sa, M01 = s * GB0 - G0 * sb;
     const v4d M10 = s * GA1 - G1 * sa, M11 = s * GB1 - G1 * sb;

@@ -35,6 +35,15 @@
 #define BARY_ALWAYS_INLINE inline
 #endif
 
+#if defined(__GNUC__)
+/// Compiled as a function of its own (a kernel with its own registers, called from a larger one).
+#define BARY_NOINLINE __attribute__((noinline))
+#elif defined(_MSC_VER)
+#define BARY_NOINLINE __declspec(noinline)
+#else
+#define BARY_NOINLINE
+#endif
+
 namespace bary::detail
 {
 
@@ -238,9 +247,18 @@ BARY_ALWAYS_INLINE void lane_min(const v8f& d, const v8i& index, float& value, i
     x = m ? y : x;
     i = m ? j : i;
   }
-  const bool second = x[1] < x[0];
-  value = second ? x[1] : x[0];
-  at = second ? i[1] : i[0];
+  {
+    // the last round in the vector too (a select, not a branch: the winner is data, a branch
+    // on it would be mispredicted half the time)
+    const v8i p = { 1, 0, 3, 2, 5, 4, 7, 6 };
+    const v8f y = __builtin_shuffle(x, p);
+    const v8i j = __builtin_shuffle(i, p);
+    const v8i m = y < x;
+    x = m ? y : x;
+    i = m ? j : i;
+  }
+  value = x[0];
+  at = i[0];
 #else
   float x[8];
   int i[8];

@@ -57,6 +57,9 @@ struct SurfaceSearch
   std::vector<int> block_offsets;      ///< #V + 1: first block of each ring
   std::vector<float, AlignedAllocator<float>> blocks;
   std::vector<float> E;                ///< #V by D, row-major, single precision
+  /// The mesh's vertices, row-major, four doubles each (the fourth 0): a result's position
+  /// from three lines instead of nine.
+  std::vector<double, AlignedAllocator<double>> V;
   std::vector<Fan> fans;               ///< indexed like SurfaceMesh::vertex_faces
   std::vector<int> fan_block;          ///< per vertex: its FanBlock, or -1
   std::vector<FanBlock, AlignedAllocator<FanBlock>> fan_blocks;
@@ -121,6 +124,10 @@ struct SurfaceSearch
           out[((i / kLanes) * D + d) * kLanes + i % kLanes] = E[static_cast<std::size_t>(u * D + d)];
       }
     }
+    V.assign(static_cast<std::size_t>(4 * nv), 0.0);
+    for (Index v = 0; v < nv; ++v)
+      for (int k = 0; k < 3; ++k)
+        V[static_cast<std::size_t>(4 * v + k)] = mesh.V(v, k);
     build_grid(mesh, Ed);
     // Fans.
     fans.resize(mesh.vertex_faces.size());
@@ -445,7 +452,8 @@ BARY_ALWAYS_INLINE void block_distances(const float* block, Index stride, int D,
     v8f t[8];
     for (int d = 0; d < 8; ++d)
     {
-      t[d] = BARY_LOAD8F(block + d * stride) - y[d];
+      // y - block: the block is the subtraction's memory operand (the same square)
+      t[d] = y[d] - BARY_LOAD8F(block + d * stride);
       t[d] *= t[d];
     }
     BARY_STORE8F(out, ((t[0] + t[1]) + (t[2] + t[3])) + ((t[4] + t[5]) + (t[6] + t[7])));
@@ -466,6 +474,16 @@ BARY_ALWAYS_INLINE float point_distance(const float* e, const float* y, int D)
 {
   if (kD == 8)
   {
+#if defined(__GNUC__) && !defined(__clang__)
+    // the same tree in one vector: adjacent lanes, then pairs, then the halves
+    using detail::v8f;
+    using detail::v8i;
+    v8f t = BARY_LOAD8F(e) - BARY_LOAD8F(y);
+    t *= t;
+    t += __builtin_shuffle(t, v8i{ 1, 0, 3, 2, 5, 4, 7, 6 });
+    t += __builtin_shuffle(t, v8i{ 2, 3, 0, 1, 6, 7, 4, 5 });
+    return t[0] + t[4];
+#else
     float t[8];
     for (int d = 0; d < 8; ++d)
     {
@@ -473,6 +491,7 @@ BARY_ALWAYS_INLINE float point_distance(const float* e, const float* y, int D)
       t[d] *= t[d];
     }
     return ((t[0] + t[1]) + (t[2] + t[3])) + ((t[4] + t[5]) + (t[6] + t[7]));
+#endif
   }
   float t = e[0] - y[0];
   float acc = t * t;
@@ -537,6 +556,22 @@ BARY_ALWAYS_INLINE bool weights_row_valid(const double* w, int count, double& su
   return std::abs(sum - 1.0) <= 1e-9 * std::max(1.0, magnitude);
 }
 
+/// The lowest set bit's position of a nonzero lane mask.
+inline int lowest_lane(unsigned mask)
+{
+#if defined(__GNUC__)
+  return __builtin_ctz(mask);
+#else
+  int l = 0;
+  while (!(mask & 1u))
+  {
+    mask >>= 1;
+    ++l;
+  }
+  return l;
+#endif
+}
+
 /// What a query returns besides its point.
 enum class QueryOutcome
 {
@@ -589,8 +624,17 @@ BARY_ALWAYS_INLINE QueryOutcome start_query(const ForwardContext& c, const int* 
   double* y = ws.ybar.data() + lane * D;
   weighted_sum<kD>(c.Y, D, index, weight, count, y);
   float* yf = ws.ybar_float.data() + lane * D;
-  for (int d = 0; d < D; ++d)
-    yf[d] = static_cast<float>(y[d]);
+#if defined(__GNUC__) && !defined(__clang__)
+  if (kD == 8)
+  {
+    typedef float v4f __attribute__((vector_size(16), aligned(4), may_alias));
+    *reinterpret_cast<v4f*>(yf) = __builtin_convertvector(BARY_LOAD4(y), v4f);
+    *reinterpret_cast<v4f*>(yf + 4) = __builtin_convertvector(BARY_LOAD4(y + 4), v4f);
+  }
+  else
+#endif
+    for (int d = 0; d < D; ++d)
+      yf[d] = static_cast<float>(y[d]);
   const SurfaceSearch& search = *c.search;
   float best = std::numeric_limits<float>::infinity();
   if (start >= 0)
@@ -897,8 +941,9 @@ struct ForwardOutput
 };
 
 /// Query q's result into the output (valid, point, position; a failure: NaN, counted).
+/// @p corners: the corners of the point's triangle when the caller has them (else null: F's).
 BARY_ALWAYS_INLINE void write_result(const ForwardContext& c, const ForwardOutput& o, Index q,
-  bool ok, ForwardWorkspace& ws)
+  bool ok, ForwardWorkspace& ws, const int* corners = nullptr)
 {
   SurfacePoint& out = o.points[q];
   o.valid[q] = ok ? 1 : 0;
@@ -910,24 +955,54 @@ BARY_ALWAYS_INLINE void write_result(const ForwardContext& c, const ForwardOutpu
       o.positions[k * o.queries + q] = std::numeric_limits<double>::quiet_NaN();
     return;
   }
-  const Eigen::MatrixXi& F = c.mesh->F;
-  const Eigen::MatrixXd& V = c.mesh->V;
-  const double b0 = out.barycentric(0), b1 = out.barycentric(1), b2 = out.barycentric(2);
-  const Index nv = V.rows();
-  const double* v0 = V.data() + F(out.face, 0);
-  const double* v1 = V.data() + F(out.face, 1);
-  const double* v2 = V.data() + F(out.face, 2);
+  int k0, k1, k2;
+  if (corners)
+  {
+    k0 = corners[0];
+    k1 = corners[1];
+    k2 = corners[2];
+  }
+  else
+  {
+    const Eigen::MatrixXi& F = c.mesh->F;
+    k0 = F(out.face, 0);
+    k1 = F(out.face, 1);
+    k2 = F(out.face, 2);
+  }
+  // The corners' positions from the row-major copy (one line each); lane 3 is padding.
+  using detail::v4d;
+  const double* V = c.search->V.data();
+  const v4d x = BARY_LOAD4(V + 4 * static_cast<std::size_t>(k0)) * out.barycentric(0) +
+    BARY_LOAD4(V + 4 * static_cast<std::size_t>(k1)) * out.barycentric(1) +
+    BARY_LOAD4(V + 4 * static_cast<std::size_t>(k2)) * out.barycentric(2);
   double* position = o.positions + q;
-  position[0] = b0 * v0[0] + b1 * v1[0] + b2 * v2[0];
-  position[o.queries] = b0 * v0[nv] + b1 * v1[nv] + b2 * v2[nv];
-  position[2 * o.queries] = b0 * v0[2 * nv] + b1 * v1[2 * nv] + b2 * v2[2 * nv];
+  position[0] = x[0];
+  position[o.queries] = x[1];
+  position[2 * o.queries] = x[2];
+}
+
+/// phong_newton4 as a function of its own per instruction set: its vectors get the registers
+/// (inlined into the search, they would share them with the search's state).
+using Newton4 = void (*)(const double* const*, const double* const*, const bool*, int*, double (*)[3]);
+
+BARY_NOINLINE void newton4_portable(const double* const* dots, const double* const* data,
+  const bool* active, int* status, double (*xi)[3])
+{
+  detail::phong_newton4(dots, data, active, status, xi);
+}
+
+BARY_TARGET_AVX2 BARY_NOINLINE void newton4_avx2(const double* const* dots,
+  const double* const* data, const bool* active, int* status, double (*xi)[3])
+{
+  detail::phong_newton4(dots, data, active, status, xi);
 }
 
 /// The second tries waiting in ws (queries whose first triangle had no projection), four at a
 /// time in phong_newton4: the triangles across the edges Newton left their first ones by; the
 /// queries whose second try has no projection either go on with search_rest.
 template<int kD>
-BARY_ALWAYS_INLINE void flush_retries(const ForwardContext& c, ForwardWorkspace& ws, const ForwardOutput& o)
+BARY_ALWAYS_INLINE void flush_retries(const ForwardContext& c, ForwardWorkspace& ws, const ForwardOutput& o,
+  Newton4 newton4)
 {
   const int D = kD > 0 ? kD : c.D;
   const int n = ws.retries;
@@ -944,7 +1019,7 @@ BARY_ALWAYS_INLINE void flush_retries(const ForwardContext& c, ForwardWorkspace&
   }
   int status[4];
   double xi[4][3];
-  detail::phong_newton4(dots, data, active, status, xi);
+  newton4(dots, data, active, status, xi);
   for (int l = 0; l < n; ++l)
   {
     ForwardWorkspace::Retry& r = ws.retry[l];
@@ -971,7 +1046,7 @@ BARY_ALWAYS_INLINE void flush_retries(const ForwardContext& c, ForwardWorkspace&
 /// one ended). The first row that is not an average's is recorded in ws (bad_row, bad_sum).
 template<int kD>
 BARY_ALWAYS_INLINE void forward_chunk(const ForwardContext& c, const ForwardRows& rows,
-  Index begin, Index end, ForwardWorkspace& ws, const ForwardOutput& o)
+  Index begin, Index end, ForwardWorkspace& ws, const ForwardOutput& o, Newton4 newton4)
 {
   const int D = kD > 0 ? kD : c.D;
   const Eigen::MatrixXi& F = c.mesh->F;
@@ -980,8 +1055,7 @@ BARY_ALWAYS_INLINE void forward_chunk(const ForwardContext& c, const ForwardRows
   {
     const int m = static_cast<int>(std::min<Index>(group, end - q0));
     Pending pending[4];
-    QueryOutcome outcome[4];
-    bool active[4] = { false, false, false, false };
+    unsigned found = 0; // lanes whose query started (bit l)
     for (int l = 0; l < m; ++l)
     {
       const Index q = q0 + l;
@@ -1008,30 +1082,30 @@ BARY_ALWAYS_INLINE void forward_chunk(const ForwardContext& c, const ForwardRows
         start = F(previous.face, k);
       }
       double sum = 0;
-      outcome[l] = start_query<kD>(c, index, weight, count, start, ws, l, pending[l], sum);
-      active[l] = outcome[l] == QueryOutcome::Found;
-      if (outcome[l] == QueryOutcome::BadWeights && q < ws.bad_row)
+      const QueryOutcome outcome = start_query<kD>(c, index, weight, count, start, ws, l, pending[l], sum);
+      if (outcome == QueryOutcome::Found)
+        found |= 1u << l;
+      else if (outcome == QueryOutcome::BadWeights && q < ws.bad_row)
       {
         ws.bad_row = q;
         ws.bad_sum = sum;
       }
     }
     // The lanes' walks in turns: their steps are independent, so their latencies overlap.
-    bool walking[4] = { active[0], active[1], active[2], active[3] };
-    int left = static_cast<int>(walking[0]) + walking[1] + walking[2] + walking[3];
-    while (left > 0)
-      for (int l = 0; l < m; ++l)
-        if (walking[l] && !walk_step<kD>(c, ws, l, pending[l]))
-        {
-          walking[l] = false;
-          --left;
-        }
-    for (int l = 0; l < m; ++l)
-      if (active[l])
-        choose_triangle<kD>(c, ws, l, pending[l]);
-    for (int l = 0; l < m; ++l)
-      if (active[l])
-        first_dots<kD>(c, ws, l, pending[l]);
+    for (unsigned walking = found; walking != 0;)
+      for (unsigned w = walking; w != 0; w &= w - 1)
+      {
+        const int l = lowest_lane(w);
+        if (!walk_step<kD>(c, ws, l, pending[l]))
+          walking &= ~(1u << l);
+      }
+    for (unsigned w = found; w != 0; w &= w - 1)
+    {
+      const int l = lowest_lane(w);
+      choose_triangle<kD>(c, ws, l, pending[l]);
+      first_dots<kD>(c, ws, l, pending[l]);
+    }
+    const bool active[4] = { (found & 1u) != 0, (found & 2u) != 0, (found & 4u) != 0, (found & 8u) != 0 };
     const double* dots[4];
     const double* data[4];
     for (int l = 0; l < 4; ++l)
@@ -1048,12 +1122,12 @@ BARY_ALWAYS_INLINE void forward_chunk(const ForwardContext& c, const ForwardRows
         status[0] = detail::phong_newton(dots[0], data[0], true, 0.0, 0.0, xi[0]) ? 1 : 0;
     }
     else
-      detail::phong_newton4(dots, data, active, status, xi);
+      newton4(dots, data, active, status, xi);
     for (int l = 0; l < m; ++l)
     {
       const Index q = q0 + l;
       SurfacePoint& out = o.points[q];
-      bool ok = false;
+      bool ok = false, first = false;
       if (active[l])
       {
         ++ws.tried;
@@ -1063,7 +1137,7 @@ BARY_ALWAYS_INLINE void forward_chunk(const ForwardContext& c, const ForwardRows
         {
           out.face = pending[l].face;
           out.barycentric = Eigen::Vector3d(xi[l][0], xi[l][1], xi[l][2]);
-          ok = true;
+          ok = first = true;
         }
         else
         {
@@ -1087,33 +1161,33 @@ BARY_ALWAYS_INLINE void forward_chunk(const ForwardContext& c, const ForwardRows
             detail::phong_dots<kD>(c.frames + c0 * 2 * D, c.frames + c1 * 2 * D,
               c.frames + c2 * 2 * D, c.E + c0 * D, c.E + c1 * D, c.E + c2 * D, D, y, r.dots);
             if (++ws.retries == 4)
-              flush_retries<kD>(c, ws, o);
+              flush_retries<kD>(c, ws, o, newton4);
             continue;
           }
         }
       }
-      write_result(c, o, q, ok, ws);
+      write_result(c, o, q, ok, ws, first ? pending[l].corners : nullptr);
     }
   }
-  flush_retries<kD>(c, ws, o);
+  flush_retries<kD>(c, ws, o, newton4);
 }
 
 void forward_chunk_portable(const ForwardContext& c, const ForwardRows& rows, Index begin,
   Index end, ForwardWorkspace& ws, const ForwardOutput& o)
 {
   if (c.D == 8)
-    forward_chunk<8>(c, rows, begin, end, ws, o);
+    forward_chunk<8>(c, rows, begin, end, ws, o, newton4_portable);
   else
-    forward_chunk<0>(c, rows, begin, end, ws, o);
+    forward_chunk<0>(c, rows, begin, end, ws, o, newton4_portable);
 }
 
 BARY_TARGET_AVX2 void forward_chunk_avx2(const ForwardContext& c, const ForwardRows& rows,
   Index begin, Index end, ForwardWorkspace& ws, const ForwardOutput& o)
 {
   if (c.D == 8)
-    forward_chunk<8>(c, rows, begin, end, ws, o);
+    forward_chunk<8>(c, rows, begin, end, ws, o, newton4_avx2);
   else
-    forward_chunk<0>(c, rows, begin, end, ws, o);
+    forward_chunk<0>(c, rows, begin, end, ws, o, newton4_avx2);
 }
 
 /// lambda = M^+ b for the symmetric positive semidefinite 3 x 3 M of the inverse problem,
