@@ -114,6 +114,10 @@ public:
   /// same values, bit for bit.
   std::vector<SplineEdit> log() const;
 
+  /// Forgets the cached eliminations (each A and D's exact elimination is kept for the next edit
+  /// with the same sets: a drag repeats them).
+  void clear_cache() { cache_.clear(); }
+
   /// The control point nearest @p x: by its current value for a deformation (where it is drawn),
   /// by its nominal position for a scalar spline. Ties: the smallest index.
   Index nearest_point(const Eigen::Vector2d& x) const;

@@ -598,28 +598,55 @@ Eigen::MatrixXd TriangularSpline::evaluate(const Locations& where) const
   const int nb = bezier_count(d);
   const Index np = static_cast<Index>(where.triangle.size());
   const int m = dimension();
+  const Index nt = net_->num_triangles();
   Eigen::MatrixXd out(np, m);
+  // Each triangle's coefficients in one contiguous block (component-major), and the basis'
+  // multinomials and exponents in row order: per point, the powers of the barycentric
+  // coordinates and one pass over the block.
   const auto& L2G = net_->local_to_global();
-#pragma omp parallel
+  std::vector<double> blocks(static_cast<size_t>(nt * nb * m));
+  for (Index t = 0; t < nt; ++t)
+    for (int c = 0; c < m; ++c)
+      for (int r = 0; r < nb; ++r)
+        blocks[static_cast<size_t>((t * m + c) * nb + r)] = values_(L2G(t, r), c);
+  std::vector<double> mult(static_cast<size_t>(nb));
+  std::vector<std::array<int, 3>> expo = bezier_multi_indices(d);
   {
-    std::vector<double> basis(static_cast<size_t>(nb));
-#pragma omp for schedule(static)
-    for (Index p = 0; p < np; ++p)
+    const Eigen::Vector3d unit(1, 1, 1);
+    bernstein_basis(d, unit, mult.data()); // d!/(i!j!k!) times 1
+  }
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+#pragma omp parallel for schedule(static)
+  for (Index p = 0; p < np; ++p)
+  {
+    const Index t = where.triangle[static_cast<size_t>(p)];
+    if (t < 0)
     {
-      const Index t = where.triangle[static_cast<size_t>(p)];
-      if (t < 0)
-      {
-        out.row(p).setConstant(std::numeric_limits<double>::quiet_NaN());
-        continue;
-      }
-      bernstein_basis(d, where.barycentric[static_cast<size_t>(p)], basis.data());
       for (int c = 0; c < m; ++c)
-      {
-        double s = 0;
-        for (int r = 0; r < nb; ++r)
-          s += basis[static_cast<size_t>(r)] * values_(L2G(t, r), c);
-        out(p, c) = s;
-      }
+        out(p, c) = nan;
+      continue;
+    }
+    const Eigen::Vector3d& b = where.barycentric[static_cast<size_t>(p)];
+    double pw[3][kMaxSplineDegree + 1];
+    for (int k = 0; k < 3; ++k)
+    {
+      pw[k][0] = 1.0;
+      for (int e = 1; e <= d; ++e)
+        pw[k][e] = pw[k][e - 1] * b[k];
+    }
+    double basis[bezier_count(kMaxSplineDegree)];
+    for (int r = 0; r < nb; ++r)
+    {
+      const auto& x = expo[static_cast<size_t>(r)];
+      basis[r] = mult[static_cast<size_t>(r)] * pw[0][x[0]] * pw[1][x[1]] * pw[2][x[2]];
+    }
+    const double* block = blocks.data() + t * m * nb;
+    for (int c = 0; c < m; ++c)
+    {
+      double sum = 0;
+      for (int r = 0; r < nb; ++r)
+        sum += basis[r] * block[c * nb + r];
+      out(p, c) = sum;
     }
   }
   return out;
