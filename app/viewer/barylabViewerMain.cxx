@@ -7,11 +7,15 @@
 //                  [--field none|weight|decal]
 //                  [--control I] [--screenshot PNG]           (the surface mode; also
 //                  --example torus-averages)
+//   barylab-viewer --spline S.vtu [--model M] [--picture P] [--edit xy|bottom|top]
+//                  [--delta-max K] [--screenshot PNG]          (the spline mode; also
+//                  --example organism-spline)
 //
 // With --screenshot the viewer computes synchronously, writes the window to PNG and exits
 // (0 on success, 1 with a message on stderr on any error).
 
 #include "barylabViewerParameters.h"
+#include "barylabViewerSplineMode.h"
 #include "barylabViewerSurfaceMode.h"
 #include "barylabViewerWindow.h"
 
@@ -92,6 +96,64 @@ int run_surface_mode(const QCommandLineParser& parser, bool batch)
   }
   return 0;
 }
+/// The spline mode (C1 spline deformations): its window, what the command line asks of it, and
+/// in batch mode the screenshot. Exit codes as main's.
+int run_spline_mode(const QCommandLineParser& parser, bool batch)
+{
+  using barylab::viewer::SplineTarget;
+  using barylab::viewer::SplineWindow;
+  const auto value = [&](const char* name) { return parser.value(name); };
+  const auto usage = [](const std::string& message) {
+    std::cerr << "barylab-viewer: error: " << message << "\n";
+    return 2;
+  };
+  for (const char* other : { "surface", "field", "control", "pose", "session", "method", "compare" })
+    if (parser.isSet(other))
+      return usage(std::string("--") + other + " is not an option of the spline mode");
+  if (parser.isSet("edit") && value("edit") != "xy" && value("edit") != "bottom" &&
+    value("edit") != "top")
+    return usage("--edit " + value("edit").toStdString() + ": the spline mode edits xy, bottom or top");
+  int delta_max = -1;
+  if (parser.isSet("delta-max"))
+  {
+    bool whole = false;
+    delta_max = value("delta-max").toInt(&whole);
+    if (!whole || delta_max < 0 || delta_max > 1000)
+      return usage("--delta-max " + value("delta-max").toStdString() + ": a whole number in [0, 1000]");
+  }
+  SplineWindow window;
+  window.setInteractive(!batch);
+  window.resize(1400, 800);
+  QStringList errors;
+  QObject::connect(&window, &SplineWindow::errorReported,
+    [&errors](const QString& message) { errors << message; });
+  window.show();
+  QApplication::processEvents();
+  if (parser.isSet("example"))
+    window.loadExample(value("example"));
+  else
+  {
+    window.openSpline(value("spline")) &&
+      (!parser.isSet("model") || window.openModel(value("model"))) &&
+      (!parser.isSet("picture") || window.openPicture(value("picture")));
+  }
+  if (errors.isEmpty() && parser.isSet("edit"))
+    window.setTarget(value("edit") == "top" ? SplineTarget::Top
+        : value("edit") == "bottom"        ? SplineTarget::Bottom
+                                           : SplineTarget::XY);
+  if (delta_max >= 0)
+    window.setDeltaMax(delta_max);
+  if (!batch)
+    return QApplication::exec();
+  if (errors.isEmpty() && !window.saveScreenshot(value("screenshot")))
+    errors << "cannot write " + value("screenshot");
+  if (!errors.isEmpty())
+  {
+    std::cerr << "barylab-viewer: error: " << errors.join("; ").toStdString() << "\n";
+    return 1;
+  }
+  return 0;
+}
 } // namespace
 
 int main(int argc, char* argv[])
@@ -116,7 +178,8 @@ int main(int argc, char* argv[])
     "[CONTROLS MODEL [DOMAIN]]");
   QCommandLineOption example("example",
     "open a bundled example: " + barylab::viewer::ViewerWindow::ExampleNames().join(", ") + ", " +
-      barylab::viewer::SurfaceWindow::ExampleNames().join(", "),
+      barylab::viewer::SurfaceWindow::ExampleNames().join(", ") + ", " +
+      barylab::viewer::SplineWindow::ExampleNames().join(", "),
     "NAME");
   QCommandLineOption method("method", "coordinate method: " + methods, "M");
   QCommandLineOption compare("compare", "second method, side by side", "M");
@@ -143,20 +206,38 @@ int main(int argc, char* argv[])
   QCommandLineOption anchors("anchors", "surface mode: anchors on the surface", "FILE");
   QCommandLineOption weights("weights", "surface mode: weights, first row used", "FILE");
   QCommandLineOption curve("curve", "surface mode: B-spline control points on the surface", "FILE");
-  QCommandLineOption picture("picture", "surface mode: the decal's picture", "FILE");
+  QCommandLineOption picture("picture",
+    "surface mode: the decal's picture; spline mode: the picture to match, on the domain", "FILE");
   QCommandLineOption quads("quads", "surface mode: a coarse quad layout, remeshed semiregularly", "FILE");
   QCommandLineOption target("target", "surface mode: correspondence target surface", "MESH");
   QCommandLineOption targetAnchors("target-anchors", "surface mode: the target's anchors", "FILE");
   QCommandLineOption targetEmbedding("target-embedding", "surface mode: the target's embedding", "FILE");
+  QCommandLineOption spline("spline",
+    "spline mode (C1 spline deformations, DECLeS editing): the spline (.vtu, barylab spline "
+    "create); with --model, --picture, --edit xy|bottom|top, --delta-max",
+    "S.vtu");
+  QCommandLineOption splineModel("model", "spline mode: the model to deform, in the domain", "FILE");
+  QCommandLineOption splineEdit("edit", "spline mode: what the edits change: xy, bottom or top", "MODE");
+  QCommandLineOption deltaMax("delta-max", "spline mode: slaves within this net distance", "K");
   parser.addOptions({ example, method, compare, control, pose, session, field, logScale, clip,
     screenshot, locality, surface, embedding, anchors, weights, curve, picture, quads, target,
-    targetAnchors, targetEmbedding });
+    targetAnchors, targetEmbedding, spline, splineModel, splineEdit, deltaMax });
   parser.process(app);
 
   const bool batch = parser.isSet(screenshot);
   if (parser.isSet(surface) ||
     (parser.isSet(example) && barylab::viewer::SurfaceWindow::IsExample(parser.value(example))))
     return run_surface_mode(parser, batch);
+  if (parser.isSet(spline) ||
+    (parser.isSet(example) && barylab::viewer::SplineWindow::IsExample(parser.value(example))))
+    return run_spline_mode(parser, batch);
+  for (const QCommandLineOption* only : { &splineModel, &splineEdit, &deltaMax })
+    if (parser.isSet(*only))
+    {
+      std::cerr << "barylab-viewer: error: --" << only->names().front().toStdString()
+                << " is an option of the spline mode (--spline or --example organism-spline)\n";
+      return 2;
+    }
   barylab::viewer::ViewerWindow window;
   window.setInteractive(!batch);
   window.setSynchronous(batch);

@@ -3,6 +3,7 @@
 #include "barylabViewerExamples.h"
 #include "barylabViewerMode.h"
 #include "barylabViewerSession.h"
+#include "barylabViewerSplineMode.h"
 #include "barylabViewerSurfaceMode.h"
 #include "barylabViewerWindow.h"
 
@@ -55,6 +56,14 @@ void BuildMenus(ViewerWindow& window)
     surface->resize(1400, 800);
     surface->show();
     surface->loadExample(SurfaceWindow::ExampleNames().front());
+  });
+  file->addAction("C1 s&pline deformations (editor)...", w, []() {
+    // the spline mode: a window of its own, with the organism example
+    auto* spline = new SplineWindow;
+    spline->setAttribute(Qt::WA_DeleteOnClose);
+    spline->resize(1400, 800);
+    spline->show();
+    spline->loadExample(SplineWindow::ExampleNames().front());
   });
   file->addSeparator();
   file->addAction("&Load session...", w, [w]() { LoadSessionDialog(*w); }, QKeySequence("Ctrl+L"));
