@@ -1,6 +1,7 @@
 #include "barylabRender.h"
 
 #include "vtkBaryConversion.h"
+#include "vtkBarySplineData.h"
 
 #include "core/common/error.h"
 
@@ -14,10 +15,13 @@
 #include "vtkDataSet.h"
 #include "vtkDataSetSurfaceFilter.h"
 #include "vtkDoubleArray.h"
+#include "vtkElevationFilter.h"
 #include "vtkExtractEdges.h"
 #include "vtkGlyph3D.h"
 #include "vtkMath.h"
+#include "vtkPNGReader.h"
 #include "vtkPNGWriter.h"
+#include "vtkPlaneSource.h"
 #include "vtkPointData.h"
 #include "vtkPointSet.h"
 #include "vtkPoints.h"
@@ -31,6 +35,11 @@
 #include "vtkSphereSource.h"
 #include "vtkTextActor.h"
 #include "vtkTextProperty.h"
+#include "vtkTexture.h"
+#include "vtkUnsignedCharArray.h"
+#include "vtkUnstructuredGrid.h"
+#include "vtkCellData.h"
+#include "vtkImageData.h"
 #include "vtkWindowToImageFilter.h"
 
 #include <algorithm>
@@ -607,6 +616,200 @@ vtkSmartPointer<vtkRenderWindow> SurfaceWeightsWindow(vtkPolyData* weighted, vtk
   {
     const double yellow[3] = { 1.0, 0.85, 0.1 };
     AddLines(window->GetRenderers()->GetFirstRenderer(), curve->GetPoints(), curve->GetLines(), 4.0, yellow);
+  }
+  return window;
+}
+
+// --- C1 spline deformations -----------------------------------------------------------------
+
+vtkSmartPointer<vtkPolyData> SplineGridLines(vtkUnstructuredGrid* grid, int samples, double z)
+{
+  const vtkBarySpline spline = vtkBarySplineData::FromGrid(grid);
+  const bary::SplineNet& net = spline.xy->net();
+  const auto& E = net.edges();
+  const auto& ET = net.edge_triangles();
+  const auto& V = net.vertices();
+  bary::TriangularSpline::Locations where;
+  for (bary::Index e = 0; e < E.rows(); ++e)
+  {
+    const bary::Index t = ET(e, 0) >= 0 ? ET(e, 0) : ET(e, 1);
+    for (int s = 0; s <= samples; ++s)
+    {
+      const Eigen::Vector2d x = V.row(E(e, 0)).transpose() +
+        (double(s) / samples) * (V.row(E(e, 1)) - V.row(E(e, 0))).transpose();
+      where.triangle.push_back(t);
+      where.barycentric.push_back(net.barycentric(t, x));
+    }
+  }
+  const Eigen::MatrixXd X = spline.xy->evaluate(where);
+  vtkNew<vtkPoints> points;
+  points->SetNumberOfPoints(X.rows());
+  for (bary::Index p = 0; p < X.rows(); ++p)
+    points->SetPoint(p, X(p, 0), X(p, 1), z);
+  vtkNew<vtkCellArray> lines;
+  vtkNew<vtkUnsignedCharArray> border;
+  border->SetName("Border");
+  std::vector<vtkIdType> ids(static_cast<size_t>(samples) + 1);
+  for (bary::Index e = 0; e < E.rows(); ++e)
+  {
+    for (int s = 0; s <= samples; ++s)
+      ids[static_cast<size_t>(s)] = e * (samples + 1) + s;
+    lines->InsertNextCell(samples + 1, ids.data());
+    border->InsertNextValue(ET(e, 0) < 0 || ET(e, 1) < 0);
+  }
+  auto out = vtkSmartPointer<vtkPolyData>::New();
+  out->SetPoints(points);
+  out->SetLines(lines);
+  out->GetCellData()->AddArray(border);
+  return out;
+}
+
+namespace
+{
+
+/// Folded triangles (check_jacobian) of a spline grid, sampled and mapped, as filled polygons.
+vtkSmartPointer<vtkPolyData> spline_folds(vtkUnstructuredGrid* grid, double z)
+{
+  const vtkBarySpline spline = vtkBarySplineData::FromGrid(grid);
+  const bary::JacobianReport rep = spline.xy->check_jacobian();
+  auto out = vtkSmartPointer<vtkPolyData>::New();
+  vtkNew<vtkPoints> points;
+  vtkNew<vtkCellArray> polys;
+  const int n = 8;
+  for (bary::Index t : rep.folded)
+  {
+    // A triangle fan of the sampled triangle: the boundary mapped, as one polygon.
+    std::vector<vtkIdType> ids;
+    const Eigen::Vector3d corner[3] = { { 1, 0, 0 }, { 0, 1, 0 }, { 0, 0, 1 } };
+    for (int k = 0; k < 3; ++k)
+      for (int s = 0; s < n; ++s)
+      {
+        const Eigen::Vector3d b = corner[k] + (double(s) / n) * (corner[(k + 1) % 3] - corner[k]);
+        const Eigen::RowVectorXd x = spline.xy->evaluate(t, b);
+        ids.push_back(points->InsertNextPoint(x[0], x[1], z));
+      }
+    polys->InsertNextCell(static_cast<vtkIdType>(ids.size()), ids.data());
+  }
+  out->SetPoints(points);
+  out->SetPolys(polys);
+  return out;
+}
+
+} // namespace
+
+vtkSmartPointer<vtkRenderWindow> SplineDeformationWindow(vtkUnstructuredGrid* rest_grid,
+  vtkUnstructuredGrid* grid, vtkPointSet* rest_model, vtkPointSet* model,
+  const std::string& picture_png, const RenderOptions& options)
+{
+  auto window = make_window(options);
+  const vtkBarySpline rest = vtkBarySplineData::FromGrid(rest_grid);
+  const Eigen::MatrixXd& V = rest.xy->net().vertices();
+  const double lo[2] = { V.col(0).minCoeff(), V.col(1).minCoeff() };
+  const double hi[2] = { V.col(0).maxCoeff(), V.col(1).maxCoeff() };
+  // Heights of both models on one colour scale.
+  double zr[2] = { std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity() };
+  for (vtkPointSet* m : { rest_model, model })
+    if (m)
+    {
+      double b[6];
+      m->GetBounds(b);
+      zr[0] = std::min(zr[0], b[4]);
+      zr[1] = std::max(zr[1], b[5]);
+    }
+  vtkSmartPointer<vtkTexture> texture;
+  if (!picture_png.empty())
+  {
+    vtkNew<vtkPNGReader> reader;
+    reader->SetFileName(picture_png.c_str());
+    reader->Update();
+    if (reader->GetOutput()->GetNumberOfPoints() == 0)
+      throw Error(ErrorCode::Io, "cannot read the picture '" + picture_png + "'");
+    texture = vtkSmartPointer<vtkTexture>::New();
+    texture->SetInputConnection(reader->GetOutputPort());
+    texture->InterpolateOn();
+  }
+  vtkUnstructuredGrid* grids[2] = { rest_grid, grid };
+  vtkPointSet* models[2] = { rest_model, model };
+  vtkRenderer* first = nullptr;
+  for (int side = 0; side < 2; ++side)
+  {
+    vtkNew<vtkRenderer> renderer;
+    renderer->SetViewport(0.0, side == 0 ? 0.5 : 0.0, 1.0, side == 0 ? 1.0 : 0.5);
+    renderer->SetBackground(1.0, 1.0, 1.0);
+    window->AddRenderer(renderer);
+    const double top = zr[1] > zr[0] ? zr[1] + 0.01 : 0.01;
+    if (texture)
+    {
+      vtkNew<vtkPlaneSource> plane;
+      const double bottom = zr[1] > zr[0] ? zr[0] - 0.01 : -0.01;
+      plane->SetOrigin(lo[0], lo[1], bottom);
+      plane->SetPoint1(hi[0], lo[1], bottom);
+      plane->SetPoint2(lo[0], hi[1], bottom);
+      vtkNew<vtkPolyDataMapper> mapper;
+      mapper->SetInputConnection(plane->GetOutputPort());
+      vtkNew<vtkActor> actor;
+      actor->SetMapper(mapper);
+      actor->SetTexture(texture);
+      actor->GetProperty()->LightingOff();
+      renderer->AddActor(actor);
+    }
+    if (models[side])
+    {
+      vtkNew<vtkDataSetSurfaceFilter> surface;
+      surface->SetInputData(models[side]);
+      vtkNew<vtkElevationFilter> height;
+      height->SetInputConnection(surface->GetOutputPort());
+      height->SetLowPoint(0, 0, zr[0]);
+      height->SetHighPoint(0, 0, zr[1] > zr[0] ? zr[1] : zr[0] + 1);
+      vtkNew<vtkPolyDataMapper> mapper;
+      mapper->SetInputConnection(height->GetOutputPort());
+      mapper->SetScalarRange(0, 1);
+      vtkNew<vtkActor> actor;
+      actor->SetMapper(mapper);
+      actor->GetProperty()->SetOpacity(0.85);
+      renderer->AddActor(actor);
+    }
+    {
+      auto lines = SplineGridLines(grids[side], 16, top);
+      vtkNew<vtkPolyDataMapper> mapper;
+      mapper->SetInputData(lines);
+      mapper->ScalarVisibilityOff();
+      vtkNew<vtkActor> actor;
+      actor->SetMapper(mapper);
+      actor->GetProperty()->SetColor(0.15, 0.3, 0.75);
+      actor->GetProperty()->SetLineWidth(1.5);
+      actor->GetProperty()->LightingOff();
+      renderer->AddActor(actor);
+      auto folds = spline_folds(grids[side], top + 0.001);
+      if (folds->GetNumberOfCells() > 0)
+      {
+        vtkNew<vtkPolyDataMapper> fm;
+        fm->SetInputData(folds);
+        vtkNew<vtkActor> fa;
+        fa->SetMapper(fm);
+        fa->GetProperty()->SetColor(0.9, 0.1, 0.1);
+        fa->GetProperty()->SetOpacity(0.6);
+        fa->GetProperty()->LightingOff();
+        renderer->AddActor(fa);
+      }
+    }
+    add_title(renderer, side == 0 ? "rest" : (options.title.empty() ? "deformed" : options.title));
+    if (!first)
+    {
+      vtkCamera* camera = renderer->GetActiveCamera();
+      camera->ParallelProjectionOn();
+      camera->SetFocalPoint(0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1]), 0);
+      camera->SetPosition(0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1]), 10);
+      camera->SetViewUp(0, 1, 0);
+      renderer->ResetCamera();
+      camera->SetParallelScale(0.56 * std::max(hi[1] - lo[1], (hi[0] - lo[0]) * 0.5 * options.height / options.width));
+      renderer->ResetCameraClippingRange();
+      first = renderer;
+    }
+    else
+    {
+      renderer->SetActiveCamera(first->GetActiveCamera());
+    }
   }
   return window;
 }

@@ -18,6 +18,7 @@ class vtkPointSet;
 class vtkPolyData;
 class vtkRenderWindow;
 class vtkRenderer;
+class vtkUnstructuredGrid;
 
 namespace barylab
 {
@@ -73,6 +74,18 @@ vtkSmartPointer<vtkRenderWindow> SurfaceWeightsWindow(vtkPolyData* weighted, vtk
 vtkSmartPointer<vtkRenderWindow> DeformationWindow(vtkDataSet* rest, vtkPolyData* rest_cage,
   vtkDataSet* deformed, vtkPointSet* posed_cage, const RenderOptions& options);
 
+/// The edges of a spline grid (vtkBarySplineData) as the spline draws them: every domain edge
+/// sampled at @p samples + 1 points and mapped by the xy deformation (curved), as polylines at
+/// height @p z. Cell data `Border` (1 on the domain's border).
+vtkSmartPointer<vtkPolyData> SplineGridLines(vtkUnstructuredGrid* grid, int samples = 16, double z = 0.0);
+/// A spline deformation drawn from above (Rodrigues et al. 2014, §5): the rest pose (top) and the
+/// deformed one (bottom), each over the picture @p picture_png (optional, "" for none; placed on
+/// the domain's bounding rectangle), with the grid's curved edges, the model (@p rest_model,
+/// @p model; optional) coloured by height, and triangles where the deformation folds
+/// (TriangularSpline::check_jacobian) filled red.
+vtkSmartPointer<vtkRenderWindow> SplineDeformationWindow(vtkUnstructuredGrid* rest_grid,
+  vtkUnstructuredGrid* grid, vtkPointSet* rest_model, vtkPointSet* model,
+  const std::string& picture_png, const RenderOptions& options);
 /// The joints of skeleton @p handles moved by @p pose (one 3 x 4 [A | t] per handle, point
 /// handles first, then bones): a point handle's joint by its transform, any other joint by the
 /// first bone ending there (else starting there). For drawing posed skeletons.

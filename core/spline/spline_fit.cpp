@@ -11,7 +11,7 @@ namespace bary
 {
 
 SplineFit fit_spline(std::shared_ptr<const SplineNet> net, const Points& X,
-  const Eigen::MatrixXd& Y, double regularization)
+  const Eigen::MatrixXd& Y, double regularization, const std::vector<Index>& pinned)
 {
   if (X.rows() == 0)
     throw Error(ErrorCode::EmptyInput, "no samples to fit a spline to");
@@ -61,8 +61,27 @@ SplineFit fit_spline(std::shared_ptr<const SplineNet> net, const Points& X,
       const int v = conds[r].vertex[static_cast<size_t>(k)];
       rows[r].vertex[static_cast<size_t>(k)] = { net->vertices()(v, 0), net->vertices()(v, 1) };
     }
+  // Pinned points are known (at c0, which satisfies every condition): their columns are
+  // constants for the elimination, and they get rows c_p = c0_p of their own.
+  std::vector<char> is_pinned(static_cast<size_t>(n), 0);
+  for (Index p : pinned)
+  {
+    if (p < 0 || p >= n)
+      throw Error(ErrorCode::InvalidArgument,
+        "pinned control point " + std::to_string(p) + " is out of range [0, " + std::to_string(n - 1) + "]");
+    is_pinned[static_cast<size_t>(p)] = 1;
+  }
+  for (auto& row : rows)
+    for (int k = 0; k < 4; ++k)
+      if (row.column[static_cast<size_t>(k)] >= 0 && is_pinned[static_cast<size_t>(row.column[static_cast<size_t>(k)])])
+        row.column[static_cast<size_t>(k)] = -1;
   const detail::ExactElimination ex = detail::eliminate_exact(rows, static_cast<int>(n), 0);
   const Index nc = static_cast<Index>(ex.independent.size());
+  std::vector<Index> pins;
+  for (Index p = 0; p < n; ++p)
+    if (is_pinned[static_cast<size_t>(p)])
+      pins.push_back(p);
+  const Index npin = static_cast<Index>(pins.size());
 
   // KKT: [H + eps I, C^T; C, 0] [c; lambda] = [M^T Y + eps c0; 0].
   std::vector<Eigen::Triplet<double>> kt;
@@ -93,7 +112,12 @@ SplineFit fit_spline(std::shared_ptr<const SplineNet> net, const Points& X,
       kt.emplace_back(q.point[static_cast<size_t>(k)], n + r, q.coefficient[static_cast<size_t>(k)]);
     }
   }
-  Eigen::SparseMatrix<double> K(n + nc, n + nc);
+  for (Index r = 0; r < npin; ++r)
+  {
+    kt.emplace_back(n + nc + r, pins[static_cast<size_t>(r)], 1.0);
+    kt.emplace_back(pins[static_cast<size_t>(r)], n + nc + r, 1.0);
+  }
+  Eigen::SparseMatrix<double> K(n + nc + npin, n + nc + npin);
   K.setFromTriplets(kt.begin(), kt.end());
   K.makeCompressed();
   Eigen::SparseLU<Eigen::SparseMatrix<double>> lu;
@@ -102,8 +126,10 @@ SplineFit fit_spline(std::shared_ptr<const SplineNet> net, const Points& X,
     throw Error(ErrorCode::NotConverged,
       "the spline fit's system is singular: too few samples where the regularization is 0",
       "give samples in every triangle or a positive regularization");
-  Eigen::MatrixXd b = Eigen::MatrixXd::Zero(n + nc, m);
+  Eigen::MatrixXd b = Eigen::MatrixXd::Zero(n + nc + npin, m);
   b.topRows(n) = Eigen::MatrixXd(M.transpose() * Y) + Lc0;
+  for (Index r = 0; r < npin; ++r)
+    b.row(n + nc + r) = c0.row(pins[static_cast<size_t>(r)]);
   const Eigen::MatrixXd sol = lu.solve(b);
   if (!sol.allFinite())
     throw Error(ErrorCode::NotConverged, "the spline fit's solve failed");

@@ -15,6 +15,7 @@
 
 #include <memory>
 #include <optional>
+#include <vector>
 
 namespace bary
 {
@@ -35,7 +36,8 @@ struct SplineFit
 /// @throws Error(SizeMismatch) for X, Y of different row counts or X without 2 columns,
 ///   Error(EmptyInput) for no sample, Error(NonFinite), Error(PointsOutside) naming a sample
 ///   outside the domain, Error(InvalidArgument) for a regularization outside [0, 1]
+/// @param pinned control points held at c0 (e.g. the border, kept where it is)
 SplineFit fit_spline(std::shared_ptr<const SplineNet> net, const Points& X,
-  const Eigen::MatrixXd& Y, double regularization = 1e-6);
+  const Eigen::MatrixXd& Y, double regularization = 1e-6, const std::vector<Index>& pinned = {});
 
 } // namespace bary

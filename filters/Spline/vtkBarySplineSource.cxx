@@ -86,28 +86,6 @@ int vtkBarySplineSource::RequestData(
     }
     auto net = std::make_shared<bary::SplineNet>(V, T, this->Degree);
     vtkBarySpline spline;
-    vtkPointSet* from = vtkPointSet::GetData(inputVector[1]);
-    vtkPointSet* to = vtkPointSet::GetData(inputVector[2]);
-    if ((from != nullptr) != (to != nullptr))
-      throw bary::Error(bary::ErrorCode::InvalidArgument,
-        "a spline fit needs both the sample points and their images");
-    if (from)
-    {
-      if (from->GetNumberOfPoints() != to->GetNumberOfPoints())
-        throw bary::Error(bary::ErrorCode::SizeMismatch,
-          "the fit's samples have " + std::to_string(from->GetNumberOfPoints()) +
-            " points and their images " + std::to_string(to->GetNumberOfPoints()));
-      if (from->GetNumberOfPoints() == 0)
-        throw bary::Error(bary::ErrorCode::EmptyInput, "the fit has no samples");
-      const Eigen::MatrixXd X = vtkBaryConversion::ToMatrix(from->GetPoints(), 2);
-      const Eigen::MatrixXd Y = vtkBaryConversion::ToMatrix(to->GetPoints(), 2);
-      bary::SplineFit fit = bary::fit_spline(net, X, Y);
-      spline.xy.emplace(std::move(*fit.spline));
-      this->FitRMSError = fit.rms_error;
-      this->FitMaxError = fit.max_error;
-    }
-    else
-      spline.xy.emplace(bary::TriangularSpline::identity(net));
     if (this->PinBorder)
     {
       const auto& E = net->edges();
@@ -125,6 +103,29 @@ int vtkBarySplineSource::RequestData(
         if (mark[static_cast<size_t>(p)])
           spline.pinned.push_back(p);
     }
+    vtkPointSet* from = vtkPointSet::GetData(inputVector[1]);
+    vtkPointSet* to = vtkPointSet::GetData(inputVector[2]);
+    if ((from != nullptr) != (to != nullptr))
+      throw bary::Error(bary::ErrorCode::InvalidArgument,
+        "a spline fit needs both the sample points and their images");
+    if (from)
+    {
+      if (from->GetNumberOfPoints() != to->GetNumberOfPoints())
+        throw bary::Error(bary::ErrorCode::SizeMismatch,
+          "the fit's samples have " + std::to_string(from->GetNumberOfPoints()) +
+            " points and their images " + std::to_string(to->GetNumberOfPoints()));
+      if (from->GetNumberOfPoints() == 0)
+        throw bary::Error(bary::ErrorCode::EmptyInput, "the fit has no samples");
+      const Eigen::MatrixXd X = vtkBaryConversion::ToMatrix(from->GetPoints(), 2);
+      const Eigen::MatrixXd Y = vtkBaryConversion::ToMatrix(to->GetPoints(), 2);
+      bary::SplineFit fit = bary::fit_spline(net, X, Y, 1e-6, spline.pinned);
+      spline.xy.emplace(std::move(*fit.spline));
+      this->FitRMSError = fit.rms_error;
+      this->FitMaxError = fit.max_error;
+    }
+    else
+      spline.xy.emplace(bary::TriangularSpline::identity(net));
+
     if (this->Prism)
     {
       spline.bottom.emplace(bary::TriangularSpline::constant(net, this->PrismBottom));

@@ -7,6 +7,7 @@
 
 #include "barylabPipeline.h"
 #include "barylabRender.h"
+#include "barylabSplinePipeline.h"
 #include "barylabSurfacePipeline.h"
 
 #include "vtkBaryConversion.h"
@@ -287,4 +288,16 @@ TEST(RenderImages, WeightedAveragesOnATorus)
   ExpectMatchesBaseline(
     barylab::SurfaceWeightsWindow(vtkPolyData::SafeDownCast(weighted), anchors, curve, options),
     "surface_weights_torus");
+}
+
+TEST(RenderImages, OrganismSpline)
+{
+  // C1 spline deformations: the bundled organism fitted to its picture and edited (the demo's
+  // picture): the curved deformed grid over the picture, the model coloured by height.
+  const barylab::OrganismSpline e = barylab::OrganismSplineExample(BARYLAB_DATA_DIR);
+  barylab::RenderOptions options;
+  options.title = "fitted to the picture, then edited";
+  ExpectMatchesBaseline(barylab::SplineDeformationWindow(e.rest_grid, e.grid, e.model, e.deformed,
+                          e.picture, options),
+    "organism_spline");
 }
