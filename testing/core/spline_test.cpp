@@ -740,3 +740,53 @@ TEST(SplineFit, RecoversSplinesAndConvergesOnSmoothMaps)
     fit_spline(net, far, Eigen::MatrixXd::Zero(1, 2));
   }, ErrorCode::PointsOutside));
 }
+
+// The 2.5D deformation (§5) is continuous across the prisms' vertical faces: at points of every
+// interior edge the xy deformation and both height splines agree from the two triangles, so
+// (phi, sigma0 + t (sigma1 - sigma0)) does too, for every t.
+TEST(SplinePrism, ContinuousAcrossPrismFaces)
+{
+  const auto net = irregular_net();
+  SplineEditor xy(TriangularSpline::identity(net)), bottom(TriangularSpline::constant(net, -0.1)),
+    top(TriangularSpline::constant(net, 0.1));
+  std::mt19937 rng(9);
+  std::uniform_int_distribution<Index> pick(0, net->num_points() - 1);
+  for (int k = 0; k < 20; ++k)
+  {
+    SplineEdit e;
+    e.anchors = { pick(rng) };
+    e.delta_max = k % 4;
+    e.by = Eigen::Vector2d(0.02, -0.01);
+    xy.apply(e);
+    e.by = Eigen::VectorXd::Constant(1, 0.01 * (k % 3 - 1));
+    (k % 2 ? top : bottom).apply(e);
+  }
+  double worst = 0;
+  const auto& E = net->edges();
+  const auto& ET = net->edge_triangles();
+  for (Index ed = 0; ed < E.rows(); ++ed)
+  {
+    if (ET(ed, 0) < 0 || ET(ed, 1) < 0)
+      continue;
+    for (double a : { 0.0, 0.3, 0.7, 1.0 })
+    {
+      const Eigen::Vector2d x = net->vertices().row(E(ed, 0)).transpose() +
+        a * (net->vertices().row(E(ed, 1)) - net->vertices().row(E(ed, 0))).transpose();
+      for (double t : { 0.0, 0.4, 1.0 })
+      {
+        Eigen::Vector3d side[2];
+        for (int s = 0; s < 2; ++s)
+        {
+          const Index tri = ET(ed, s);
+          const Eigen::Vector3d b = net->barycentric(tri, x);
+          const Eigen::RowVectorXd p = xy.spline().evaluate(tri, b);
+          const double z0 = bottom.spline().evaluate(tri, b)[0], z1 = top.spline().evaluate(tri, b)[0];
+          side[s] = Eigen::Vector3d(p[0], p[1], z0 + t * (z1 - z0));
+        }
+        worst = std::max(worst, (side[0] - side[1]).norm());
+      }
+    }
+  }
+  EXPECT_LT(worst, 1e-14);
+  EXPECT_GT((top.spline().values().array() - 0.1).abs().maxCoeff(), 1e-3);
+}
