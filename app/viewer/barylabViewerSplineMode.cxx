@@ -137,6 +137,10 @@ struct SplineWindow::Internals
   vtkNew<vtkRenderer> Renderer; ///< picture and model (layer 0)
   vtkNew<vtkRenderer> Overlay;  ///< grid, control points, centre, folds (layer 1: on top)
   vtkNew<vtkCallbackCommand> Callback;
+  vtkNew<vtkCallbackCommand> ResizeCallback;
+  /// The camera as resetCamera left it: while it is so, a resized view is fitted again.
+  double FittedScale = 0.0;
+  double FittedFocal[3] = { 0.0, 0.0, 0.0 };
 
   QLabel* Info = nullptr;
   QLabel* PointInfo = nullptr;
@@ -950,9 +954,10 @@ void SplineWindow::drawScene(vtkRenderer* scene, vtkRenderer* overlay)
       bar->SetNumberOfLabels(3);
       bar->UnconstrainedFontSizeOn();
       bar->GetLabelTextProperty()->SetFontSize(12);
-      bar->SetWidth(0.08);
-      bar->SetHeight(0.4);
-      bar->SetPosition(0.9, 0.08);
+      bar->SetOrientationToHorizontal(); // under the domain, right of the title
+      bar->SetPosition(0.55, 0.01);
+      bar->SetWidth(0.42);
+      bar->SetHeight(0.09);
       bar->GetLabelTextProperty()->SetColor(0.1, 0.1, 0.1);
       overlay->AddViewProp(bar);
     }
@@ -1028,7 +1033,13 @@ void SplineWindow::resetCamera()
 {
   if (!this->hasSpline())
     return;
-  const Internals& I = *this->I;
+  this->fitCamera();
+  this->I->View->renderWindow()->Render();
+}
+
+void SplineWindow::fitCamera()
+{
+  Internals& I = *this->I;
   vtkCamera* camera = I.Renderer->GetActiveCamera();
   const double cx = 0.5 * (I.Bounds[0] + I.Bounds[1]), cy = 0.5 * (I.Bounds[2] + I.Bounds[3]);
   camera->ParallelProjectionOn();
@@ -1039,7 +1050,8 @@ void SplineWindow::resetCamera()
   const double w = I.Bounds[1] - I.Bounds[0], h = I.Bounds[3] - I.Bounds[2];
   camera->SetParallelScale(0.5 * 1.08 * std::max(h, w / aspect));
   camera->SetClippingRange(0.1 * I.Size, 10.0 * I.Size);
-  I.View->renderWindow()->Render();
+  I.FittedScale = camera->GetParallelScale();
+  camera->GetFocalPoint(I.FittedFocal);
 }
 
 vtkSmartPointer<vtkRenderWindow> SplineWindow::snapshot(int width, int height)
@@ -1226,6 +1238,19 @@ void SplineWindow::installInteraction()
                                          .arg(1e3 * self->UpdateSeconds, 0, 'f', 1));
     }
   });
+  // a resized view (the panel filled, the window resized) is fitted again unless the camera
+  // was moved since the last reset
+  this->I->ResizeCallback->SetClientData(this);
+  this->I->ResizeCallback->SetCallback([](vtkObject*, unsigned long, void* client, void*) {
+    auto* self = static_cast<SplineWindow*>(client);
+    vtkCamera* camera = self->I->Renderer->GetActiveCamera();
+    double f[3];
+    camera->GetFocalPoint(f);
+    if (self->hasSpline() && camera->GetParallelScale() == self->I->FittedScale &&
+      f[0] == self->I->FittedFocal[0] && f[1] == self->I->FittedFocal[1])
+      self->fitCamera(); // the render under way shows it
+  });
+  this->I->View->renderWindow()->AddObserver(vtkCommand::WindowResizeEvent, this->I->ResizeCallback);
   vtkRenderWindowInteractor* interactor = this->I->View->interactor();
   for (unsigned long e : { vtkCommand::LeftButtonPressEvent, vtkCommand::MouseMoveEvent,
          vtkCommand::LeftButtonReleaseEvent })

@@ -173,6 +173,8 @@ private:
   /// The colours' z range: the prism's, grown to the deformed model's.
   void zRange(double range[2]) const;
   void updateScene();
+  /// The camera of resetCamera (from above, the domain fitted to the view), without rendering.
+  void fitCamera();
   void installInteraction();
   int pickPoint(int x, int y) const;
   void displayToWorld(int x, int y, double world[2]) const;
