@@ -39,3 +39,22 @@ TETS=$(mktemp -d)/kidney_tets.vtu
 shot viewer_kidney_tets_sliced.png "$DATA/cage3d.obj" "$TETS" --method harmonic --control 36 \
   --clip --log
 rm -rf "$(dirname "$TETS")"
+# the spline mode: an identity 2.5D spline edited by `barylab spline edit` (the organism bent
+# towards its picture, the top surface raised in the middle), opened with the model and picture
+SPLINE=$(mktemp -d)
+"$BARYLAB" spline create --domain "$DATA/spline_domain.obj" --prism -0.1 0.1 \
+  --output "$SPLINE/identity.vtu" --quiet
+cat > "$SPLINE/edits.json" <<'EOF_EDITS'
+{"edits": [
+  {"op": "translate", "near": [0.5, 0.0], "by": [0.0, 0.18], "delta_max": 8},
+  {"op": "translate", "near": [-0.5, 0.0], "by": [0.0, -0.18], "delta_max": 8},
+  {"op": "translate", "spline": "top", "near": [0.0, 0.0], "by": [0.04], "delta_max": 6}
+]}
+EOF_EDITS
+"$BARYLAB" spline edit --spline "$SPLINE/identity.vtu" --edits "$SPLINE/edits.json" \
+  --output "$SPLINE/bent.vtu" --quiet
+shot viewer_spline_organism.png --spline "$SPLINE/bent.vtu" --model "$DATA/spline_organism.obj" \
+  --picture "$DATA/spline_organism_picture.png"
+shot viewer_spline_top.png --spline "$SPLINE/bent.vtu" --model "$DATA/spline_organism.obj" \
+  --picture "$DATA/spline_organism_picture.png" --edit top
+rm -rf "$SPLINE"
