@@ -73,6 +73,9 @@ const char* kExample = "organism-spline";
 /// Samples along each domain edge of the drawn grid, and per side of a folded triangle's fill.
 constexpr int kEdgeSamples = 16;
 constexpr int kFoldSamples = 12;
+/// The side view's share of the view's height (bottom / top modes), and its section's samples.
+constexpr double kSideHeight = 0.3;
+constexpr int kSectionSamples = 240;
 
 QString data_path(const char* name)
 {
@@ -121,7 +124,8 @@ struct SplineWindow::Internals
   vtkNew<vtkPoints> CentrePoint;
   vtkSmartPointer<vtkImageData> Picture;
   QString PictureName;
-  vtkPolyDataMapper* ZMapper = nullptr; ///< the model's mapper in the bottom / top modes (view)
+  /// The model's mappers coloured by z in the view (bottom / top modes): their range follows.
+  std::vector<vtkPolyDataMapper*> ZMappers;
 
   std::vector<SplineTarget> Done, Undone; ///< which spline each undo / redo step changes
   std::vector<bary::Index> LastAnchors, LastDerived;
@@ -136,6 +140,13 @@ struct SplineWindow::Internals
   QVTKOpenGLNativeWidget* View = nullptr;
   vtkNew<vtkRenderer> Renderer; ///< picture and model (layer 0)
   vtkNew<vtkRenderer> Overlay;  ///< grid, control points, centre, folds (layer 1: on top)
+  /// bottom / top modes: the side view (from -y) of the model and the prism's section, a strip
+  /// under the view from above
+  vtkNew<vtkRenderer> Side;
+  vtkNew<vtkPolyData> Section; ///< the bottom and top surfaces along y = SectionY, deformed
+  bary::TriangularSpline::Locations SectionWhere;
+  double SectionY = 0.0;
+  bool SectionLocated = false;
   vtkNew<vtkCallbackCommand> Callback;
   vtkNew<vtkCallbackCommand> ResizeCallback;
   /// The camera as resetCamera left it: while it is so, a resized view is fitted again.
@@ -181,6 +192,8 @@ SplineWindow::SplineWindow(QWidget* parent)
   this->I->Overlay->SetActiveCamera(this->I->Renderer->GetActiveCamera());
   window->AddRenderer(this->I->Renderer);
   window->AddRenderer(this->I->Overlay);
+  window->AddRenderer(this->I->Side);
+  this->I->Side->SetBackground(0.97, 0.97, 0.97);
   vtkNew<vtkInteractorStyleImage> style; // 2D: no rotation; wheel / right drag zoom, middle pans
   this->I->View->interactor()->SetInteractorStyle(style);
   this->setCentralWidget(this->I->View);
@@ -251,6 +264,16 @@ QVTKOpenGLNativeWidget* SplineWindow::view() const
 vtkRenderer* SplineWindow::renderer() const
 {
   return this->I->Renderer;
+}
+
+vtkRenderer* SplineWindow::sideRenderer() const
+{
+  return this->I->Side;
+}
+
+vtkPolyData* SplineWindow::sectionData() const
+{
+  return this->I->Section;
 }
 
 bool SplineWindow::canUndo() const
@@ -410,6 +433,7 @@ bool SplineWindow::useSpline(const vtkBarySpline& spline, const QString& name)
   I.Points->SetPoints(points);
   I.Points->SetVerts(verts);
   I.Points->GetPointData()->SetScalars(colours);
+  I.SectionLocated = false;
   I.Done.clear();
   I.Undone.clear();
   I.LastAnchors.clear();
@@ -532,6 +556,8 @@ bool SplineWindow::loadExample(const QString& name)
 
 void SplineWindow::setTarget(SplineTarget t)
 {
+  if (this->I->Dragging >= 0)
+    return; // the drag's edits belong to one spline (its moves undo one another)
   if (t != SplineTarget::XY && !this->isPrism())
   {
     this->reportError("the bottom and top modes edit a 2.5D (prism) spline; this one is 2D");
@@ -559,6 +585,8 @@ void SplineWindow::selectPoint(int i)
     i = -1;
   this->Selected = i;
   this->updatePointColours();
+  if (this->hasSpline())
+    this->updateSection();
   this->updatePanel();
   if (this->hasSpline())
     this->I->View->renderWindow()->Render();
@@ -721,6 +749,7 @@ void SplineWindow::update()
   timer.start();
   this->updateModel();
   this->updateGrid();
+  this->updateSection();
   this->updateJacobian();
   // the C1 residual (a few ms): after every edit but a drag's moves (measured at the release)
   if (this->I->Dragging < 0)
@@ -767,11 +796,12 @@ void SplineWindow::updateModel()
   I.Deformed->SetPoints(points);
   I.Deformed->GetPointData()->SetScalars(height);
   I.Deformed->Modified();
-  if (I.ZMapper)
+  if (!I.ZMappers.empty())
   {
     double range[2];
     this->zRange(range);
-    I.ZMapper->SetScalarRange(range);
+    for (vtkPolyDataMapper* mapper : I.ZMappers)
+      mapper->SetScalarRange(range);
   }
 }
 
@@ -788,6 +818,57 @@ void SplineWindow::updateGrid()
   for (Eigen::Index k = 0; k < v.rows(); ++k)
     points->SetPoint(k, v(k, 0), v(k, 1), 0.0);
   points->Modified();
+}
+
+void SplineWindow::updateSection()
+{
+  Internals& I = *this->I;
+  if (!this->isPrism())
+    return;
+  // the section through the selected point (its nominal y), else through the domain's middle
+  const double y = this->Selected >= 0 ? I.xy().net().nominal()(this->Selected, 1)
+                                       : 0.5 * (I.Bounds[2] + I.Bounds[3]);
+  if (!I.SectionLocated || y != I.SectionY)
+  {
+    Eigen::MatrixXd P(kSectionSamples + 1, 2);
+    for (int k = 0; k <= kSectionSamples; ++k)
+      P.row(k) << I.Bounds[0] + (I.Bounds[1] - I.Bounds[0]) * k / kSectionSamples, y;
+    I.SectionWhere = I.xy().locate(P, bary::OutsidePolicy::NaN);
+    I.SectionY = y;
+    I.SectionLocated = true;
+  }
+  const Eigen::MatrixXd xy = I.xy().evaluate(I.SectionWhere);
+  const Eigen::MatrixXd b = I.Editors[1]->spline().evaluate(I.SectionWhere);
+  const Eigen::MatrixXd t = I.Editors[2]->spline().evaluate(I.SectionWhere);
+  vtkNew<vtkPoints> points;
+  vtkNew<vtkCellArray> lines;
+  vtkNew<vtkUnsignedCharArray> colours;
+  colours->SetNumberOfComponents(3);
+  const unsigned char blue[3] = { 30, 60, 220 }, red[3] = { 220, 30, 30 };
+  for (const Eigen::MatrixXd* z : { &b, &t })
+  {
+    std::vector<vtkIdType> run;
+    const auto flush = [&]() {
+      if (run.size() > 1)
+        lines->InsertNextCell(static_cast<vtkIdType>(run.size()), run.data());
+      run.clear();
+    };
+    for (int k = 0; k <= kSectionSamples; ++k)
+    {
+      if (I.SectionWhere.triangle[static_cast<size_t>(k)] < 0)
+      {
+        flush();
+        continue;
+      }
+      run.push_back(points->InsertNextPoint(xy(k, 0), xy(k, 1), (*z)(k, 0)));
+      colours->InsertNextTypedTuple(z == &b ? blue : red);
+    }
+    flush();
+  }
+  I.Section->SetPoints(points);
+  I.Section->SetLines(lines);
+  I.Section->GetPointData()->SetScalars(colours);
+  I.Section->Modified();
 }
 
 void SplineWindow::updateJacobian()
@@ -886,15 +967,28 @@ void SplineWindow::zRange(double range[2]) const
     }
 }
 
-void SplineWindow::drawScene(vtkRenderer* scene, vtkRenderer* overlay)
+void SplineWindow::drawScene(vtkRenderer* scene, vtkRenderer* overlay, vtkRenderer* side)
 {
-  if (scene == this->I->Renderer.Get())
-    this->I->ZMapper = nullptr;
+  Internals& I = *this->I;
+  const bool view = scene == I.Renderer.Get();
+  if (view)
+    I.ZMappers.clear();
   scene->RemoveAllViewProps();
   overlay->RemoveAllViewProps();
+  if (side)
+    side->RemoveAllViewProps();
   if (!this->hasSpline())
     return;
-  Internals& I = *this->I;
+  // bottom / top modes: the side view is a strip under the view from above
+  const bool with_side = side && this->isPrism() && this->Target != SplineTarget::XY;
+  const double bottom = with_side ? kSideHeight : 0.0;
+  scene->SetViewport(0.0, bottom, 1.0, 1.0);
+  overlay->SetViewport(0.0, bottom, 1.0, 1.0);
+  if (side)
+  {
+    side->SetViewport(0.0, 0.0, 1.0, with_side ? kSideHeight : 0.01);
+    side->SetDraw(with_side);
+  }
   // layer 0: the picture on the domain's rectangle, under the model
   double zlo = this->isPrism() ? I.PrismBottom : 0.0;
   if (I.Model)
@@ -917,38 +1011,43 @@ void SplineWindow::drawScene(vtkRenderer* scene, vtkRenderer* overlay)
     actor->GetProperty()->LightingOff();
     scene->AddActor(actor);
   }
-  if (I.Deformed)
-  {
+  // the model: plain (xy mode) or coloured by z, blue (the prism's bottom) to red (top)
+  vtkNew<vtkLookupTable> lut;
+  lut->SetHueRange(0.667, 0.0);
+  lut->SetTableRange(I.PrismBottom, I.PrismTop);
+  lut->Build();
+  const auto model_actor = [&](bool by_z) {
     vtkNew<vtkPolyDataNormals> normals;
     normals->SetInputData(I.Deformed);
     normals->SplittingOff();
     normals->ConsistencyOff();
     vtkNew<vtkPolyDataMapper> mapper;
     mapper->SetInputConnection(normals->GetOutputPort());
-    vtkNew<vtkActor> actor;
+    auto actor = vtkSmartPointer<vtkActor>::New();
     actor->SetMapper(mapper);
-    if (this->Target == SplineTarget::XY)
+    if (!by_z)
     {
       mapper->ScalarVisibilityOff();
       actor->GetProperty()->SetColor(0.95, 0.55, 0.2);
       actor->GetProperty()->SetOpacity(0.6);
+      return actor;
     }
-    else
+    mapper->SetLookupTable(lut);
+    double range[2];
+    this->zRange(range);
+    mapper->SetScalarRange(range);
+    mapper->SetScalarModeToUsePointFieldData();
+    mapper->SelectColorArray("Z");
+    mapper->ScalarVisibilityOn();
+    if (view)
+      I.ZMappers.push_back(mapper);
+    return actor;
+  };
+  if (I.Deformed)
+  {
+    scene->AddActor(model_actor(this->Target != SplineTarget::XY));
+    if (this->Target != SplineTarget::XY)
     {
-      // the bottom / top modes: the model coloured by z, blue (the prism's bottom) to red (top)
-      vtkNew<vtkLookupTable> lut;
-      lut->SetHueRange(0.667, 0.0);
-      lut->SetTableRange(I.PrismBottom, I.PrismTop);
-      lut->Build();
-      mapper->SetLookupTable(lut);
-      double range[2];
-      this->zRange(range);
-      mapper->SetScalarRange(range);
-      if (scene == I.Renderer.Get())
-        I.ZMapper = mapper;
-      mapper->SetScalarModeToUsePointFieldData();
-      mapper->SelectColorArray("Z");
-      mapper->ScalarVisibilityOn();
       vtkNew<vtkScalarBarActor> bar;
       bar->SetLookupTable(lut);
       bar->SetNumberOfLabels(3);
@@ -961,7 +1060,41 @@ void SplineWindow::drawScene(vtkRenderer* scene, vtkRenderer* overlay)
       bar->GetLabelTextProperty()->SetColor(0.1, 0.1, 0.1);
       overlay->AddViewProp(bar);
     }
-    scene->AddActor(actor);
+  }
+  if (with_side)
+  {
+    if (I.Deformed)
+      side->AddActor(model_actor(true));
+    vtkNew<vtkPolyDataMapper> mapper;
+    mapper->SetInputData(I.Section);
+    mapper->SetColorModeToDirectScalars();
+    mapper->ScalarVisibilityOn();
+    vtkNew<vtkActor> section;
+    section->SetMapper(mapper);
+    section->GetProperty()->SetLineWidth(2.0f);
+    section->GetProperty()->LightingOff();
+    side->AddActor(section);
+    vtkNew<vtkTextActor> title;
+    const std::string text = "side view (from -y): the model, and the bottom (blue) and top (red) "
+                             "surfaces along the selected point's row";
+    title->SetInput(text.c_str());
+    title->GetTextProperty()->SetFontSize(14);
+    title->GetTextProperty()->SetColor(0.1, 0.1, 0.1);
+    title->GetPositionCoordinate()->SetCoordinateSystemToNormalizedViewport();
+    title->GetPositionCoordinate()->SetValue(0.01, 0.86);
+    side->AddViewProp(title);
+    // orthographic, along +y, the prism's height and the domain's width fitted
+    vtkCamera* camera = side->GetActiveCamera();
+    const double cx = 0.5 * (I.Bounds[0] + I.Bounds[1]), cy = 0.5 * (I.Bounds[2] + I.Bounds[3]);
+    const double cz = 0.5 * (I.PrismBottom + I.PrismTop);
+    camera->ParallelProjectionOn();
+    camera->SetFocalPoint(cx, cy, cz);
+    camera->SetPosition(cx, cy - 4.0 * I.Size, cz);
+    camera->SetViewUp(0.0, 0.0, 1.0);
+    const double aspect = std::max(side->GetTiledAspectRatio(), 1e-6);
+    camera->SetParallelScale(0.5 * 1.1 *
+      std::max(2.0 * (I.PrismTop - I.PrismBottom), (I.Bounds[1] - I.Bounds[0]) / aspect));
+    camera->SetClippingRange(0.1 * I.Size, 10.0 * I.Size);
   }
   // layer 1, always on top: folds, grid, control points, centre
   if (I.Folds)
@@ -1019,10 +1152,15 @@ void SplineWindow::updateScene()
 {
   if (!this->hasSpline())
     return;
-  this->drawScene(this->I->Renderer, this->I->Overlay);
-  if (this->CameraNeedsReset)
+  vtkCamera* camera = this->I->Renderer->GetActiveCamera();
+  double f[3];
+  camera->GetFocalPoint(f);
+  const bool fitted = camera->GetParallelScale() == this->I->FittedScale &&
+    f[0] == this->I->FittedFocal[0] && f[1] == this->I->FittedFocal[1];
+  this->drawScene(this->I->Renderer, this->I->Overlay, this->I->Side);
+  if (this->CameraNeedsReset || fitted) // (the view's height changes with the side view)
   {
-    this->resetCamera();
+    this->fitCamera();
     this->CameraNeedsReset = false;
   }
   this->I->View->renderWindow()->Render();
@@ -1065,18 +1203,20 @@ vtkSmartPointer<vtkRenderWindow> SplineWindow::snapshot(int width, int height)
     return window;
   // the scene drawn afresh into renderers of this window (no actor shared between OpenGL
   // contexts), seen by the view's camera, framed for this window's aspect
-  vtkNew<vtkRenderer> scene, overlay;
+  vtkNew<vtkRenderer> scene, overlay, side;
   scene->SetBackground(1.0, 1.0, 1.0);
+  side->SetBackground(0.97, 0.97, 0.97);
   overlay->SetLayer(1);
   overlay->SetActiveCamera(scene->GetActiveCamera());
   window->AddRenderer(scene);
   window->AddRenderer(overlay);
-  this->drawScene(scene, overlay);
+  window->AddRenderer(side);
+  this->drawScene(scene, overlay, side);
   vtkCamera* camera = scene->GetActiveCamera();
   camera->DeepCopy(this->I->Renderer->GetActiveCamera());
   const Internals& I = *this->I;
   const double w = I.Bounds[1] - I.Bounds[0], h = I.Bounds[3] - I.Bounds[2];
-  camera->SetParallelScale(0.5 * 1.08 * std::max(h, w * height / std::max(width, 1)));
+  camera->SetParallelScale(0.5 * 1.08 * std::max(h, w / std::max(scene->GetTiledAspectRatio(), 1e-6)));
   window->Render();
   return window;
 }
@@ -1180,6 +1320,8 @@ void SplineWindow::installInteraction()
     self->displayToWorld(pos[0], pos[1], world);
     if (event == vtkCommand::LeftButtonPressEvent)
     {
+      if (!I.Renderer->IsInViewport(pos[0], pos[1]))
+        return; // the side view: the camera's
       if (interactor->GetControlKey())
       {
         I.Callback->AbortFlagOn();

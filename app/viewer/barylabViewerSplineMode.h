@@ -4,7 +4,8 @@
 /// Gomide 2014, §4-§5). A window of its own: the deformed grid (the Bézier triangles' curved
 /// edges), the control points, the deformed model and a background picture to match, seen
 /// from above. The three editing modes of the 2.5D deformation (§5): xy (the deformation phi),
-/// bottom and top (the surfaces sigma0, sigma1, shown by colouring the model by z).
+/// bottom and top (the surfaces sigma0, sigma1: the model coloured by z, and a side view of it
+/// with the two surfaces' section through the selected point).
 ///
 /// In the view: pressing on a control point and dragging moves it (xy: to the mouse; bottom /
 /// top: up or down by the mouse's vertical motion, scaled so that the domain's height is the
@@ -98,6 +99,10 @@ public:
   const QStringList& errors() const { return this->Errors; }
   QVTKOpenGLNativeWidget* view() const;
   vtkRenderer* renderer() const;
+  /// The side view of the bottom / top modes (drawn only in them): the model from -y and the
+  /// bottom and top surfaces along the selected point's row (sectionData()).
+  vtkRenderer* sideRenderer() const;
+  vtkPolyData* sectionData() const;
   /// The view rendered offscreen at @p width x @p height, for regression images: the same
   /// actors and camera as on screen.
   vtkSmartPointer<vtkRenderWindow> snapshot(int width, int height);
@@ -167,7 +172,12 @@ private:
   void updateJacobian();
   void updatePointColours();
   void updatePanel();
-  void drawScene(vtkRenderer* scene, vtkRenderer* overlay);
+  /// Fills the renderers: @p scene (picture, model), @p overlay (layer 1: grid, control points,
+  /// folds, centre), @p side (may be null: the side view of the bottom / top modes), and sets
+  /// their viewports.
+  void drawScene(vtkRenderer* scene, vtkRenderer* overlay, vtkRenderer* side);
+  /// The bottom and top surfaces along the selected point's row (2.5D), deformed.
+  void updateSection();
   /// dz per world unit of a vertical drag (bottom / top): the domain's height is the prism's.
   double verticalScale() const;
   /// The colours' z range: the prism's, grown to the deformed model's.

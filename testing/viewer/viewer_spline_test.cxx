@@ -28,6 +28,7 @@
 #include "vtkNew.h"
 #include "vtkPoints.h"
 #include "vtkPolyData.h"
+#include "vtkPropCollection.h"
 #include "vtkRenderWindow.h"
 #include "vtkRenderWindowInteractor.h"
 #include "vtkRenderer.h"
@@ -251,6 +252,7 @@ private slots:
 
   void splineModeTopEdit()
   {
+    QVERIFY(!s->sideRenderer()->GetDraw()); // xy mode: no side view
     vtkNew<vtkPolyData> rest;
     rest->DeepCopy(s->deformedModel());
     const Eigen::MatrixXd xy = s->spline()->values();
@@ -266,11 +268,25 @@ private slots:
     event(vtkCommand::MouseMoveEvent, d[0], d[1] + 40);
     event(vtkCommand::LeftButtonReleaseEvent, d[0], d[1] + 40);
     const double top = s->spline(SplineTarget::Top)->values()(v, 0);
-    QVERIFY2(std::abs(top - (0.1 + 0.2 * 40 * pixel())) < 1e-9, qPrintable(QString::number(top)));
+    double w0[2], w1[2];
+    toWorld(d[0], d[1], w0);
+    toWorld(d[0], d[1] + 40, w1);
+    QVERIFY2(std::abs(top - (0.1 + 0.2 * (w1[1] - w0[1]))) < 1e-9, qPrintable(QString::number(top)));
     QVERIFY(c1_residual(*s->spline(SplineTarget::Top)) < 1e-9);
     // the model rises where the top did, xy untouched
     QVERIFY(max_z_change(rest, s->deformedModel()) > 0.005);
     QVERIFY(s->saveScreenshot(output("viewer_spline_top.png")));
+    // the side view: drawn in the top mode, its section through the selected point's row (y =
+    // 0) reaching the raised top there
+    QVERIFY(s->sideRenderer()->GetDraw());
+    QVERIFY(s->sideRenderer()->GetViewProps()->GetNumberOfItems() >= 2);
+    double highest_section = -1.0;
+    for (vtkIdType i = 0; i < s->sectionData()->GetNumberOfPoints(); ++i)
+    {
+      QVERIFY(std::abs(s->sectionData()->GetPoint(i)[1]) < 1e-12);
+      highest_section = std::max(highest_section, s->sectionData()->GetPoint(i)[2]);
+    }
+    QVERIFY(std::abs(highest_section - top) < 1e-3);
     QVERIFY((s->spline()->values().array() == xy.array()).all());
     double highest = -1.0;
     for (vtkIdType i = 0; i < s->deformedModel()->GetNumberOfPoints(); ++i)
