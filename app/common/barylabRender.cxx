@@ -16,6 +16,7 @@
 #include "vtkDataSetSurfaceFilter.h"
 #include "vtkDoubleArray.h"
 #include "vtkElevationFilter.h"
+#include "vtkFloatArray.h"
 #include "vtkExtractEdges.h"
 #include "vtkGlyph3D.h"
 #include "vtkMath.h"
@@ -811,6 +812,149 @@ vtkSmartPointer<vtkRenderWindow> SplineDeformationWindow(vtkUnstructuredGrid* re
       renderer->SetActiveCamera(first->GetActiveCamera());
     }
   }
+  return window;
+}
+
+namespace
+{
+
+/// The spline's domain cut into k x k small triangles per domain triangle, mapped by the xy
+/// deformation, with texture coordinates of the rest positions in @p bounds.
+vtkSmartPointer<vtkPolyData> spline_textured_domain(
+  vtkUnstructuredGrid* grid, int k, const double bounds[4], double z)
+{
+  const vtkBarySpline spline = vtkBarySplineData::FromGrid(grid);
+  const bary::SplineNet& net = spline.xy->net();
+  const auto& V = net.vertices();
+  const auto& T = net.triangles();
+  bary::TriangularSpline::Locations where;
+  std::vector<Eigen::Vector2d> rest;
+  for (bary::Index t = 0; t < net.num_triangles(); ++t)
+    for (int i = 0; i <= k; ++i)
+      for (int j = 0; j <= k - i; ++j)
+      {
+        const Eigen::Vector3d b(double(k - i - j) / k, double(i) / k, double(j) / k);
+        where.triangle.push_back(t);
+        where.barycentric.push_back(b);
+        rest.push_back(b[0] * V.row(T(t, 0)).transpose() + b[1] * V.row(T(t, 1)).transpose() +
+          b[2] * V.row(T(t, 2)).transpose());
+      }
+  const Eigen::MatrixXd X = spline.xy->evaluate(where);
+  vtkNew<vtkPoints> points;
+  vtkNew<vtkFloatArray> tcoords;
+  tcoords->SetName("TCoords");
+  tcoords->SetNumberOfComponents(2);
+  for (size_t p = 0; p < rest.size(); ++p)
+  {
+    points->InsertNextPoint(X(static_cast<bary::Index>(p), 0), X(static_cast<bary::Index>(p), 1), z);
+    tcoords->InsertNextTuple2((rest[p].x() - bounds[0]) / (bounds[1] - bounds[0]),
+      (rest[p].y() - bounds[2]) / (bounds[3] - bounds[2]));
+  }
+  vtkNew<vtkCellArray> polys;
+  const int per = (k + 1) * (k + 2) / 2;
+  auto id = [&](bary::Index t, int i, int j) {
+    // row i holds k - i + 1 points
+    int offset = 0;
+    for (int r = 0; r < i; ++r)
+      offset += k - r + 1;
+    return static_cast<vtkIdType>(t * per + offset + j);
+  };
+  for (bary::Index t = 0; t < net.num_triangles(); ++t)
+    for (int i = 0; i < k; ++i)
+      for (int j = 0; j < k - i; ++j)
+      {
+        const vtkIdType a[3] = { id(t, i, j), id(t, i + 1, j), id(t, i, j + 1) };
+        polys->InsertNextCell(3, a);
+        if (j + 1 < k - i)
+        {
+          const vtkIdType b[3] = { id(t, i + 1, j), id(t, i + 1, j + 1), id(t, i, j + 1) };
+          polys->InsertNextCell(3, b);
+        }
+      }
+  auto out = vtkSmartPointer<vtkPolyData>::New();
+  out->SetPoints(points);
+  out->SetPolys(polys);
+  out->GetPointData()->SetTCoords(tcoords);
+  return out;
+}
+
+} // namespace
+
+vtkSmartPointer<vtkRenderWindow> SplinePictureWindow(vtkUnstructuredGrid* rest_grid,
+  vtkUnstructuredGrid* grid, const std::string& picture_png, const double bounds[4],
+  const RenderOptions& options)
+{
+  auto window = make_window(options);
+  vtkNew<vtkPNGReader> reader;
+  reader->SetFileName(picture_png.c_str());
+  reader->Update();
+  if (reader->GetOutput()->GetNumberOfPoints() == 0)
+    throw Error(ErrorCode::Io, "cannot read the picture '" + picture_png + "'");
+  vtkNew<vtkTexture> texture;
+  texture->SetInputConnection(reader->GetOutputPort());
+  texture->InterpolateOn();
+  vtkUnstructuredGrid* grids[2] = { rest_grid, grid };
+  vtkRenderer* first = nullptr;
+  double view[6] = { 1e300, -1e300, 1e300, -1e300, 0, 0 };
+  for (int side = 0; side < 2; ++side)
+  {
+    vtkNew<vtkRenderer> renderer;
+    renderer->SetViewport(0.5 * side, 0.0, 0.5 * side + 0.5, 1.0);
+    renderer->SetBackground(side == 0 ? 0.97 : 1.0, side == 0 ? 0.97 : 1.0, 1.0);
+    window->AddRenderer(renderer);
+    auto mesh = spline_textured_domain(grids[side], 12, bounds, 0.0);
+    double b[6];
+    mesh->GetBounds(b);
+    for (int c = 0; c < 2; ++c)
+    {
+      view[2 * c] = std::min(view[2 * c], b[2 * c]);
+      view[2 * c + 1] = std::max(view[2 * c + 1], b[2 * c + 1]);
+    }
+    vtkNew<vtkPolyDataMapper> mapper;
+    mapper->SetInputData(mesh);
+    mapper->ScalarVisibilityOff();
+    vtkNew<vtkActor> actor;
+    actor->SetMapper(mapper);
+    actor->SetTexture(texture);
+    actor->GetProperty()->LightingOff();
+    renderer->AddActor(actor);
+    auto lines = SplineGridLines(grids[side], 16, 0.01);
+    vtkNew<vtkPolyDataMapper> lm;
+    lm->SetInputData(lines);
+    lm->ScalarVisibilityOff();
+    vtkNew<vtkActor> la;
+    la->SetMapper(lm);
+    la->GetProperty()->SetColor(0.15, 0.3, 0.75);
+    la->GetProperty()->SetOpacity(0.5);
+    la->GetProperty()->LightingOff();
+    renderer->AddActor(la);
+    auto folds = spline_folds(grids[side], 0.02);
+    if (folds->GetNumberOfCells() > 0)
+    {
+      vtkNew<vtkPolyDataMapper> fm;
+      fm->SetInputData(folds);
+      vtkNew<vtkActor> fa;
+      fa->SetMapper(fm);
+      fa->GetProperty()->SetColor(0.9, 0.1, 0.1);
+      fa->GetProperty()->SetOpacity(0.6);
+      fa->GetProperty()->LightingOff();
+      renderer->AddActor(fa);
+    }
+    add_title(renderer, side == 0 ? "rest" : (options.title.empty() ? "deformed" : options.title));
+    if (!first)
+      first = renderer;
+    else
+      renderer->SetActiveCamera(first->GetActiveCamera());
+  }
+  vtkCamera* camera = first->GetActiveCamera();
+  camera->ParallelProjectionOn();
+  const double cx = 0.5 * (view[0] + view[1]), cy = 0.5 * (view[2] + view[3]);
+  camera->SetFocalPoint(cx, cy, 0);
+  camera->SetPosition(cx, cy, 10);
+  camera->SetViewUp(0, 1, 0);
+  const double aspect = 0.5 * options.width / options.height;
+  camera->SetParallelScale(0.54 * std::max(view[3] - view[2], (view[1] - view[0]) / aspect));
+  first->ResetCameraClippingRange();
   return window;
 }
 

@@ -86,6 +86,14 @@ vtkSmartPointer<vtkPolyData> SplineGridLines(vtkUnstructuredGrid* grid, int samp
 vtkSmartPointer<vtkRenderWindow> SplineDeformationWindow(vtkUnstructuredGrid* rest_grid,
   vtkUnstructuredGrid* grid, vtkPointSet* rest_model, vtkPointSet* model,
   const std::string& picture_png, const RenderOptions& options);
+/// A picture deformed by a spline (2D): @p picture_png placed on the rectangle @p bounds
+/// (xmin, xmax, ymin, ymax) and drawn on the spline's domain, each domain triangle cut into
+/// 12 x 12 small ones whose corners are mapped by the xy deformation (texture coordinates from
+/// their rest positions): the rest picture (left) and the deformed one (right), with the grid's
+/// curved edges and folds in red.
+vtkSmartPointer<vtkRenderWindow> SplinePictureWindow(vtkUnstructuredGrid* rest_grid,
+  vtkUnstructuredGrid* grid, const std::string& picture_png, const double bounds[4],
+  const RenderOptions& options);
 /// The joints of skeleton @p handles moved by @p pose (one 3 x 4 [A | t] per handle, point
 /// handles first, then bones): a point handle's joint by its transform, any other joint by the
 /// first bone ending there (else starting there). For drawing posed skeletons.

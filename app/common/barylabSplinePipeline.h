@@ -34,4 +34,22 @@ struct OrganismSpline
 /// @throws bary::Error for unreadable data
 OrganismSpline OrganismSplineExample(const std::string& data_dir, nlohmann::json* summary = nullptr);
 
+/// A picture deformed by a 2D spline.
+struct GingerbreadSpline
+{
+  vtkSmartPointer<vtkUnstructuredGrid> rest_grid; ///< the identity on the meshed cage polygon
+  vtkSmartPointer<vtkUnstructuredGrid> grid;      ///< after the edits
+  std::string picture;                            ///< data/gingerbread.png
+  double bounds[4] = { 0, 0, 0, 0 };              ///< where the picture lies (xmin, xmax, ymin, ymax)
+};
+
+/// The gingerbread man's picture (data/gingerbread.png, placed as data/README.md says: the
+/// cage's bounding box enlarged by 5% per side, square, centred) on a spline over his cage
+/// polygon (data/cage2d.obj meshed into about 150 triangles, degree 5), edited with DECLeS:
+/// the left hand raised by 0.3 (its two corners, delta_max 15), the right hand turned down 25
+/// degrees about the shoulder (delta_max 15) and the head tilted 12 degrees about the neck (its
+/// five corners, delta_max 8).
+/// @p summary (optional) gets per-edit figures, the C1 residual and the minimum Jacobian.
+GingerbreadSpline GingerbreadSplineExample(const std::string& data_dir, nlohmann::json* summary = nullptr);
+
 } // namespace barylab

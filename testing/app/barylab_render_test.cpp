@@ -301,3 +301,15 @@ TEST(RenderImages, OrganismSpline)
                           e.picture, options),
     "organism_spline");
 }
+
+TEST(RenderImages, GingerbreadSplinePicture)
+{
+  // C1 spline deformations in 2D: the gingerbread man's picture warped by three DECLeS edits of
+  // a spline over his cage polygon (the demo's picture).
+  const barylab::GingerbreadSpline e = barylab::GingerbreadSplineExample(BARYLAB_DATA_DIR);
+  barylab::RenderOptions options;
+  options.title = "left hand raised, right hand and head turned";
+  ExpectMatchesBaseline(
+    barylab::SplinePictureWindow(e.rest_grid, e.grid, e.picture, e.bounds, options),
+    "gingerbread_spline_picture");
+}
