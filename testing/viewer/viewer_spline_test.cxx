@@ -5,6 +5,7 @@
 // fails and leaves the image in BARYLAB_TEST_OUTPUT_DIR/images.
 
 #include "barylabViewerSplineMode.h"
+#include "barylabViewerWindow.h"
 
 #include "vtkBaryDataIO.h"
 #include "vtkBarySplineData.h"
@@ -17,7 +18,9 @@
 #include <QFile>
 #include <QFileInfo>
 #include <QImage>
+#include <QAction>
 #include <QLabel>
+#include <QMenuBar>
 #include <QProcess>
 #include <QSurfaceFormat>
 #include <QTest>
@@ -40,6 +43,7 @@
 
 using barylab::viewer::SplineTarget;
 using barylab::viewer::SplineWindow;
+using barylab::viewer::ViewerWindow;
 
 namespace
 {
@@ -351,6 +355,51 @@ private slots:
     const int result = testing->RegressionTest(10.0);
     QVERIFY(s->saveScreenshot(QString::fromStdString(outdir + "/viewer_spline_organism_window.png")));
     QVERIFY2(result == vtkTesting::PASSED, qPrintable(QString::fromStdString("image differs from " + baseline)));
+  }
+
+  void splineModeKeysAndMenu()
+  {
+    // Ctrl+Z / Ctrl+Shift+Z reach undo / redo through the Edit menu's shortcuts
+    s->activateWindow();
+    QVERIFY(QTest::qWaitForWindowActive(s.get()));
+    const Eigen::MatrixXd before = s->spline()->values();
+    QVERIFY(s->translatePoint(static_cast<int>(vertexAt(0.25, 0.25)), 0.03, 0.01));
+    const Eigen::MatrixXd after = s->spline()->values();
+    QTest::keyClick(s.get(), Qt::Key_Z, Qt::ControlModifier);
+    QVERIFY((s->spline()->values().array() == before.array()).all());
+    QTest::keyClick(s.get(), Qt::Key_Z, Qt::ControlModifier | Qt::ShiftModifier);
+    QVERIFY((s->spline()->values().array() == after.array()).all());
+    // 3 and 1 choose the top and xy modes; ] and [ change delta_max
+    QTest::keyClick(s.get(), Qt::Key_3);
+    QCOMPARE(s->target(), SplineTarget::Top);
+    QTest::keyClick(s.get(), Qt::Key_1);
+    QCOMPARE(s->target(), SplineTarget::XY);
+    const int delta = s->deltaMax();
+    QTest::keyClick(s.get(), Qt::Key_BracketRight);
+    QCOMPARE(s->deltaMax(), delta + 1);
+    QTest::keyClick(s.get(), Qt::Key_BracketLeft);
+    QCOMPARE(s->deltaMax(), delta);
+    s.reset();
+
+    // the main window's File menu opens the spline mode with its example
+    ViewerWindow main;
+    main.setInteractive(false);
+    main.show();
+    QAction* open = nullptr;
+    for (QAction* menu : main.menuBar()->actions())
+      if (menu->menu())
+        for (QAction* a : menu->menu()->actions())
+          if (QString(a->text()).remove(QChar('&')).contains("spline deformations"))
+            open = a;
+    QVERIFY(open);
+    open->trigger();
+    SplineWindow* opened = nullptr;
+    for (QWidget* w : QApplication::topLevelWidgets())
+      if (auto* sw = qobject_cast<SplineWindow*>(w))
+        opened = sw;
+    QVERIFY(opened);
+    QVERIFY(opened->hasSpline() && opened->isPrism() && opened->model());
+    opened->close(); // deletes itself (WA_DeleteOnClose)
   }
 
   void splineModeCommandLine()
