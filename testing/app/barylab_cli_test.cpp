@@ -526,8 +526,18 @@ TEST_F(CLI, DemoWithoutRendering)
   EXPECT_LT(s["cases"]["3d"]["statistics"]["reproduction"]["max_error"].get<double>(), 1e-12);
   EXPECT_LT(s["cases"]["2d"]["statistics"]["reproduction"]["max_error"].get<double>(), 1e-12);
   ExpectDemoLBC(dir_ / "demo", s["cases"]["lbc2d"]);
+  // The spline cases: C1 to rounding, no fold, the organism fitted to its picture.
+  for (const char* c : { "spline2d", "organism_spline" })
+  {
+    EXPECT_LT(s["cases"][c]["c1_condition_residual"].get<double>(), 1e-12) << c;
+    EXPECT_EQ(s["cases"][c]["folded_triangles"].get<int>(), 0) << c;
+    EXPECT_GT(s["cases"][c]["min_jacobian"].get<double>(), 0.0) << c;
+  }
+  EXPECT_LT(s["cases"]["organism_spline"]["fit"]["max_error"].get<double>(), 1e-4);
+  for (const char* f : { "gingerbread2d_spline.vtu", "organism_spline.vtu", "organism_deformed.vtp" })
+    EXPECT_TRUE(fs::exists(dir_ / "demo" / f)) << f;
   for (const char* png : { "gingerbread2d_weights.png", "gingerbread2d_lbc_weights.png",
-         "gingerbread2d_lbc_deformed.png" })
+         "gingerbread2d_lbc_deformed.png", "gingerbread2d_spline.png", "organism_spline.png" })
     EXPECT_FALSE(fs::exists(dir_ / "demo" / png)) << png << " written with --no-render";
 }
 
