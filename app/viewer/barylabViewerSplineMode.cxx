@@ -441,6 +441,7 @@ bool SplineWindow::useSpline(const vtkBarySpline& spline, const QString& name)
   I.LastEdit.clear();
   I.Dragging = -1;
   this->Selected = -1;
+  this->Selection.clear();
   this->HasCentre = false;
   I.CentrePoint->Reset();
   I.CentrePoint->Modified();
@@ -583,7 +584,27 @@ void SplineWindow::selectPoint(int i)
 {
   if (!this->hasSpline() || i < 0 || i >= this->I->xy().net().num_points())
     i = -1;
-  this->Selected = i;
+  this->Selection.clear();
+  if (i >= 0)
+    this->Selection.push_back(i);
+  this->selectionChanged();
+}
+
+void SplineWindow::toggleSelection(int i)
+{
+  if (!this->hasSpline() || i < 0 || i >= this->I->xy().net().num_points())
+    return;
+  const auto at = std::find(this->Selection.begin(), this->Selection.end(), i);
+  if (at != this->Selection.end())
+    this->Selection.erase(at);
+  else
+    this->Selection.push_back(i);
+  this->selectionChanged();
+}
+
+void SplineWindow::selectionChanged()
+{
+  this->Selected = this->Selection.empty() ? -1 : this->Selection.back();
   this->updatePointColours();
   if (this->hasSpline())
     this->updateSection();
@@ -638,10 +659,11 @@ bool SplineWindow::applyEdit(const bary::SplineEdit& edit)
 
 namespace
 {
-bary::SplineEdit anchored(int i, int delta_max)
+bary::SplineEdit anchored(const std::vector<int>& points, int delta_max)
 {
   bary::SplineEdit edit;
-  edit.anchors = { static_cast<bary::Index>(i) };
+  for (int p : points)
+    edit.anchors.push_back(static_cast<bary::Index>(p));
   edit.delta_max = delta_max;
   return edit;
 }
@@ -654,7 +676,23 @@ bool SplineWindow::translatePoint(int i, double dx, double dy)
     this->reportError(QString("no control point %1 to move").arg(i));
     return false;
   }
-  bary::SplineEdit edit = anchored(i, this->DeltaMax);
+  bary::SplineEdit edit = anchored({ i }, this->DeltaMax);
+  edit.op = bary::SplineEditOp::Translate;
+  if (this->Target == SplineTarget::XY)
+    edit.by = Eigen::Vector2d(dx, dy);
+  else
+    edit.by = Eigen::VectorXd::Constant(1, dx);
+  return this->applyEdit(edit);
+}
+
+bool SplineWindow::translateSelection(double dx, double dy)
+{
+  if (this->Selection.empty())
+  {
+    this->reportError("no control point selected: press on one (Shift + click adds more)");
+    return false;
+  }
+  bary::SplineEdit edit = anchored(this->Selection, this->DeltaMax);
   edit.op = bary::SplineEditOp::Translate;
   if (this->Target == SplineTarget::XY)
     edit.by = Eigen::Vector2d(dx, dy);
@@ -683,7 +721,7 @@ bool SplineWindow::rotateSelected(double degrees)
                       "(Ctrl + click)");
     return false;
   }
-  bary::SplineEdit edit = anchored(this->Selected, this->DeltaMax);
+  bary::SplineEdit edit = anchored(this->Selection, this->DeltaMax);
   edit.op = bary::SplineEditOp::Rotate;
   edit.center = Eigen::Vector2d(this->Centre[0], this->Centre[1]);
   edit.angle_degrees = degrees;
@@ -698,7 +736,7 @@ bool SplineWindow::scaleSelected(double factor)
                       "(Ctrl + click)");
     return false;
   }
-  bary::SplineEdit edit = anchored(this->Selected, this->DeltaMax);
+  bary::SplineEdit edit = anchored(this->Selection, this->DeltaMax);
   edit.op = bary::SplineEditOp::Scale;
   edit.center = Eigen::Vector2d(this->Centre[0], this->Centre[1]);
   edit.factor = factor;
@@ -925,8 +963,8 @@ void SplineWindow::updatePointColours()
     colours->SetTypedTuple(p, kDerived);
   for (bary::Index p : I.LastAnchors)
     colours->SetTypedTuple(p, kAnchor);
-  if (this->Selected >= 0)
-    colours->SetTypedTuple(this->Selected, kSelected);
+  for (int p : this->Selection)
+    colours->SetTypedTuple(p, kSelected);
   colours->Modified();
 }
 
@@ -1332,7 +1370,14 @@ void SplineWindow::installInteraction()
       if (id < 0)
         return;
       I.Callback->AbortFlagOn();
-      self->selectPoint(id);
+      if (interactor->GetShiftKey())
+      {
+        self->toggleSelection(id);
+        return;
+      }
+      // a drag on a selected point moves the whole selection; on another point, that point
+      if (std::find(self->Selection.begin(), self->Selection.end(), id) == self->Selection.end())
+        self->selectPoint(id);
       I.Dragging = id;
       I.DragApplied = false;
       I.DragStart[0] = world[0];
@@ -1349,7 +1394,7 @@ void SplineWindow::installInteraction()
         e->undo();
         I.Done.pop_back();
       }
-      bary::SplineEdit edit = anchored(I.Dragging, self->DeltaMax);
+      bary::SplineEdit edit = anchored(self->Selection, self->DeltaMax);
       if (self->Target == SplineTarget::XY)
         edit.by = Eigen::Vector2d(world[0] - I.DragStart[0], world[1] - I.DragStart[1]);
       else
@@ -1452,7 +1497,7 @@ void SplineWindow::buildPanel()
       this->setDeltaMax(v);
   });
 
-  auto* point = new QGroupBox("Selected control point", panel);
+  auto* point = new QGroupBox("Selected control points (the anchors)", panel);
   auto* pointLayout = new QVBoxLayout(point);
   I.PointInfo = new QLabel(point);
   I.PointInfo->setObjectName("spline_point");
@@ -1466,7 +1511,7 @@ void SplineWindow::buildPanel()
   I.DyBox = spin(I.XYRow, "spline_dy", -10.0, 10.0, 0.01, 0.0, 3);
   auto* move = new QPushButton("Translate", I.XYRow);
   connect(move, &QPushButton::clicked, this, [this]() {
-    this->translatePoint(this->Selected, this->I->DxBox->value(), this->I->DyBox->value());
+    this->translateSelection(this->I->DxBox->value(), this->I->DyBox->value());
   });
   xyRow->addWidget(new QLabel("dx", I.XYRow));
   xyRow->addWidget(I.DxBox);
@@ -1480,7 +1525,7 @@ void SplineWindow::buildPanel()
   I.DzBox = spin(I.ZRow, "spline_dz", -10.0, 10.0, 0.005, 0.02, 3);
   auto* raise = new QPushButton("Raise", I.ZRow);
   connect(raise, &QPushButton::clicked, this,
-    [this]() { this->translatePoint(this->Selected, this->I->DzBox->value(), 0.0); });
+    [this]() { this->translateSelection(this->I->DzBox->value(), 0.0); });
   zRow->addWidget(new QLabel("dz", I.ZRow));
   zRow->addWidget(I.DzBox);
   zRow->addWidget(raise);
@@ -1577,7 +1622,10 @@ void SplineWindow::updatePanel()
   if (this->Selected >= 0)
   {
     const Eigen::MatrixXd& v = I.xy().values();
-    QString text = QString("point %1 (%2%3) at (%4, %5)")
+    QString text = this->Selection.size() > 1
+      ? QString("%1 points selected (Shift + click adds or removes one); the last: ").arg(this->Selection.size())
+      : QString();
+    text += QString("point %1 (%2%3) at (%4, %5)")
                      .arg(this->Selected)
                      .arg(bary::to_string(net.type(this->Selected)))
                      .arg(std::find(I.Pinned.begin(), I.Pinned.end(), this->Selected) != I.Pinned.end() ? ", pinned" : "")
@@ -1590,7 +1638,7 @@ void SplineWindow::updatePanel()
     I.PointInfo->setText(text);
   }
   else
-    I.PointInfo->setText("none: press on a control point (drag to move it)");
+    I.PointInfo->setText("none: press on a control point (drag to move it; Shift + click selects several)");
   I.CentreInfo->setText(this->HasCentre
       ? QString("centre (%1, %2)").arg(this->Centre[0], 0, 'f', 4).arg(this->Centre[1], 0, 'f', 4)
       : QString("no centre: Ctrl + click in the view"));

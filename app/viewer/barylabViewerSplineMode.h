@@ -10,7 +10,8 @@
 /// In the view: pressing on a control point and dragging moves it (xy: to the mouse; bottom /
 /// top: up or down by the mouse's vertical motion, scaled so that the domain's height is the
 /// prism's) with its slaves within
-/// delta_max; each mouse move re-applies the drag's edit from the drag's start (the previous
+/// delta_max (Shift + click adds points to the selection, and a drag on a selected point moves
+/// all of them: several anchors); each mouse move re-applies the drag's edit from the drag's start (the previous
 /// move's edit undone first), so the grid and the model follow live and one drag is one undo
 /// step. Ctrl + left click picks the centre of rotations and scales. The rest of the mouse
 /// moves the camera (2D: pan and zoom).
@@ -74,7 +75,10 @@ public:
   /// Its editor (null as spline()).
   bary::SplineEditor* editor(SplineTarget t = SplineTarget::XY) const;
   SplineTarget target() const { return this->Target; }
+  /// The control point picked last (-1: none), and every selected one (the anchors of the next
+  /// drag, translation, rotation or scale; the last picked at the end).
   int selectedPoint() const { return this->Selected; }
+  const std::vector<int>& selection() const { return this->Selection; }
   int deltaMax() const { return this->DeltaMax; }
   bool hasCentre() const { return this->HasCentre; }
   const double* centre() const { return this->Centre; }
@@ -124,8 +128,10 @@ public slots:
   void setTarget(barylab::viewer::SplineTarget t);
   /// delta_max of the next edits, [0, kMaxDeltaMax].
   void setDeltaMax(int delta_max);
-  /// The control point the panel's rotate / scale / translate act on (-1: none).
+  /// Selects control point @p i alone (-1: none).
   void selectPoint(int i);
+  /// Adds @p i to the selection, or removes it when it is in it (Shift + click).
+  void toggleSelection(int i);
   /// The centre of rotations and scales.
   void setCentre(double x, double y);
   /// xy: moves control point @p i by (dx, dy) (a Translate edit with delta_max); bottom / top:
@@ -133,9 +139,11 @@ public slots:
   bool translatePoint(int i, double dx, double dy);
   /// xy: moves control point @p i to (x, y).
   bool movePointTo(int i, double x, double y);
-  /// Rotates the selected point about the centre by @p degrees (xy).
+  /// Translates the selected points together (xy: by (dx, dy); bottom / top: by dz = dx).
+  bool translateSelection(double dx, double dy);
+  /// Rotates the selected points about the centre by @p degrees (xy).
   bool rotateSelected(double degrees);
-  /// Scales the selected point about the centre by @p factor (xy).
+  /// Scales the selected points about the centre by @p factor (xy).
   bool scaleSelected(double factor);
   /// Undo / redo of the last edit, whichever spline it changed.
   bool undo();
@@ -171,6 +179,8 @@ private:
   void updateGrid();
   void updateJacobian();
   void updatePointColours();
+  /// After the selection changed: Selected, colours, the section, the panel.
+  void selectionChanged();
   void updatePanel();
   /// Fills the renderers: @p scene (picture, model), @p overlay (layer 1: grid, control points,
   /// folds, centre), @p side (may be null: the side view of the bottom / top modes), and sets
@@ -191,6 +201,7 @@ private:
 
   SplineTarget Target = SplineTarget::XY;
   int Selected = -1;
+  std::vector<int> Selection;
   int DeltaMax = 4;
   bool HasCentre = false;
   double Centre[2] = { 0.0, 0.0 };

@@ -223,6 +223,47 @@ private slots:
       s->model()->GetNumberOfPoints());
   }
 
+  void splineModeSeveralAnchors()
+  {
+    // Shift + click selects several points; a drag on one of them moves them all by the drag
+    const int a = static_cast<int>(vertexAt(-0.25, 0.0)), b = static_cast<int>(vertexAt(0.25, 0.125));
+    const Eigen::MatrixXd before = s->spline()->values();
+    int da[2], db[2];
+    toDisplay(before(a, 0), before(a, 1), da);
+    toDisplay(before(b, 0), before(b, 1), db);
+    event(vtkCommand::LeftButtonPressEvent, da[0], da[1]);
+    event(vtkCommand::LeftButtonReleaseEvent, da[0], da[1]);
+    vtkRenderWindowInteractor* interactor = s->view()->interactor();
+    interactor->SetEventInformation(db[0], db[1], 0, 1); // Shift
+    interactor->InvokeEvent(vtkCommand::LeftButtonPressEvent);
+    interactor->InvokeEvent(vtkCommand::LeftButtonReleaseEvent);
+    QCOMPARE(static_cast<int>(s->selection().size()), 2);
+    QVERIFY(s->findChild<QLabel*>("spline_point")->text().contains("2 points selected"));
+    QVERIFY((s->spline()->values().array() == before.array()).all()); // clicks edit nothing
+    s->setDeltaMax(4);
+    event(vtkCommand::LeftButtonPressEvent, da[0], da[1]);
+    event(vtkCommand::MouseMoveEvent, da[0] + 15, da[1] - 20);
+    event(vtkCommand::MouseMoveEvent, da[0] + 30, da[1] - 40);
+    event(vtkCommand::LeftButtonReleaseEvent, da[0] + 30, da[1] - 40);
+    QVERIFY2(s->errors().isEmpty(), qPrintable(s->errors().join("; ")));
+    const Eigen::MatrixXd after = s->spline()->values();
+    const Eigen::RowVector2d move_a = after.row(a) - before.row(a), move_b = after.row(b) - before.row(b);
+    QVERIFY(move_a.norm() > 30 * pixel());
+    QVERIFY((move_a - move_b).norm() < 1e-12);
+    QVERIFY(c1_residual(*s->spline()) < 1e-9);
+    QVERIFY(s->findChild<QLabel*>("spline_edit")->text().contains("2 anchor"));
+    // Shift + click on a selected point removes it; the panel's Translate moves what is left
+    toDisplay(after(b, 0), after(b, 1), db);
+    interactor->SetEventInformation(db[0], db[1], 0, 1);
+    interactor->InvokeEvent(vtkCommand::LeftButtonPressEvent);
+    interactor->InvokeEvent(vtkCommand::LeftButtonReleaseEvent);
+    QCOMPARE(s->selection(), std::vector<int>{ a });
+    QVERIFY(s->translateSelection(0.01, 0.0));
+    QVERIFY(std::abs(s->spline()->values()(a, 0) - after(a, 0) - 0.01) < 1e-12);
+    QVERIFY(s->undo() && s->undo());
+    QVERIFY((s->spline()->values().array() == before.array()).all());
+  }
+
   void splineModeRotateScale()
   {
     // Ctrl + click picks the centre
