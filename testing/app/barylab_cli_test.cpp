@@ -1863,6 +1863,15 @@ TEST_F(CLI, SplineCreateEditDeform)
   EXPECT_EQ(s["edits"][1]["anchors"][0].get<int>(), 60);
   for (const auto& e : s["edits"])
     EXPECT_GT(e["derived"].get<int>(), 0);
+  // The edits file is a log: applied again to the same spline, the same file, byte for byte.
+  ASSERT_EQ(run("spline edit --spline " + out("s.vtu") + " --edits " + out("edits.json") +
+              " --output " + out("s3.vtu") + " -q").code, 0);
+  {
+    std::ifstream a(out("s2.vtu"), std::ios::binary), b(out("s3.vtu"), std::ios::binary);
+    const std::string sa((std::istreambuf_iterator<char>(a)), {}), sb((std::istreambuf_iterator<char>(b)), {});
+    EXPECT_FALSE(sa.empty());
+    EXPECT_EQ(sa, sb);
+  }
   ASSERT_EQ(run("spline deform --spline " + out("s2.vtu") + " --points " + data("spline_organism.obj") +
               " --output " + out("o.vtp") + " -q").code, 0);
   auto model = vtkBaryDataIO::Read(data("spline_organism.obj"));
