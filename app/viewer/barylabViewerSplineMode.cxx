@@ -788,7 +788,9 @@ void SplineWindow::update()
   this->updateModel();
   this->updateGrid();
   this->updateSection();
+  const qint64 jacobian_start = timer.nsecsElapsed();
   this->updateJacobian();
+  this->JacobianSeconds = 1e-9 * static_cast<double>(timer.nsecsElapsed() - jacobian_start);
   // the C1 residual (a few ms): after every edit but a drag's moves (measured at the release)
   if (this->I->Dragging < 0)
     this->I->Residual =

@@ -98,6 +98,8 @@ public:
   /// Jacobian test, redraw).
   double lastEditSeconds() const { return this->EditSeconds; }
   double lastUpdateSeconds() const { return this->UpdateSeconds; }
+  /// Of which the Jacobian test (check_jacobian, and the folded triangles' fill).
+  double lastJacobianSeconds() const { return this->JacobianSeconds; }
   bool canUndo() const;
   bool canRedo() const;
   const QStringList& errors() const { return this->Errors; }
@@ -209,6 +211,7 @@ private:
   double MinJacobian = 0.0;
   double EditSeconds = 0.0;
   double UpdateSeconds = 0.0;
+  double JacobianSeconds = 0.0;
   QStringList Errors;
   bool Interactive = true;
   bool CameraNeedsReset = true;
