@@ -425,8 +425,10 @@ BARY_ALWAYS_INLINE void phong_newton4(const double* const* dots, const double* c
         std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity() };
       const v4d step_tolerance = { kPhongStepTolerance, kPhongStepTolerance, kPhongStepTolerance,
         kPhongStepTolerance };
-      const v4l valid = (BARY_VABS(s) > tiny) & (abs_det > zero) & (abs_det < infinite) &
-        ((da - da) == zero) & ((db - db) == zero);
+      // phong_newton's tests of s, det, da and db, or stricter (a lane they stop goes to the
+      // lane-by-lane tests below): with |s| > 0, det = 0 makes the step infinite or NaN, and a
+      // finite step has finite da and db.
+      const v4l valid = (BARY_VABS(s) > tiny) & (abs_det < infinite) & ((step - step) == zero);
       const v4l converged = (step < step_tolerance) | (step * step < last_step * kPhongPredictedTolerance) |
         (G0 * G0 + G1 * G1 <= tolerance2 * (s * s));
       const v4l far = (BARY_VABS(an) > huge) | (BARY_VABS(bn) > huge);

@@ -382,6 +382,20 @@ BARY_ALWAYS_INLINE void weighted_sum(const double* Y, int D, const int* index,
     v4d even0 = zero, even1 = zero, odd0 = zero, odd1 = zero;
     int j = 0;
     if (!index)
+    {
+      // four rows a turn (the same two chains, in the same order)
+      for (; j + 4 <= count; j += 4)
+      {
+        const double* r0 = Y + j * 8;
+        even0 += BARY_LOAD4(r0) * weight[j];
+        even1 += BARY_LOAD4(r0 + 4) * weight[j];
+        odd0 += BARY_LOAD4(r0 + 8) * weight[j + 1];
+        odd1 += BARY_LOAD4(r0 + 12) * weight[j + 1];
+        even0 += BARY_LOAD4(r0 + 16) * weight[j + 2];
+        even1 += BARY_LOAD4(r0 + 20) * weight[j + 2];
+        odd0 += BARY_LOAD4(r0 + 24) * weight[j + 3];
+        odd1 += BARY_LOAD4(r0 + 28) * weight[j + 3];
+      }
       for (; j + 2 <= count; j += 2)
       {
         const double* r0 = Y + j * 8;
@@ -390,6 +404,7 @@ BARY_ALWAYS_INLINE void weighted_sum(const double* Y, int D, const int* index,
         odd0 += BARY_LOAD4(r0 + 8) * weight[j + 1];
         odd1 += BARY_LOAD4(r0 + 12) * weight[j + 1];
       }
+    }
     else
       for (; j + 2 <= count; j += 2)
       {
@@ -541,8 +556,17 @@ BARY_ALWAYS_INLINE bool weights_row_valid(const double* w, int count, double& su
     tail += w[i];
     tail_magnitude += std::abs(w[i]);
   }
+#if defined(__GNUC__) && !defined(__clang__)
+  // both sums in one vector: lanes (0 + 1, 2 + 3) of s and a side by side, then the halves
+  typedef long long v4i __attribute__((vector_size(32)));
+  v4d u = __builtin_shuffle(s, a, v4i{ 0, 4, 2, 6 }) + __builtin_shuffle(s, a, v4i{ 1, 5, 3, 7 });
+  u += __builtin_shuffle(u, v4i{ 2, 3, 0, 1 });
+  sum = u[0] + tail;
+  const double magnitude = u[1] + tail_magnitude;
+#else
   sum = ((s[0] + s[1]) + (s[2] + s[3])) + tail;
   const double magnitude = ((a[0] + a[1]) + (a[2] + a[3])) + tail_magnitude;
+#endif
   if (!(magnitude <= std::numeric_limits<double>::max()))
   {
     // NaN or infinite: a weight is not finite, or finite ones overflow (then say what they sum to)
