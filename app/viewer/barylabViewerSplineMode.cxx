@@ -126,6 +126,7 @@ struct SplineWindow::Internals
   QString PictureName;
   /// The model's mappers coloured by z in the view (bottom / top modes): their range follows.
   std::vector<vtkPolyDataMapper*> ZMappers;
+  vtkTextActor* Title = nullptr; ///< the view's title (says when the map folds)
 
   std::vector<SplineTarget> Done, Undone; ///< which spline each undo / redo step changes
   std::vector<bary::Index> LastAnchors, LastDerived;
@@ -797,6 +798,8 @@ void SplineWindow::update()
       this->I->xy().continuity().max_condition_residual / this->I->xy().net().mean_edge_length();
   this->updatePointColours();
   this->updatePanel();
+  if (this->I->Title)
+    this->I->Title->SetInput(this->titleText().c_str());
   this->I->View->renderWindow()->Render();
   this->UpdateSeconds = 1e-9 * static_cast<double>(timer.nsecsElapsed());
   emit this->sceneUpdated();
@@ -1012,7 +1015,10 @@ void SplineWindow::drawScene(vtkRenderer* scene, vtkRenderer* overlay, vtkRender
   Internals& I = *this->I;
   const bool view = scene == I.Renderer.Get();
   if (view)
+  {
     I.ZMappers.clear();
+    I.Title = nullptr;
+  }
   scene->RemoveAllViewProps();
   overlay->RemoveAllViewProps();
   if (side)
@@ -1177,15 +1183,21 @@ void SplineWindow::drawScene(vtkRenderer* scene, vtkRenderer* overlay, vtkRender
     overlay->AddActor(line_actor(data, 3.0, magenta));
   }
   vtkNew<vtkTextActor> title;
-  const std::string text = std::string("spline mode: ") + target_name(this->Target) +
-    (this->Target == SplineTarget::XY ? "" : " (the model coloured by z)") +
-    (this->Folded.empty() ? "" : "   (red: the map folds)");
-  title->SetInput(text.c_str());
+  title->SetInput(this->titleText().c_str());
+  if (view)
+    I.Title = title;
   title->GetTextProperty()->SetFontSize(16);
   title->GetTextProperty()->SetColor(0.1, 0.1, 0.1);
   title->GetPositionCoordinate()->SetCoordinateSystemToNormalizedViewport();
   title->GetPositionCoordinate()->SetValue(0.01, 0.02);
   overlay->AddViewProp(title);
+}
+
+std::string SplineWindow::titleText() const
+{
+  return std::string("spline mode: ") + target_name(this->Target) +
+    (this->Target == SplineTarget::XY ? "" : " (the model coloured by z)") +
+    (this->Folded.empty() ? "" : "   red: the map folds");
 }
 
 void SplineWindow::updateScene()

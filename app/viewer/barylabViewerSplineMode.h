@@ -27,6 +27,7 @@
 #include "vtkSmartPointer.h"
 
 #include <memory>
+#include <string>
 #include <vector>
 
 class QVTKOpenGLNativeWidget;
@@ -195,6 +196,8 @@ private:
   /// The colours' z range: the prism's, grown to the deformed model's.
   void zRange(double range[2]) const;
   void updateScene();
+  /// The view's title: the mode, and whether the map folds.
+  std::string titleText() const;
   /// The camera of resetCamera (from above, the domain fitted to the view), without rendering.
   void fitCamera();
   void installInteraction();
