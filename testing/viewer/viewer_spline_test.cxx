@@ -9,6 +9,7 @@
 
 #include "vtkBaryDataIO.h"
 #include "vtkBarySplineData.h"
+#include "vtkBarySplineSource.h"
 #include "core/spline/decles.h"
 #include "core/spline/triangular_spline.h"
 
@@ -402,6 +403,47 @@ private slots:
     const int result = testing->RegressionTest(10.0);
     QVERIFY(s->saveScreenshot(QString::fromStdString(outdir + "/viewer_spline_organism_window.png")));
     QVERIFY2(result == vtkTesting::PASSED, qPrintable(QString::fromStdString("image differs from " + baseline)));
+  }
+
+  void splineMode2D()
+  {
+    // a 2D spline (no prism) made like `barylab spline create` without --prism, opened over the
+    // example: the model stays (it lies in the same domain), the bottom / top modes are refused
+    vtkNew<vtkBarySplineSource> source;
+    source->SetInputData(vtkBaryDataIO::ReadPolyData(data("spline_domain.obj").toStdString()));
+    source->Update();
+    vtkBaryDataIO::Write(source->GetOutput(), output("spline_2d.vtu").toStdString());
+    QVERIFY(s->openSpline(output("spline_2d.vtu")));
+    QVERIFY(s->hasSpline() && !s->isPrism());
+    QVERIFY(!s->spline(SplineTarget::Top) && !s->editor(SplineTarget::Bottom));
+    QVERIFY(s->model() && s->deformedModel());
+    QVERIFY(!s->canUndo());
+    s->setTarget(SplineTarget::Top);
+    QCOMPARE(s->target(), SplineTarget::XY);
+    QVERIFY(s->errors().last().contains("2.5D"));
+    QVERIFY(!s->sideRenderer()->GetDraw());
+    // 2D: the model's z is kept, its xy follow the deformation
+    const int v = static_cast<int>(vertexAt(0.0, 0.0));
+    s->setDeltaMax(6);
+    QVERIFY(s->translatePoint(v, 0.0, 0.05));
+    double zchange = 0.0, ychange = 0.0;
+    for (vtkIdType i = 0; i < s->model()->GetNumberOfPoints(); ++i)
+    {
+      zchange = std::max(zchange, std::abs(s->model()->GetPoint(i)[2] - s->deformedModel()->GetPoint(i)[2]));
+      ychange = std::max(ychange, std::abs(s->model()->GetPoint(i)[1] - s->deformedModel()->GetPoint(i)[1]));
+    }
+    QVERIFY(zchange < 1e-6); // (the model's points are floats, the deformed ones doubles)
+    QVERIFY(ychange > 0.01);
+    // a saved 2D spline reads back without the prism
+    QVERIFY(s->saveSpline(output("spline_2d_edited.vtu")));
+    const vtkSmartPointer<vtkDataSet> read = vtkBaryDataIO::Read(output("spline_2d_edited.vtu").toStdString());
+    const vtkBarySpline back = vtkBarySplineData::FromGrid(vtkUnstructuredGrid::SafeDownCast(read));
+    QVERIFY(!back.is_prism());
+    QVERIFY((back.xy->values() - s->spline()->values()).cwiseAbs().maxCoeff() < 1e-12);
+    // not a spline: refused, the spline kept
+    QVERIFY(!s->openSpline(data("spline_domain.obj")));
+    QVERIFY(s->hasSpline() && s->canUndo());
+    QVERIFY(!s->saveSpline(output("spline.vtk")));
   }
 
   void splineModeKeysAndMenu()
