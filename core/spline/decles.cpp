@@ -39,10 +39,42 @@ double seconds_since(std::chrono::steady_clock::time_point t0)
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
+/// Flags over the control points that are set and cleared in time proportional to the points
+/// touched (an edit's cost must not grow with the grid).
+class Marks
+{
+public:
+  explicit Marks(std::vector<char>& storage)
+    : v_(storage)
+  {
+  }
+  ~Marks()
+  {
+    for (Index p : touched_)
+      v_[static_cast<size_t>(p)] = 0;
+  }
+  Marks(const Marks&) = delete;
+  Marks& operator=(const Marks&) = delete;
+  void set(Index p)
+  {
+    if (!v_[static_cast<size_t>(p)])
+    {
+      v_[static_cast<size_t>(p)] = 1;
+      touched_.push_back(p);
+    }
+  }
+  bool operator[](Index p) const { return v_[static_cast<size_t>(p)] != 0; }
+  const std::vector<char>& storage() const { return v_; }
+
+private:
+  std::vector<char>& v_;
+  std::vector<Index> touched_;
+};
+
 /// Breadth-first distances inside the set @p inside (a map point -> distance), from sources
 /// with the given start distance, up to @p max_distance.
 std::unordered_map<Index, int> local_distances(const SplineNet& net,
-  const std::vector<Index>& sources, int start, const std::vector<char>& inside,
+  const std::vector<Index>& sources, int start, const std::vector<char>* inside,
   int max_distance = std::numeric_limits<int>::max())
 {
   std::unordered_map<Index, int> dist;
@@ -58,7 +90,7 @@ std::unordered_map<Index, int> local_distances(const SplineNet& net,
     if (dp >= max_distance)
       continue;
     for (Index r : net.net_neighbours(p))
-      if (inside[static_cast<size_t>(r)] && dist.emplace(r, dp + 1).second)
+      if ((!inside || (*inside)[static_cast<size_t>(r)]) && dist.emplace(r, dp + 1).second)
         q.push_back(r);
   }
   return dist;
@@ -70,6 +102,8 @@ SplineEditor::SplineEditor(TriangularSpline spline)
   : spline_(std::move(spline))
   , pinned_(static_cast<size_t>(spline_.net().num_points()), 0)
 {
+  for (auto& s : scratch_)
+    s.assign(static_cast<size_t>(spline_.net().num_points()), 0);
   const ContinuityReport c = spline_.continuity();
   const double scale = spline_.values().cwiseAbs().maxCoeff() + spline_.net().mean_edge_length();
   if (c.max_condition_residual > 1e-9 * scale)
@@ -98,12 +132,11 @@ SplineEditor::Elimination SplineEditor::eliminate(
   const std::vector<Index>& anchors, std::vector<Index> derived, double* exact_seconds) const
 {
   const SplineNet& net = spline_.net();
-  const Index n = net.num_points();
-  std::vector<char> inA(static_cast<size_t>(n), 0), inD(static_cast<size_t>(n), 0);
+  Marks inA(scratch_[3]), inD(scratch_[4]);
   for (Index a : anchors)
-    inA[static_cast<size_t>(a)] = 1;
+    inA.set(a);
   for (Index p : derived)
-    inD[static_cast<size_t>(p)] = 1;
+    inD.set(p);
   Elimination out;
   const auto t0 = std::chrono::steady_clock::now();
   for (;;)
@@ -150,10 +183,9 @@ SplineEditor::Elimination SplineEditor::eliminate(
     for (Index c : E)
       for (Index p : net.conditions()[static_cast<size_t>(c)].point)
       {
-        const size_t s = static_cast<size_t>(p);
-        if (!inA[s] && !inD[s] && !pinned_[s])
+        if (!inA[p] && !inD[p] && !pinned_[static_cast<size_t>(p)])
         {
-          inD[s] = 1;
+          inD.set(p);
           derived.push_back(p);
           ++added;
         }
@@ -187,7 +219,6 @@ EditSets SplineEditor::select(const std::vector<Index>& anchors, int delta_max) 
     throw Error(ErrorCode::InvalidArgument,
       "delta_max " + std::to_string(delta_max) + " is out of range [0, " +
         std::to_string(kMaxDeltaMax) + "]");
-  std::vector<char> inA(static_cast<size_t>(n), 0), inD(static_cast<size_t>(n), 0);
   EditSets sets;
   for (Index a : anchors)
   {
@@ -195,30 +226,32 @@ EditSets SplineEditor::select(const std::vector<Index>& anchors, int delta_max) 
       throw Error(ErrorCode::InvalidArgument,
         "anchor " + std::to_string(a) + " is not a control point: the spline has " +
           std::to_string(n) + " (0 to " + std::to_string(n - 1) + ")");
-    if (inA[static_cast<size_t>(a)])
-      throw Error(ErrorCode::InvalidArgument, "anchor " + std::to_string(a) + " is given twice");
     if (pinned_[static_cast<size_t>(a)])
       throw Error(ErrorCode::InvalidArgument,
         "control point " + std::to_string(a) + " is pinned (fixed) and cannot be edited",
         "unpin it first");
-    inA[static_cast<size_t>(a)] = 1;
     sets.anchors.push_back(a);
   }
   std::sort(sets.anchors.begin(), sets.anchors.end());
+  for (size_t k = 1; k < sets.anchors.size(); ++k)
+    if (sets.anchors[k] == sets.anchors[k - 1])
+      throw Error(ErrorCode::InvalidArgument,
+        "anchor " + std::to_string(sets.anchors[k]) + " is given twice");
+  Marks inA(scratch_[0]), inD(scratch_[1]);
+  for (Index a : sets.anchors)
+    inA.set(a);
 
   auto add = [&](Index p) {
-    const size_t s = static_cast<size_t>(p);
-    if (!inA[s] && !inD[s] && !pinned_[s])
+    if (!inA[p] && !inD[p] && !pinned_[static_cast<size_t>(p)])
     {
-      inD[s] = 1;
+      inD.set(p);
       sets.derived.push_back(p);
     }
   };
   // S: the points within delta_max of an anchor.
   if (delta_max > 0)
   {
-    std::vector<char> all(static_cast<size_t>(n), 1);
-    const auto dist = local_distances(net, sets.anchors, 0, all, delta_max);
+    const auto dist = local_distances(net, sets.anchors, 0, nullptr, delta_max);
     for (const auto& [p, dp] : dist)
       if (dp > 0 && dp <= delta_max && !pinned_[static_cast<size_t>(p)])
         sets.slaves.push_back(p);
@@ -328,23 +361,22 @@ SplineEditReport SplineEditor::apply(const SplineEdit& edit)
   const EditSets& sets = rep.sets;
 
   // Step 3: the new positions p' (Eqs. 24-25).
-  const Index n = net.num_points();
-  std::vector<char> inside(static_cast<size_t>(n), 0);
+  Marks inside(scratch_[2]);
   for (Index p : sets.anchors)
-    inside[static_cast<size_t>(p)] = 1;
+    inside.set(p);
   for (Index p : sets.derived)
-    inside[static_cast<size_t>(p)] = 1;
-  const auto d_anchor = local_distances(net, sets.anchors, 0, inside);
+    inside.set(p);
+  const auto d_anchor = local_distances(net, sets.anchors, 0, &inside.storage());
   std::vector<Index> next_to_fixed;
   for (const auto* set : { &sets.anchors, &sets.derived })
     for (Index p : *set)
       for (Index r : net.net_neighbours(p))
-        if (!inside[static_cast<size_t>(r)])
+        if (!inside[r])
         {
           next_to_fixed.push_back(p);
           break;
         }
-  const auto d_fixed = local_distances(net, next_to_fixed, 1, inside);
+  const auto d_fixed = local_distances(net, next_to_fixed, 1, &inside.storage());
   auto theta = [&](Index p) {
     const auto a = d_anchor.find(p);
     const auto f = d_fixed.find(p);

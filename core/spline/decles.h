@@ -143,6 +143,8 @@ private:
   std::vector<Change> history_;
   size_t done_ = 0;
   mutable std::map<std::vector<Index>, Elimination> cache_;
+  /// Flags over the control points, all 0 between calls (set and cleared per touched point).
+  mutable std::vector<char> scratch_[5];
   mutable bool last_cached_ = false;         ///< select() found its elimination in the cache
   mutable double last_exact_seconds_ = 0;    ///< and otherwise took this long for it
 };
