@@ -629,19 +629,7 @@ vtkSmartPointer<vtkPolyData> SplineGridLines(vtkUnstructuredGrid* grid, int samp
   const bary::SplineNet& net = spline.xy->net();
   const auto& E = net.edges();
   const auto& ET = net.edge_triangles();
-  const auto& V = net.vertices();
-  bary::TriangularSpline::Locations where;
-  for (bary::Index e = 0; e < E.rows(); ++e)
-  {
-    const bary::Index t = ET(e, 0) >= 0 ? ET(e, 0) : ET(e, 1);
-    for (int s = 0; s <= samples; ++s)
-    {
-      const Eigen::Vector2d x = V.row(E(e, 0)).transpose() +
-        (double(s) / samples) * (V.row(E(e, 1)) - V.row(E(e, 0))).transpose();
-      where.triangle.push_back(t);
-      where.barycentric.push_back(net.barycentric(t, x));
-    }
-  }
+  const bary::TriangularSpline::Locations where = bary::edge_sample_locations(net, samples);
   const Eigen::MatrixXd X = spline.xy->evaluate(where);
   vtkNew<vtkPoints> points;
   points->SetNumberOfPoints(X.rows());

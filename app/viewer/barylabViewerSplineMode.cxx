@@ -329,36 +329,16 @@ bool SplineWindow::reporting(Action&& action)
 
 namespace
 {
-/// The samples of every domain edge (kEdgeSamples + 1 each, from its first vertex), located in
-/// a triangle of the edge, and the polylines over them.
+/// The samples of every domain edge (bary::edge_sample_locations, kEdgeSamples + 1 each) and the
+/// polylines over them.
 bary::TriangularSpline::Locations edge_samples(const bary::SplineNet& net, vtkCellArray* lines)
 {
-  bary::TriangularSpline::Locations where;
-  const Eigen::MatrixXi& E = net.edges();
-  const Eigen::MatrixXi& ET = net.edge_triangles();
-  const Eigen::MatrixXi& T = net.triangles();
-  for (bary::Index e = 0; e < E.rows(); ++e)
+  bary::TriangularSpline::Locations where = bary::edge_sample_locations(net, kEdgeSamples);
+  for (bary::Index e = 0; e < net.edges().rows(); ++e)
   {
-    const bary::Index t = ET(e, 0) >= 0 ? ET(e, 0) : ET(e, 1);
-    int a = 0, b = 0;
-    for (int k = 0; k < 3; ++k)
-    {
-      if (T(t, k) == E(e, 0))
-        a = k;
-      if (T(t, k) == E(e, 1))
-        b = k;
-    }
     lines->InsertNextCell(kEdgeSamples + 1);
     for (int s = 0; s <= kEdgeSamples; ++s)
-    {
-      Eigen::Vector3d bc = Eigen::Vector3d::Zero();
-      const double u = static_cast<double>(s) / kEdgeSamples;
-      bc[a] += 1.0 - u;
-      bc[b] += u;
-      lines->InsertCellPoint(static_cast<vtkIdType>(where.triangle.size()));
-      where.triangle.push_back(t);
-      where.barycentric.push_back(bc);
-    }
+      lines->InsertCellPoint(static_cast<vtkIdType>(e * (kEdgeSamples + 1) + s));
   }
   return where;
 }

@@ -820,4 +820,39 @@ TriangularSpline TriangularSpline::elevated() const
   return TriangularSpline(std::move(net), std::move(values));
 }
 
+TriangularSpline::Locations edge_sample_locations(const SplineNet& net, int samples)
+{
+  if (samples < 1)
+    throw Error(ErrorCode::InvalidArgument,
+      "edge samples " + std::to_string(samples) + " is below 1");
+  TriangularSpline::Locations where;
+  const Eigen::MatrixXi& E = net.edges();
+  const Eigen::MatrixXi& ET = net.edge_triangles();
+  const Eigen::MatrixXi& T = net.triangles();
+  where.triangle.reserve(static_cast<size_t>(E.rows() * (samples + 1)));
+  where.barycentric.reserve(static_cast<size_t>(E.rows() * (samples + 1)));
+  for (Index e = 0; e < E.rows(); ++e)
+  {
+    const Index t = ET(e, 0) >= 0 ? ET(e, 0) : ET(e, 1);
+    int a = 0, b = 0;
+    for (int k = 0; k < 3; ++k)
+    {
+      if (T(t, k) == E(e, 0))
+        a = k;
+      if (T(t, k) == E(e, 1))
+        b = k;
+    }
+    for (int s = 0; s <= samples; ++s)
+    {
+      Eigen::Vector3d bc = Eigen::Vector3d::Zero();
+      const double u = static_cast<double>(s) / samples;
+      bc[a] = 1.0 - u;
+      bc[b] = u;
+      where.triangle.push_back(t);
+      where.barycentric.push_back(bc);
+    }
+  }
+  return where;
+}
+
 } // namespace bary

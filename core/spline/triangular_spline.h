@@ -248,4 +248,9 @@ private:
   Eigen::MatrixXd values_;
 };
 
+/// Where to sample every domain edge to draw the curved grid: @p samples + 1 points per edge
+/// (edges() order, from its first vertex, evenly spaced), each located in a triangle of the edge
+/// with exact barycentric coordinates (0 on the third corner): block e of the result is edge e.
+TriangularSpline::Locations edge_sample_locations(const SplineNet& net, int samples);
+
 } // namespace bary
