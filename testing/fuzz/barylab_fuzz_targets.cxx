@@ -3,6 +3,7 @@
 #include "vtkBaryConversion.h"
 #include "vtkBaryDataIO.h"
 #include "vtkBaryOFFWriter.h"
+#include "vtkBarySplineData.h"
 
 #include "core/common/error.h"
 #include "core/deformation/skeleton.h"
@@ -71,6 +72,18 @@ void touch(vtkDataSet* data)
 void read_data(const std::string& path, const std::uint8_t*, std::size_t)
 {
   touch(vtkBaryDataIO::Read(path));
+}
+
+/// A spline grid (barylab spline's .vtu): read, then taken apart as a spline and its 2.5D
+/// surfaces (vtkBarySplineData::FromGrid validates the cells, numbering and arrays).
+void read_spline(const std::string& path, const std::uint8_t*, std::size_t)
+{
+  const vtkSmartPointer<vtkDataSet> data = vtkBaryDataIO::Read(path);
+  auto* grid = vtkUnstructuredGrid::SafeDownCast(data);
+  if (!grid)
+    throw bary::Error(bary::ErrorCode::InvalidArgument, "not an unstructured grid");
+  const vtkBarySpline spline = vtkBarySplineData::FromGrid(grid);
+  touch(vtkBarySplineData::ToGrid(spline));
 }
 
 void read_dmat(const std::string& path, const std::uint8_t*, std::size_t)
@@ -315,6 +328,24 @@ std::vector<std::string> make_seeds(const Target& t, const std::string& data_dir
     xml_seeds<vtkXMLPolyDataWriter>(surface(data_dir), e, seeds);
     xml_seeds<vtkXMLPolyDataWriter>(polygon(data_dir), e, seeds);
   }
+  else if (t.name == "spline")
+  {
+    // The identity spline of degree 5 on a 2 x 1 grid of squares, as a 2.5D prism with a pinned
+    // border point, in every XML variant.
+    Eigen::MatrixXd V(6, 2);
+    V << 0, 0, 1, 0, 2, 0, 0, 1, 1, 1, 2, 1;
+    Eigen::MatrixXi T(4, 3);
+    T << 0, 1, 4, 0, 4, 3, 1, 2, 5, 1, 5, 4;
+    auto net = std::make_shared<bary::SplineNet>(V, T, 5);
+    vtkBarySpline spline;
+    spline.xy.emplace(bary::TriangularSpline::identity(net));
+    spline.bottom.emplace(bary::TriangularSpline::constant(net, -0.1));
+    spline.top.emplace(bary::TriangularSpline::constant(net, 0.1));
+    spline.prism_bottom = -0.1;
+    spline.prism_top = 0.1;
+    spline.pinned = { 0 };
+    xml_seeds<vtkXMLUnstructuredGridWriter>(vtkBarySplineData::ToGrid(spline), e, seeds);
+  }
   else if (e == ".vtu")
   {
     xml_seeds<vtkXMLUnstructuredGridWriter>(tetrahedra(), e, seeds);
@@ -455,6 +486,8 @@ std::vector<Target> make_targets()
   return {
     { "vtp", ".vtp", "vtkBaryDataIO::Read: VTK XML polygonal data", read_data, xml },
     { "vtu", ".vtu", "vtkBaryDataIO::Read: VTK XML unstructured grid", read_data, xml },
+    { "spline", ".vtu", "vtkBarySplineData::FromGrid: a spline grid (barylab spline)", read_spline,
+      xml },
     { "vtk", ".vtk", "vtkBaryDataIO::Read: VTK legacy data set", read_data, legacy },
     { "obj", ".obj", "vtkBaryDataIO::Read: Wavefront OBJ (vtkBaryOBJReader)", read_data, text },
     { "stl", ".stl", "vtkBaryDataIO::Read: STL, ASCII and binary", read_data, text },
