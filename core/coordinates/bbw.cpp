@@ -48,6 +48,10 @@ void validate_options(const BBWOptions& o)
   if (o.threads < 0)
     fail("BBWOptions::threads must be >= 0 (0 = OpenMP's default), got " +
       std::to_string(o.threads));
+  if (o.mass_lumping != BBWMassLumping::Barycentric)
+    fail("BBWOptions::mass_lumping: Voronoi lumping is not available yet");
+  if (!o.bounded)
+    fail("BBWOptions::bounded: unbounded biharmonic weights are not available yet");
 }
 
 /// The bound-constrained QP options of a BBW solve.

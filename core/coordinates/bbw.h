@@ -119,6 +119,15 @@ BBWBoundaryConditions bbw_boundary_conditions(const BBWHandles& handles, Index v
 BBWHandles handles_from_skeleton(const Eigen::MatrixXd& V, const Eigen::MatrixXd& C,
   const Eigen::VectorXi& P, const Eigen::MatrixXi& BE, double tolerance = -1.0);
 
+/// The lumped mass matrix M of the discrete Laplacian M^-1 L (§3.4).
+enum class BBWMassLumping
+{
+  /// Each element's area / volume split equally among its vertices.
+  Barycentric,
+  /// The Voronoi area / volume of each vertex (§3.4's choice).
+  Voronoi
+};
+
 /// How the handles' problems are coupled.
 enum class BBWMode
 {
@@ -202,6 +211,11 @@ struct BBWOptions
   /// (both scale as 1/length^2 relative to each other: a brush of ~1/h^2, h the edge length,
   /// is strong). Empty (default): no term.
   Eigen::VectorXd shape_preservation;
+  /// The lumped mass matrix of the Laplacian. Default Barycentric.
+  BBWMassLumping mass_lumping = BBWMassLumping::Barycentric;
+  /// false: drop the bounds 0 <= w <= 1 (Eq. 6): unbounded biharmonic weights (Figs. 4, 16), a
+  /// comparison that shows what the bounds buy. Default true.
+  bool bounded = true;
 };
 
 /// What a computation did. Times in seconds. WeightsResult's fields: W (#V by #handles), no

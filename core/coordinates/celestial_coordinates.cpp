@@ -720,6 +720,11 @@ void CelestialCoordinates::Impl::validate()
       throw Error(ErrorCode::NonFinite,
         "control point " + std::to_string(i) + " has a non-finite coordinate " + detail::format_row(V, i));
 
+  if (o.hull_points != CelestialHullPoints::None)
+    throw Error(ErrorCode::InvalidArgument, "CelestialOptions::hull_points: automatic hull points are not available yet");
+  if (!(o.hull_margin >= 0.0) || !std::isfinite(o.hull_margin))
+    throw Error(ErrorCode::InvalidArgument,
+      "CelestialOptions::hull_margin must be finite and >= 0, got " + detail::format_number(o.hull_margin));
   if (o.user_weights.size() != 0)
   {
     if (o.scheme != CelestialScheme::T)

@@ -77,6 +77,14 @@ enum class CelestialOutsidePolicy
   Flag,  ///< give them NaN rows and list them in CelestialResult::outside
 };
 
+/// Control points added so that the query points are strictly inside the controls' convex
+/// hull (§6: "which can always be ensured adding, if necessary, more control points").
+enum class CelestialHullPoints
+{
+  None, ///< the controls as given
+  Auto  ///< hull points added when a query point is not strictly inside (margin: hull_margin)
+};
+
 /// Where a query point lies relative to the hull, finer than PointLocation (which maps Inside
 /// to Inside, Outside to Outside, Boundary and AtControl to Boundary). Decided before solving,
 /// with the hull's facet planes.
@@ -123,6 +131,11 @@ struct CelestialOptions
   bool warm_start = true;
   /// Policy for points outside the convex hull.
   CelestialOutsidePolicy outside = CelestialOutsidePolicy::Error;
+  /// Hull points added automatically (§6). Default None.
+  CelestialHullPoints hull_points = CelestialHullPoints::None;
+  /// Margin of the added hull points, relative to the bounding-box diagonal of the query points
+  /// and the controls, >= 0. Default 0.1.
+  double hull_margin = 0.1;
   /// If true, compute() throws Error(NotConverged) naming the points that did not converge and
   /// their residuals; if false they get NaN rows and are listed in CelestialResult::not_converged.
   bool require_convergence = true;

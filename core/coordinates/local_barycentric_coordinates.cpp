@@ -195,6 +195,8 @@ void validate_options(const LBCOptions& o)
     invalid("LBCOptions::max_iterations must be >= 1, got " + std::to_string(o.max_iterations));
   if (o.check_interval < 1)
     invalid("LBCOptions::check_interval must be >= 1, got " + std::to_string(o.check_interval));
+  if (o.stopping != LBCStopping::Paper)
+    invalid("LBCOptions::stopping: the converged rule is not available yet");
   if (o.locality == LocalityFunction::Custom && !o.custom_locality)
     invalid("LBCOptions::locality is Custom but custom_locality is empty");
   if (!(o.relaxed_tv_epsilon >= 0.0) || !std::isfinite(o.relaxed_tv_epsilon))

@@ -96,6 +96,15 @@ enum class DistanceNormalization
   Global
 };
 
+/// When the ADMM stops.
+enum class LBCStopping
+{
+  /// The paper's rule (Eqs. 26-27, thresholds per residual entry).
+  Paper,
+  /// BaryLab's rule: stop when the result is converged (see the LBC page).
+  Converged
+};
+
 /// How the splitting's two constraints are weighted (see the file comment). Both solve the same
 /// problem (15); they differ in speed.
 enum class ConstraintScaling
@@ -137,6 +146,8 @@ struct LBCOptions
   /// Residuals are checked every check_interval iterations (each check costs one extra solve),
   /// >= 1. Default 10 (as the authors' code).
   int check_interval = 10;
+  /// The stopping rule. Default Paper.
+  LBCStopping stopping = LBCStopping::Paper;
 
   /// tau (§3.3). Default Squared.
   LocalityFunction locality = LocalityFunction::Squared;

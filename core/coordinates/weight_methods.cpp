@@ -166,6 +166,24 @@ std::vector<SettingField> make_fields()
     fields.push_back(f);
   }
   {
+    SettingField f = choice_field(&WeightsSettings::bbw_mass_lumping,
+      { BBWMassLumping::Barycentric, BBWMassLumping::Voronoi }, { "barycentric", "voronoi" });
+    describe(f, "bbw_mass_lumping", "--mass-lumping", "BBWMassLumping", "Mass lumping (BBW)",
+      bbw_group,
+      "lumped mass matrix of the Laplacian: barycentric (each element split equally) | voronoi "
+      "(the Voronoi area/volume of each vertex, the paper's §3.4)",
+      { MethodId::BBW });
+    fields.push_back(f);
+  }
+  {
+    SettingField f = bool_field(&WeightsSettings::bbw_unbounded);
+    describe(f, "bbw_unbounded", "--unbounded", "BBWUnbounded", "Unbounded (BBW)", bbw_group,
+      "drop the bounds 0 <= w <= 1: unbounded biharmonic weights (Figs. 4, 16), a comparison "
+      "that shows what the bounds buy",
+      { MethodId::BBW });
+    fields.push_back(f);
+  }
+  {
     SettingField f = number_field(&WeightsSettings::lambda);
     describe(f, "lambda", "--lambda", "Lambda", "Lambda (SCC)", celestial_group,
       "scc: wrapping-sphere parameter (> 1; the coordinates do not depend on it)",
@@ -186,6 +204,25 @@ std::vector<SettingField> make_fields()
     f.get_numbers = [](const WeightsSettings& s) { return s.user_weights; };
     f.set_numbers = [](WeightsSettings& s, std::vector<double> v) { s.user_weights = std::move(v); };
     fields.push_back(f);
+  }
+  {
+    SettingField f = choice_field(&WeightsSettings::celestial_hull_points,
+      { CelestialHullPoints::None, CelestialHullPoints::Auto }, { "none", "auto" });
+    describe(f, "celestial_hull_points", "--hull-points", "CelestialHullPoints",
+      "Hull points", celestial_group,
+      "control points added so that every point is strictly inside the controls' convex hull "
+      "(§6): none | auto",
+      { MethodId::TCelestial, MethodId::SCelestial });
+    fields.push_back(f);
+  }
+  {
+    SettingField f = number_field(&WeightsSettings::celestial_hull_margin);
+    describe(f, "celestial_hull_margin", "--hull-margin", "CelestialHullMargin", "Hull margin",
+      celestial_group,
+      "margin of the added hull points, relative to the bounding-box diagonal of the points and "
+      "the controls",
+      { MethodId::TCelestial, MethodId::SCelestial });
+    fields.push_back(range(f, 0.0, 10.0));
   }
   {
     SettingField f = choice_field(&WeightsSettings::lbc_locality,
@@ -244,6 +281,15 @@ std::vector<SettingField> make_fields()
       "Unconstrained TV (LBC)", lbc_group,
       "drop partition of unity and reproduction (the paper's unconstrained TV, §3.2): not "
       "barycentric coordinates",
+      { MethodId::LBC });
+    fields.push_back(f);
+  }
+  {
+    SettingField f = choice_field(&WeightsSettings::lbc_stopping,
+      { LBCStopping::Paper, LBCStopping::Converged }, { "paper", "converged" });
+    describe(f, "lbc_stopping", "--stopping", "LBCStopping", "Stopping rule (LBC)", lbc_group,
+      "when the ADMM stops: paper (Eqs. 26-27 as printed) | converged (BaryLab's rule, see the "
+      "LBC page)",
       { MethodId::LBC });
     fields.push_back(f);
   }

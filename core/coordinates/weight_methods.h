@@ -10,6 +10,8 @@
 /// bary::CelestialOptions, bary::LBCOptions, ...), read from them, except where BaryLab's
 /// front ends choose differently on purpose (BBW: coupled; documented at the field).
 
+#include "core/coordinates/bbw.h"
+#include "core/coordinates/celestial_coordinates.h"
 #include "core/coordinates/local_barycentric_coordinates.h"
 #include "core/meshing/mesh_point_locator.h"
 #include "core/common/types.h"
@@ -90,9 +92,13 @@ struct WeightsSettings
   // bounded biharmonic weights: the front ends' default is the coupled problem (partition of
   // unity exact), not BBWOptions' fast mode
   bool bbw_fast = false;
+  BBWMassLumping bbw_mass_lumping = BBWOptions{}.mass_lumping;
+  bool bbw_unbounded = !BBWOptions{}.bounded;
   // celestial coordinates
   double lambda = 2.0;              ///< SCC wrapping-sphere parameter (CelestialOptions')
   std::vector<double> user_weights; ///< TCC s_i, one per control point; empty: none (Eq. 7)
+  CelestialHullPoints celestial_hull_points = CelestialOptions{}.hull_points;
+  double celestial_hull_margin = CelestialOptions{}.hull_margin;
   // local barycentric coordinates (LBCOptions' defaults: the paper's)
   LocalityFunction lbc_locality = LBCOptions{}.locality;
   double lbc_relaxed_epsilon = LBCOptions{}.relaxed_tv_epsilon;
@@ -101,6 +107,7 @@ struct WeightsSettings
   int lbc_max_iterations = LBCOptions{}.max_iterations;
   DistanceNormalization lbc_distance_normalization = LBCOptions{}.distance_normalization;
   bool lbc_unconstrained = !LBCOptions{}.barycentric_constraints;
+  LBCStopping lbc_stopping = LBCOptions{}.stopping;
 };
 
 /// One setting of WeightsSettings: its names in every layer, its documentation, its range.

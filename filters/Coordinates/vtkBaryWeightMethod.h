@@ -83,6 +83,27 @@ public:
     LBC_NORMALIZE_GLOBAL = 1             ///< by one maximum over all control points
   };
 
+  /// BBW: the lumped mass matrix (§3.4), choices of "bbw_mass_lumping".
+  enum BBWMassLumpings
+  {
+    BBW_MASS_BARYCENTRIC = 0, ///< each element's measure split equally among its vertices
+    BBW_MASS_VORONOI = 1      ///< the Voronoi area / volume of each vertex
+  };
+
+  /// Celestial coordinates: hull points added (§6), choices of "celestial_hull_points".
+  enum CelestialHullPointsModes
+  {
+    HULL_POINTS_NONE = 0, ///< the controls as given
+    HULL_POINTS_AUTO = 1  ///< added when a point is not strictly inside the controls' hull
+  };
+
+  /// LBC: the stopping rule, choices of "lbc_stopping".
+  enum LBCStoppingRules
+  {
+    LBC_STOPPING_PAPER = 0,    ///< the paper's Eqs. 26-27 as printed
+    LBC_STOPPING_CONVERGED = 1 ///< BaryLab's converged rule (docs/local-barycentric-coordinates.md)
+  };
+
   ///@{
   /// The method. Default MEAN_VALUE.
   virtual void SetMethod(int method);
@@ -134,8 +155,24 @@ public:
   void SetBBWFast(bool v) { this->SetSetting("bbw_fast", v); }
   bool GetBBWFast() const { return this->GetSetting("bbw_fast") != 0; }
   vtkBooleanMacro(BBWFast, bool);
+  void SetBBWMassLumping(int v) { this->SetSetting("bbw_mass_lumping", v); }
+  int GetBBWMassLumping() const { return static_cast<int>(this->GetSetting("bbw_mass_lumping")); }
+  void SetBBWMassLumpingToBarycentric() { this->SetBBWMassLumping(BBW_MASS_BARYCENTRIC); }
+  void SetBBWMassLumpingToVoronoi() { this->SetBBWMassLumping(BBW_MASS_VORONOI); }
+  void SetBBWUnbounded(bool v) { this->SetSetting("bbw_unbounded", v); }
+  bool GetBBWUnbounded() const { return this->GetSetting("bbw_unbounded") != 0; }
+  vtkBooleanMacro(BBWUnbounded, bool);
   void SetLambda(double v) { this->SetSetting("lambda", v); }
   double GetLambda() const { return this->GetSetting("lambda"); }
+  void SetCelestialHullPoints(int v) { this->SetSetting("celestial_hull_points", v); }
+  int GetCelestialHullPoints() const
+  {
+    return static_cast<int>(this->GetSetting("celestial_hull_points"));
+  }
+  void SetCelestialHullPointsToNone() { this->SetCelestialHullPoints(HULL_POINTS_NONE); }
+  void SetCelestialHullPointsToAuto() { this->SetCelestialHullPoints(HULL_POINTS_AUTO); }
+  void SetCelestialHullMargin(double v) { this->SetSetting("celestial_hull_margin", v); }
+  double GetCelestialHullMargin() const { return this->GetSetting("celestial_hull_margin"); }
   void SetLBCLocality(int v) { this->SetSetting("lbc_locality", v); }
   int GetLBCLocality() const { return static_cast<int>(this->GetSetting("lbc_locality")); }
   void SetLBCLocalityToSquared() { this->SetLBCLocality(LBC_LOCALITY_SQUARED); }
@@ -160,6 +197,10 @@ public:
   void SetLBCUnconstrained(bool v) { this->SetSetting("lbc_unconstrained", v); }
   bool GetLBCUnconstrained() const { return this->GetSetting("lbc_unconstrained") != 0; }
   vtkBooleanMacro(LBCUnconstrained, bool);
+  void SetLBCStopping(int v) { this->SetSetting("lbc_stopping", v); }
+  int GetLBCStopping() const { return static_cast<int>(this->GetSetting("lbc_stopping")); }
+  void SetLBCStoppingToPaper() { this->SetLBCStopping(LBC_STOPPING_PAPER); }
+  void SetLBCStoppingToConverged() { this->SetLBCStopping(LBC_STOPPING_CONVERGED); }
 
   ///@{
   /// T-celestial coordinates: the user weights s_i >= 0 of Eq. 8, one tuple per control point

@@ -105,6 +105,8 @@ private:
     BBWOptions options;
     options.mode = settings.bbw_fast ? BBWMode::Fast : BBWMode::Coupled;
     options.threads = settings.threads;
+    options.mass_lumping = settings.bbw_mass_lumping;
+    options.bounded = !settings.bbw_unbounded;
     const BBWResult solved = bounded_biharmonic_weights(
       V, T, handles, options, detail::progress_slice(progress, 0.1, 0.95));
     detail::interpolate_on_mesh(V, T, solved.W, points, settings, progress, result);

@@ -24,6 +24,8 @@ public:
     CelestialOptions options;
     options.scheme = scheme_;
     options.lambda = settings.lambda;
+    options.hull_points = settings.celestial_hull_points;
+    options.hull_margin = settings.celestial_hull_margin;
     if (!settings.user_weights.empty())
     {
       if (scheme_ == CelestialScheme::S)

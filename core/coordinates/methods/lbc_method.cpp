@@ -21,6 +21,7 @@ LBCOptions lbc_options(const WeightsSettings& settings)
   options.dual_tolerance = settings.lbc_dual_tolerance;
   options.max_iterations = settings.lbc_max_iterations;
   options.barycentric_constraints = !settings.lbc_unconstrained;
+  options.stopping = settings.lbc_stopping;
   // 0 = one thread: the ADMM's short parallel loops spin-wait in libgomp and were several
   // times slower with two threads on a loaded machine (docs/local-barycentric-coordinates.md).
   options.threads = settings.threads > 0 ? settings.threads : 1;
