@@ -37,6 +37,9 @@ struct WeightsResult
   std::vector<Index> undefined;        ///< rows of W that are NaN (undefined weights), increasing
   Statistics statistics;               ///< named figures, order computed
   bool converged = true;               ///< the method's solver reached its tolerance
+  /// Control points the method added after the given ones (celestial hull points, §6 of
+  /// Cerveró et al.), #A by dim: W's last #A columns are theirs, in this order (empty: none).
+  Points added_controls;
 
   /// The value of the first statistic called @p name, or @p fallback when there is none.
   double statistic(
