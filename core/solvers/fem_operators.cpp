@@ -141,6 +141,155 @@ ElementGeometry element_geometry(const Eigen::MatrixXd& V, const Eigen::MatrixXi
   return g;
 }
 
+/// Meyer et al. 2003's mixed (Voronoi) area of the three corners of triangle t, whose area is
+/// @p area (see MassMatrixType::Voronoi). Uses the squared edge lengths only, so planar and
+/// surface triangles are treated alike.
+std::array<double, 3> mixed_voronoi_areas(
+  const Eigen::MatrixXd& V, const Eigen::MatrixXi& T, Index t, double area)
+{
+  double l2[3]; // squared length of the edge opposite corner i
+  for (int i = 0; i < 3; ++i)
+    l2[i] = (V.row(T(t, (i + 1) % 3)) - V.row(T(t, (i + 2) % 3))).squaredNorm();
+  std::array<double, 3> part{};
+  for (int i = 0; i < 3; ++i)
+    if (l2[i] > l2[(i + 1) % 3] + l2[(i + 2) % 3]) // obtuse at corner i
+    {
+      part.fill(area / 4.0);
+      part[static_cast<std::size_t>(i)] = area / 2.0;
+      return part;
+    }
+  // cot(angle i) = (l2_j + l2_k - l2_i) / (4 area); corner i's circumcentric part is
+  // (|e_ij|^2 cot(angle k) + |e_ik|^2 cot(angle j)) / 8, |e_ij|^2 = l2_k.
+  double cot[3];
+  for (int i = 0; i < 3; ++i)
+    cot[i] = (l2[(i + 1) % 3] + l2[(i + 2) % 3] - l2[i]) / (4.0 * area);
+  for (int i = 0; i < 3; ++i)
+  {
+    const int j = (i + 1) % 3, k = (i + 2) % 3;
+    part[static_cast<std::size_t>(i)] = (l2[k] * cot[k] + l2[j] * cot[j]) / 8.0;
+  }
+  return part;
+}
+
+/// A convex polyhedron as its faces, each a polygon ordered counter-clockwise seen from outside.
+using Polyhedron = std::vector<std::vector<Eigen::Vector3d>>;
+
+/// Volume of a closed polyhedron with outward-oriented faces (divergence theorem, fans from each
+/// face's first point; the origin should be near the polyhedron to limit rounding).
+double polyhedron_volume(const Polyhedron& P)
+{
+  double six = 0.0;
+  for (const auto& f : P)
+    for (std::size_t k = 1; k + 1 < f.size(); ++k)
+      six += f[0].dot(f[k].cross(f[k + 1]));
+  return six / 6.0;
+}
+
+/// P clipped to the half-space n . x <= d (Sutherland-Hodgman on every face, then the cap
+/// polygon on the plane, ordered counter-clockwise around n). Signed distances within
+/// @p on_plane of 0 count as on the plane.
+Polyhedron clip_polyhedron(const Polyhedron& P, const Eigen::Vector3d& n, double d, double on_plane)
+{
+  bool outside = false;
+  for (const auto& f : P)
+    for (const auto& p : f)
+      outside = outside || n.dot(p) - d > on_plane;
+  if (!outside)
+    return P;
+  Polyhedron clipped;
+  std::vector<Eigen::Vector3d> cap;
+  for (const auto& f : P)
+  {
+    std::vector<Eigen::Vector3d> g;
+    for (std::size_t k = 0; k < f.size(); ++k)
+    {
+      const Eigen::Vector3d& a = f[k];
+      const Eigen::Vector3d& b = f[(k + 1) % f.size()];
+      const double sa = n.dot(a) - d, sb = n.dot(b) - d;
+      if (sa <= on_plane)
+      {
+        g.push_back(a);
+        if (sa >= -on_plane)
+          cap.push_back(a);
+      }
+      if ((sa < -on_plane && sb > on_plane) || (sa > on_plane && sb < -on_plane))
+      {
+        const Eigen::Vector3d x = a + (sa / (sa - sb)) * (b - a);
+        g.push_back(x);
+        cap.push_back(x);
+      }
+    }
+    if (g.size() >= 3)
+      clipped.push_back(std::move(g));
+  }
+  if (cap.size() >= 3)
+  {
+    Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+    for (const auto& p : cap)
+      centre += p;
+    centre /= static_cast<double>(cap.size());
+    const Eigen::Vector3d axis = n.normalized();
+    const Eigen::Vector3d u = (std::abs(axis.x()) < 0.9 ? Eigen::Vector3d::UnitX()
+                                                        : Eigen::Vector3d::UnitY())
+                                .cross(axis)
+                                .normalized();
+    const Eigen::Vector3d v = axis.cross(u);
+    std::vector<std::pair<double, Eigen::Vector3d>> ordered;
+    ordered.reserve(cap.size());
+    for (const auto& p : cap)
+      ordered.emplace_back(std::atan2((p - centre).dot(v), (p - centre).dot(u)), p);
+    std::sort(ordered.begin(), ordered.end(),
+      [](const auto& a, const auto& b) { return a.first < b.first; });
+    std::vector<Eigen::Vector3d> face;
+    face.reserve(ordered.size());
+    for (const auto& [angle, p] : ordered)
+      face.push_back(p);
+    clipped.push_back(std::move(face));
+  }
+  return clipped;
+}
+
+/// The part of tetrahedron t (volume @p volume) nearer to each corner than to its other three
+/// corners (see MassMatrixType::Voronoi), scaled so that the four parts sum to @p volume
+/// exactly (they do up to rounding).
+std::array<double, 4> tetrahedron_voronoi_volumes(
+  const Eigen::MatrixXd& V, const Eigen::MatrixXi& T, Index t, double volume)
+{
+  std::array<Eigen::Vector3d, 4> p;
+  for (int i = 0; i < 4; ++i)
+    p[static_cast<std::size_t>(i)] = V.row(T(t, i)).transpose();
+  std::array<double, 4> part{};
+  double sum = 0.0;
+  for (std::size_t i = 0; i < 4; ++i)
+  {
+    // Corners relative to corner i (less rounding in the volume formula).
+    std::array<Eigen::Vector3d, 4> q;
+    double h = 0.0;
+    for (std::size_t k = 0; k < 4; ++k)
+    {
+      q[k] = p[k] - p[i];
+      h = std::max(h, q[k].norm());
+    }
+    if ((q[1] - q[0]).dot((q[2] - q[0]).cross(q[3] - q[0])) < 0.0)
+      std::swap(q[1], q[2]); // positively oriented: the faces below point outwards
+    Polyhedron P = { { q[0], q[2], q[1] }, { q[0], q[1], q[3] }, { q[0], q[3], q[2] },
+      { q[1], q[2], q[3] } };
+    for (std::size_t j = 0; j < 4; ++j)
+      if (j != i)
+      {
+        // Nearer to corner i (the origin) than to corner j: n . x <= |n|^2 / 2, n = p_j - p_i.
+        const Eigen::Vector3d n = p[j] - p[i];
+        const double on_plane = 64.0 * std::numeric_limits<double>::epsilon() * h * n.norm();
+        P = clip_polyhedron(P, n, 0.5 * n.squaredNorm(), on_plane);
+      }
+    part[i] = std::max(0.0, polyhedron_volume(P));
+    sum += part[i];
+  }
+  for (double& v : part)
+    v *= volume / sum;
+  return part;
+}
+
 } // namespace
 
 Eigen::VectorXd simplex_volumes(const Eigen::MatrixXd& V, const Eigen::MatrixXi& T)
@@ -208,6 +357,26 @@ Eigen::SparseMatrix<double> mass_matrix(
       for (int i = 0; i < n; ++i)
         for (int j = 0; j < n; ++j)
           triplets.emplace_back(T(t, i), T(t, j), i == j ? 2.0 * off : off);
+    }
+  }
+  else if (type == MassMatrixType::Voronoi)
+  {
+    triplets.reserve(static_cast<std::size_t>(T.rows() * n));
+    for (Index t = 0; t < T.rows(); ++t)
+    {
+      const double volume = element_geometry(V, T, t).volume; // validates the element
+      if (n == 3)
+      {
+        const std::array<double, 3> part = mixed_voronoi_areas(V, T, t, volume);
+        for (int i = 0; i < 3; ++i)
+          triplets.emplace_back(T(t, i), T(t, i), part[static_cast<std::size_t>(i)]);
+      }
+      else
+      {
+        const std::array<double, 4> part = tetrahedron_voronoi_volumes(V, T, t, volume);
+        for (int i = 0; i < 4; ++i)
+          triplets.emplace_back(T(t, i), T(t, i), part[static_cast<std::size_t>(i)]);
+      }
     }
   }
   else

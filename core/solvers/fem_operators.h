@@ -59,10 +59,28 @@ enum class MassMatrixType
   /// and dimension d, vol (1 + delta_ij) d! / (d + 2)!, i.e. vol/12 (2 on the diagonal, 1 off)
   /// for triangles and vol/20 (2 on the diagonal, 1 off) for tetrahedra. Symmetric positive
   /// definite on the referenced vertices; f^T M f is exactly the integral of f^2 for a P1 f.
-  Full
+  Full,
+  /// Lumped, diagonal: the Voronoi area / volume of each vertex (the lumping of Jacobson et al.
+  /// 2011, §3.4), split per element and summed.
+  /// - Triangles (planar or surface): the "mixed" area of Meyer et al. 2003 (Fig. 4): in a
+  ///   non-obtuse triangle (right angles included) vertex i gets its circumcentric (Voronoi)
+  ///   part, (|e_ij|^2 cot(angle k) + |e_ik|^2 cot(angle j)) / 8; in an obtuse triangle the
+  ///   obtuse vertex gets half the area and the others a quarter each, because there the
+  ///   circumcentre lies outside the triangle and the circumcentric part of a vertex would be
+  ///   negative. On a Delaunay mesh of non-obtuse triangles this is exactly the area of each
+  ///   vertex's Voronoi cell clipped to the domain; it is libigl's MASSMATRIX_TYPE_VORONOI.
+  /// - Tetrahedra: vertex i gets the volume of the part of each tetrahedron that is nearer to
+  ///   it than to the tetrahedron's other three vertices (the tetrahedron clipped by the three
+  ///   bisector planes). When the tetrahedron contains its circumcentre and its faces contain
+  ///   theirs (well-centred; right angles included) this is exactly its circumcentric-dual
+  ///   part; otherwise (circumcentre outside, where the circumcentric part can be negative) it
+  ///   is the positive closest-vertex part, the natural extension.
+  /// Positive on every referenced vertex; the entries of each element sum to its volume, so M
+  /// sums to the mesh's area / volume.
+  Voronoi
 };
 
-/// Mass matrix, #V by #V, of the given @p type (default Barycentric). Both types sum to the
+/// Mass matrix, #V by #V, of the given @p type (default Barycentric). Every type sums to the
 /// total area / volume of the mesh.
 /// @throws Error as listed in the file comment.
 Eigen::SparseMatrix<double> mass_matrix(const Eigen::MatrixXd& V, const Eigen::MatrixXi& T,
