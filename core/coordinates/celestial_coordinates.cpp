@@ -464,8 +464,16 @@ struct CelestialCoordinates::Impl
   int dim = 0;
   double diameter = 0.0;
   double tol = 0.0;            // absolute boundary tolerance
-  std::vector<HullNode> nodes; // nodes[0] is the hull
+  std::vector<HullNode> nodes; // nodes[0] is the hull (empty when flat)
   std::vector<double> s;       // TCC user weights (empty: zero)
+  /// The controls span no interior (fewer than dim + 1, on a line or a plane): allowed with
+  /// CelestialHullPoints::Auto only, which then always adds the hull points.
+  bool flat = false;
+
+  CelestialResult compute(const Points& X, const Eigen::MatrixXi& edges, const Points* initial,
+    const ProgressCallback& progress) const;
+  Points hull_points_for(const Points& X) const;
+  Index facets() const { return nodes.empty() ? 0 : nodes.front().normals.cols(); }
 
   void validate();
   void build_hull();
@@ -720,11 +728,12 @@ void CelestialCoordinates::Impl::validate()
       throw Error(ErrorCode::NonFinite,
         "control point " + std::to_string(i) + " has a non-finite coordinate " + detail::format_row(V, i));
 
-  if (o.hull_points != CelestialHullPoints::None)
-    throw Error(ErrorCode::InvalidArgument, "CelestialOptions::hull_points: automatic hull points are not available yet");
-  if (!(o.hull_margin >= 0.0) || !std::isfinite(o.hull_margin))
-    throw Error(ErrorCode::InvalidArgument,
-      "CelestialOptions::hull_margin must be finite and >= 0, got " + detail::format_number(o.hull_margin));
+  if (o.hull_points != CelestialHullPoints::None && o.hull_points != CelestialHullPoints::Auto)
+    bad("CelestialOptions::hull_points must be None or Auto");
+  if (!(o.hull_margin >= 0.0 && o.hull_margin <= 10.0))
+    bad("hull_margin must lie in [0, 10] (relative to the bounding-box diagonal), got " +
+      detail::format_number(o.hull_margin, 3));
+  const bool auto_hull = o.hull_points == CelestialHullPoints::Auto;
   if (o.user_weights.size() != 0)
   {
     if (o.scheme != CelestialScheme::T)
@@ -744,7 +753,7 @@ void CelestialCoordinates::Impl::validate()
       s.assign(o.user_weights.data(), o.user_weights.data() + n);
   }
 
-  if (n < dim + 1)
+  if (n < dim + 1 && !auto_hull)
     bad(std::to_string(dim) + "D celestial coordinates need at least " + std::to_string(dim + 1) +
       " control points, got " + std::to_string(n) + " (their convex hull must have an interior)");
 
@@ -773,6 +782,11 @@ void CelestialCoordinates::Impl::validate()
         detail::format_number((V.row(first.first) - V.row(first.second)).norm(), 3) +
         " <= boundary_tolerance * diagonal = " + detail::format_number(tol, 3) + "); remove one of them");
   }
+  if (n < dim + 1)
+  {
+    flat = true; // auto_hull: the hull points give the interior
+    return;
+  }
 
   // Affine rank: control 0, the farthest from it, the farthest from their line (and from
   // their plane in 3D).
@@ -792,6 +806,11 @@ void CelestialCoordinates::Impl::validate()
         i2 = i;
       }
     }
+    if (d2 <= tol && auto_hull)
+    {
+      flat = true;
+      return;
+    }
     if (d2 <= tol)
       bad("the control points are collinear (all within " + detail::format_number(d2, 3) +
         " of the line through control points 0 and " + std::to_string(i1) +
@@ -803,6 +822,11 @@ void CelestialCoordinates::Impl::validate()
       double d3 = 0.0;
       for (Index i = 0; i < n; ++i)
         d3 = std::max(d3, std::abs(nrm.dot(Eigen::Vector3d(V.row(i)) - a)));
+      if (d3 <= tol && auto_hull)
+      {
+        flat = true;
+        return;
+      }
       if (d3 <= tol)
         bad("the control points are coplanar (all within " + detail::format_number(d3, 3) +
           " of the plane through control points 0, " + std::to_string(i1) + " and " +
@@ -815,6 +839,8 @@ void CelestialCoordinates::Impl::validate()
 
 void CelestialCoordinates::Impl::build_hull()
 {
+  if (flat)
+    return;
   std::vector<Index> ids(static_cast<std::size_t>(V.rows()));
   std::iota(ids.begin(), ids.end(), Index(0));
   // local origin at the bounding-box centre: plane offsets stay small, distances accurate
@@ -973,7 +999,38 @@ const CelestialOptions& CelestialCoordinates::options() const noexcept
 }
 Index CelestialCoordinates::num_hull_facets() const noexcept
 {
-  return impl_->nodes.front().normals.cols();
+  return impl_->nodes.empty() ? 0 : impl_->nodes.front().normals.cols();
+}
+
+Points CelestialCoordinates::hull_points_for(const Points& X) const
+{
+  if (X.cols() != impl_->dim)
+    throw Error(ErrorCode::SizeMismatch,
+      "the points have " + std::to_string(X.cols()) + " coordinates but the control points have " +
+        std::to_string(impl_->dim));
+  if (!X.allFinite())
+    throw Error(ErrorCode::NonFinite, "the points have a non-finite coordinate");
+  return impl_->hull_points_for(X);
+}
+
+Points CelestialCoordinates::Impl::hull_points_for(const Points& X) const
+{
+  // the bounding box of the points and the controls, enlarged by margin * diagonal per side
+  Eigen::RowVectorXd lo = V.colwise().minCoeff(), hi = V.colwise().maxCoeff();
+  if (X.rows() > 0)
+  {
+    lo = lo.cwiseMin(X.colwise().minCoeff());
+    hi = hi.cwiseMax(X.colwise().maxCoeff());
+  }
+  const double pad = options.hull_margin * (hi - lo).norm();
+  lo.array() -= pad;
+  hi.array() += pad;
+  const Index corners = Index(1) << dim;
+  Points H(corners, dim);
+  for (Index k = 0; k < corners; ++k)
+    for (int j = 0; j < dim; ++j)
+      H(k, j) = (k >> j) & 1 ? hi[j] : lo[j];
+  return H;
 }
 
 namespace
@@ -1183,24 +1240,66 @@ void fill_weights_result(CelestialResult& result, Index hull_facets)
   st.emplace_back("at_control", static_cast<double>(result.at_control));
   st.emplace_back("not_converged", static_cast<double>(result.not_converged.size()));
   st.emplace_back("solve_seconds", result.seconds);
+  st.emplace_back("hull_points_added", static_cast<double>(result.added_controls.rows())); // last
 }
 } // namespace
 
 CelestialResult CelestialCoordinates::compute(
   const Points& X, const ProgressCallback& progress) const
 {
-  return compute(X, Eigen::MatrixXi(0, 2), progress);
+  return impl_->compute(X, Eigen::MatrixXi(0, 2), nullptr, progress);
 }
 
 CelestialResult CelestialCoordinates::compute(
-  const Points& Xin, const Eigen::MatrixXi& edges, const ProgressCallback& progress) const
+  const Points& X, const Eigen::MatrixXi& edges, const ProgressCallback& progress) const
+{
+  return impl_->compute(X, edges, nullptr, progress);
+}
+
+CelestialResult CelestialCoordinates::compute_from(
+  const Points& X, const Points& initial, const ProgressCallback& progress) const
+{
+  if (initial.rows() != X.rows() || initial.cols() != impl_->dim)
+    throw Error(ErrorCode::SizeMismatch,
+      "the initial solutions are " + std::to_string(initial.rows()) + " by " +
+        std::to_string(initial.cols()) + " but there are " + std::to_string(X.rows()) +
+        " points in " + std::to_string(impl_->dim) + "D (one row each)");
+  return impl_->compute(X, Eigen::MatrixXi(0, 2), &initial, progress);
+}
+
+CelestialResult CelestialCoordinates::Impl::compute(const Points& Xin,
+  const Eigen::MatrixXi& edges, const Points* initial, const ProgressCallback& progress) const
 {
   const auto start = std::chrono::steady_clock::now();
-  const Impl& im = *impl_;
+  const Impl& im = *this;
   const CelestialOptions& opt = im.options;
   const int dim = im.dim;
   const Index np = Xin.rows(), nc = im.V.rows();
   check_query(Xin, edges, dim);
+
+  // Hull points (§6): the controls and the corners of the enlarged bounding box, solved as one
+  // set of controls; the corners' columns last.
+  const auto with_hull_points = [&]() {
+    const Points H = hull_points_for(Xin);
+    Points all(nc + H.rows(), dim);
+    all << V, H;
+    CelestialOptions o = opt;
+    o.hull_points = CelestialHullPoints::None;
+    if (o.user_weights.size() != 0)
+    {
+      o.user_weights.conservativeResize(all.rows());
+      o.user_weights.tail(H.rows()).setZero();
+    }
+    const CelestialCoordinates augmented(std::move(all), o);
+    CelestialResult r = augmented.impl_->compute(Xin, edges, initial, progress);
+    r.added_controls = H;
+    r.statistics.back().second = static_cast<double>(H.rows());
+    r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return r;
+  };
+  const bool auto_hull = opt.hull_points == CelestialHullPoints::Auto;
+  if (auto_hull && flat)
+    return with_hull_points();
 
   CelestialResult result;
   result.W.resize(np, nc); // every row is written below (a zero fill is a pass over #P x #C)
@@ -1212,7 +1311,7 @@ CelestialResult CelestialCoordinates::compute(
   {
     result.seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    fill_weights_result(result, num_hull_facets());
+    fill_weights_result(result, im.facets());
     return result;
   }
   const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> X = Xin;
@@ -1223,6 +1322,13 @@ CelestialResult CelestialCoordinates::compute(
 #pragma omp parallel for schedule(static) num_threads(threads) if (np >= 4096)
   for (Index p = 0; p < np; ++p)
     result.hull_location[static_cast<std::size_t>(p)] = im.classify(X.row(p).data());
+  if (auto_hull)
+    for (Index p = 0; p < np; ++p)
+    {
+      const CelestialLocation where = result.hull_location[static_cast<std::size_t>(p)];
+      if (where == CelestialLocation::Outside || where == CelestialLocation::Boundary)
+        return with_hull_points();
+    }
   for (Index p = 0; p < np; ++p)
     if (result.hull_location[static_cast<std::size_t>(p)] == CelestialLocation::Outside)
       result.outside.push_back(p);
@@ -1243,7 +1349,8 @@ CelestialResult CelestialCoordinates::compute(
         " is at least " + detail::format_number(dist, 3) +
         " from the hull): celestial coordinates are defined only inside the hull",
       "add control points around the model (the paper adds the corners of a box), or set "
-      "outside = CelestialOutsidePolicy::Flag to get NaN rows for them");
+      "hull_points = CelestialHullPoints::Auto (command line: --hull-points auto) to add them, "
+      "or outside = CelestialOutsidePolicy::Flag to get NaN rows for them");
   }
 
   // 2. The order of the warm starts.
@@ -1287,6 +1394,7 @@ CelestialResult CelestialCoordinates::compute(
       std::vector<char> solved;
       long long iterations = 0;
       Index warm = 0, restarts = 0;
+      Vec given = Vec::Zero(); // the start from `initial`
     };
     detail::parallel_for(
       np, kChunk, static_cast<int>(std::min<Index>(threads, chunks)), reporter,
@@ -1321,7 +1429,18 @@ CelestialResult CelestialCoordinates::compute(
             continue;
           }
           const Vec* warm = nullptr;
-          if (opt.warm_start)
+          if (initial != nullptr && initial->row(p).allFinite())
+          {
+            // psi as given; for SCC y = c / sqrt(lambda^2 + 2 lambda |c|) (the inverse of
+            // c = lambda m(|y|) y, see the top of this file)
+            for (int d = 0; d < D; ++d)
+              t.given[d] = (*initial)(p, d);
+            if (opt.scheme == CelestialScheme::S)
+              t.given /= std::sqrt(opt.lambda * opt.lambda + 2.0 * opt.lambda * t.given.norm());
+            warm = &t.given;
+            ++t.warm;
+          }
+          else if (opt.warm_start)
           {
             Index from = last;
             if (use_edges)
@@ -1423,7 +1542,7 @@ CelestialResult CelestialCoordinates::compute(
         "rows and the list in CelestialResult::not_converged");
   }
   result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  fill_weights_result(result, num_hull_facets());
+  fill_weights_result(result, im.facets());
   return result;
 }
 

@@ -131,10 +131,23 @@ struct CelestialOptions
   bool warm_start = true;
   /// Policy for points outside the convex hull.
   CelestialOutsidePolicy outside = CelestialOutsidePolicy::Error;
-  /// Hull points added automatically (§6). Default None.
+  /// Hull points added automatically (§6: "which can always be ensured adding, if necessary,
+  /// more control points"; the paper's organs use "eight external points"). With Auto, when
+  /// some query point is outside the controls' hull or on it (within boundary_tolerance;
+  /// points at a control do not count), compute() adds the 2^dim corners of the query points'
+  /// and the controls' bounding box, enlarged by hull_margin times its diagonal on every side,
+  /// as controls #C .. #C + 2^dim - 1 (CelestialResult::added_controls, corner k has the
+  /// maximum in axis j iff bit j of k is set), and solves with all of them: every query point is
+  /// then strictly inside (hull_margin > 0) and gets positive weights. They stay where they
+  /// are when the user's controls move. With Auto the controls may also be fewer than dim + 1
+  /// or flat (a line, a plane): the corners are then always added. TCC gives them s_i = 0.
+  /// Default None (the controls as given; points outside are an error or NaN rows, see
+  /// outside): added columns change the weights' shape and the corners, being axis-aligned,
+  /// make the weights depend on the rotation of the scene, so users opt in.
   CelestialHullPoints hull_points = CelestialHullPoints::None;
   /// Margin of the added hull points, relative to the bounding-box diagonal of the query points
-  /// and the controls, >= 0. Default 0.1.
+  /// and the controls, in [0, 10]. Default 0.1. With 0 the extreme points lie on the added
+  /// hull's faces (face coordinates, some weights 0).
   double hull_margin = 0.1;
   /// If true, compute() throws Error(NotConverged) naming the points that did not converge and
   /// their residuals; if false they get NaN rows and are listed in CelestialResult::not_converged.
@@ -150,13 +163,14 @@ struct CelestialOptions
   int threads = 0;
 };
 
-/// Result of compute(). WeightsResult's fields: W (#P by #C; rows of outside and
+/// Result of compute(). WeightsResult's fields: W (#P by #C + #A, #A the added hull points
+/// of CelestialHullPoints::Auto in added_controls, their columns last; rows of outside and
 /// non-converged points are NaN), location (#P: hull_location as a PointLocation), undefined
 /// (outside and not_converged, merged, ascending), converged (not_converged is empty) and the
 /// statistics, in this order: hull_facets, newton_iterations (total_iterations),
 /// mean_newton_iterations (per point), max_newton_iterations, warm_starts, cold_restarts,
 /// max_residual (over the finite residuals), at_control, not_converged (how many),
-/// solve_seconds (seconds).
+/// solve_seconds (seconds), hull_points_added (#A).
 struct CelestialResult : WeightsResult
 {
   /// #P, where each point lies relative to the hull.
@@ -174,6 +188,8 @@ struct CelestialResult : WeightsResult
   /// wrapping sphere relative to p, in the units of the celestial sphere (SCC). NaN rows for
   /// the other locations (on a face the unknown lives in the face; at a control there is none).
   Points solution;
+  /// Locations are relative to the hull actually used (the user's controls and, when some were
+  /// added, the hull points: WeightsResult::added_controls).
   Index inside = 0, boundary = 0, at_control = 0; ///< counts of each location (outside: .size())
   long long total_iterations = 0; ///< sum of iterations (including failed warm attempts)
   Index warm_starts = 0;          ///< points started from a neighbour's solution
@@ -213,12 +229,26 @@ public:
   CelestialResult compute(
     const Points& X, const Eigen::MatrixXi& edges, const ProgressCallback& progress = {}) const;
 
+  /// Same, each Inside point's Newton started from row p of @p initial (#P by dim, in the form
+  /// of CelestialResult::solution: psi for TCC, c for SCC) where that row is finite, instead of
+  /// a neighbour's solution; e.g. the solution of the same points before a control point was
+  /// added or removed (an interactive edit: the solution moves little). A start that fails is
+  /// retried cold; the weights are the same as compute()'s up to the tolerance.
+  /// @throws as compute(), and Error(SizeMismatch) if initial is not #P by dim.
+  CelestialResult compute_from(const Points& X, const Points& initial,
+    const ProgressCallback& progress = {}) const;
+
   Index num_controls() const noexcept;
   int dimension() const noexcept;
   const Points& controls() const noexcept;
   const CelestialOptions& options() const noexcept;
-  /// Number of facets (distinct supporting planes) of the controls' convex hull.
+  /// Number of facets (distinct supporting planes) of the controls' convex hull (0 when the
+  /// controls span no interior, allowed with CelestialHullPoints::Auto only).
   Index num_hull_facets() const noexcept;
+  /// The hull points CelestialHullPoints::Auto adds for the query points @p X (the 2^dim
+  /// corners of the enlarged bounding box of X and the controls, see hull_points), whether or
+  /// not compute() needs them.
+  Points hull_points_for(const Points& X) const;
 
 private:
   struct Impl;

@@ -783,7 +783,8 @@ TEST(Celestial, OutsidePoints)
     CelestialOptions o = options_for(scheme);
     EXPECT_TRUE(throws_error([&] { celestial_coordinates(V, X, o); }, ErrorCode::PointsOutside,
       { "2 of 20 points lie outside the convex hull of the 18 control points", "points 3, 17",
-        "point 3 is at least 3.8 from the hull", "CelestialOutsidePolicy::Flag" }));
+        "point 3 is at least 3.8 from the hull", "CelestialOutsidePolicy::Flag",
+        "--hull-points auto" }));
     o.outside = CelestialOutsidePolicy::Flag;
     const CelestialResult r = celestial_coordinates(V, X, o);
     EXPECT_EQ(r.outside, (std::vector<Index>{ 3, 17 }));
@@ -805,7 +806,7 @@ TEST(Celestial, OutsidePoints)
     EXPECT_TRUE(test::has_statistics(r.statistics,
       { "hull_facets", "newton_iterations", "mean_newton_iterations", "max_newton_iterations",
         "warm_starts", "cold_restarts", "max_residual", "at_control", "not_converged",
-        "solve_seconds" }));
+        "solve_seconds", "hull_points_added" }));
     EXPECT_EQ(r.statistic("hull_facets"),
       static_cast<double>(CelestialCoordinates(V, o).num_hull_facets()));
     EXPECT_EQ(r.statistic("newton_iterations"), static_cast<double>(r.total_iterations));
@@ -1087,6 +1088,233 @@ TEST(Celestial, MoveAndAccessors)
   EXPECT_EQ(b.controls(), V);
   EXPECT_EQ(b.options().lambda, 3.0);
   EXPECT_GE(b.num_hull_facets(), 3);
+}
+
+// ------------------------------------------------------------------------------------------
+// Hull points (CelestialHullPoints::Auto, §6) and warm starts from a given solution.
+
+/// The 2^dim corners of the bounding box of X and V enlarged by margin * its diagonal, corner k
+/// at the maximum in axis j iff bit j of k is set (computed here independently of the library).
+Points expected_hull_points(const Points& V, const Points& X, double margin)
+{
+  const int dim = static_cast<int>(V.cols());
+  Eigen::RowVectorXd lo(dim), hi(dim);
+  for (int j = 0; j < dim; ++j)
+  {
+    lo[j] = std::min(V.col(j).minCoeff(), X.col(j).minCoeff());
+    hi[j] = std::max(V.col(j).maxCoeff(), X.col(j).maxCoeff());
+  }
+  const double pad = margin * std::sqrt((hi - lo).squaredNorm());
+  Points H(1 << dim, dim);
+  for (int k = 0; k < (1 << dim); ++k)
+    for (int j = 0; j < dim; ++j)
+      H(k, j) = (k >> j) & 1 ? hi[j] + pad : lo[j] - pad;
+  return H;
+}
+
+// A model far outside a small control set: with Auto every point gets positive weights over the
+// controls and the 2^dim corners (placed as documented, columns last), which sum to 1 and
+// reproduce the point with [V; H] as the controls; None keeps the error naming the points.
+TEST(CelestialHullPoints, ModelFarOutsideASmallControlSet)
+{
+  for (int dim : { 2, 3 })
+    for (CelestialScheme scheme : { CelestialScheme::T, CelestialScheme::S })
+    {
+      const Points V = random_controls(dim, dim + 2, 71u + static_cast<unsigned>(dim), false);
+      Points X = random_controls(dim, 60, 73u, false); // [-1, 1]^dim, then shifted far away
+      X.array() += 8.0;
+      X.row(0) = V.colwise().mean(); // one point inside the controls' own hull
+      CelestialOptions o = options_for(scheme);
+      EXPECT_TRUE(throws_error([&] { celestial_coordinates(V, X, o); },
+        ErrorCode::PointsOutside, { "59 of 60 points lie outside", "points 1, 2, 3" }));
+      o.hull_points = CelestialHullPoints::Auto;
+      const CelestialResult r = celestial_coordinates(V, X, o);
+      const Points H = expected_hull_points(V, X, 0.1);
+      ASSERT_EQ(r.added_controls.rows(), 1 << dim);
+      EXPECT_LE((r.added_controls - H).cwiseAbs().maxCoeff(), 1e-12 * diameter(H));
+      ASSERT_EQ(r.W.cols(), V.rows() + H.rows());
+      EXPECT_EQ(r.statistic("hull_points_added"), static_cast<double>(H.rows()));
+      EXPECT_TRUE(r.outside.empty());
+      EXPECT_EQ(r.inside, X.rows());
+      Points all(V.rows() + H.rows(), dim);
+      all << V, H;
+      const RowErrors e = row_errors(r.W, all, X);
+      EXPECT_GT(e.min_w, 0.0) << "dim " << dim;
+      EXPECT_LE(e.sum, kSumTol);
+      EXPECT_LE(e.repro, kReproTol);
+      // the point inside the controls' hull still depends on the user's controls
+      EXPECT_GT(r.W.row(0).head(V.rows()).sum(), 0.1);
+    }
+}
+
+// Auto adds nothing when every point is strictly inside (bitwise the same as None), and adds the
+// corners for a point on the hull (within boundary_tolerance), where None gives face weights.
+TEST(CelestialHullPoints, OnlyWhenAPointIsNotStrictlyInside)
+{
+  const Points V = random_controls(3, 10, 81, true);
+  Points X = random_inside(V, 30, 82);
+  CelestialOptions o;
+  const CelestialResult none = celestial_coordinates(V, X, o);
+  o.hull_points = CelestialHullPoints::Auto;
+  const CelestialResult automatic = celestial_coordinates(V, X, o);
+  EXPECT_EQ(automatic.added_controls.rows(), 0);
+  EXPECT_EQ(automatic.statistic("hull_points_added"), 0.0);
+  EXPECT_TRUE(none.W == automatic.W);
+  X.row(5) << 1.2, 0.3, -0.4; // on the face x = 1.2 of the controls' box
+  const CelestialResult on_face = celestial_coordinates(V, X, o);
+  EXPECT_EQ(on_face.added_controls.rows(), 8);
+  EXPECT_EQ(on_face.hull_location[5], CelestialLocation::Inside);
+  EXPECT_GT(on_face.W.row(5).minCoeff(), 0.0);
+}
+
+// The margin: the corners lie hull_margin * diagonal beyond the bounding box of the points and
+// the controls (checked for several margins against the distance of every point to the added
+// box); with 0 the extreme points lie on the added hull (Boundary) and still get weights.
+TEST(CelestialHullPoints, MarginRespected)
+{
+  const Points V = random_controls(2, 5, 91, false);
+  Points X = random_controls(2, 40, 92, false);
+  X.col(0).array() *= 4.0; // wider than the controls
+  Eigen::RowVectorXd lo = V.colwise().minCoeff().cwiseMin(X.colwise().minCoeff());
+  Eigen::RowVectorXd hi = V.colwise().maxCoeff().cwiseMax(X.colwise().maxCoeff());
+  const double diag = (hi - lo).norm();
+  for (double margin : { 0.0, 0.05, 0.1, 1.0 })
+  {
+    CelestialOptions o;
+    o.hull_points = CelestialHullPoints::Auto;
+    o.hull_margin = margin;
+    const CelestialResult r = celestial_coordinates(V, X, o);
+    ASSERT_EQ(r.added_controls.rows(), 4);
+    const Eigen::RowVectorXd hlo = r.added_controls.colwise().minCoeff();
+    const Eigen::RowVectorXd hhi = r.added_controls.colwise().maxCoeff();
+    double nearest = std::numeric_limits<double>::infinity(); // of a point to the added box
+    for (Index p = 0; p < X.rows(); ++p)
+      for (int j = 0; j < 2; ++j)
+        nearest = std::min({ nearest, X(p, j) - hlo[j], hhi[j] - X(p, j) });
+    EXPECT_NEAR(nearest, margin * diag, 1e-12 * diag) << "margin " << margin;
+    Points all(9, 2);
+    all << V, r.added_controls;
+    const RowErrors e = row_errors(r.W, all, X);
+    EXPECT_LE(e.sum, kSumTol);
+    EXPECT_LE(e.repro, kReproTol);
+    if (margin > 0.0)
+    {
+      EXPECT_GT(e.min_w, 0.0);
+      EXPECT_EQ(r.boundary, 0);
+    }
+    else
+    {
+      EXPECT_GE(e.min_w, 0.0);
+      EXPECT_GT(r.boundary, 0); // the extreme points of X lie on the box
+    }
+  }
+  CelestialOptions bad;
+  bad.hull_margin = -0.1;
+  EXPECT_TRUE(throws_error([&] { CelestialCoordinates c(V, bad); }, ErrorCode::InvalidArgument,
+    { "hull_margin must lie in [0, 10]" }));
+  bad.hull_margin = 11.0;
+  EXPECT_TRUE(throws_error([&] { CelestialCoordinates c(V, bad); }, ErrorCode::InvalidArgument,
+    { "hull_margin must lie in [0, 10]" }));
+}
+
+// With Auto, controls that span no interior (one point, two, on a line or a plane) are accepted:
+// the corners give the interior. The TCC user weights get s = 0 for the corners.
+TEST(CelestialHullPoints, FewOrFlatControls)
+{
+  Points one(1, 3);
+  one << 0.2, 0.1, -0.3;
+  Points line(3, 2);
+  line << 0, 0, 1, 1, 2, 2;
+  Points plane(4, 3);
+  plane << 0, 0, 0, 1, 0, 0, 0, 1, 0, 1, 1, 0;
+  for (const Points* V : { &one, &line, &plane })
+  {
+    CelestialOptions o;
+    o.scheme = CelestialScheme::T;
+    o.user_weights = Eigen::VectorXd::Constant(V->rows(), 0.5);
+    EXPECT_THROW(CelestialCoordinates c(*V, o), Error);
+    o.hull_points = CelestialHullPoints::Auto;
+    const CelestialCoordinates cc(*V, o);
+    EXPECT_EQ(cc.num_hull_facets(), 0);
+    Points X = random_controls(static_cast<int>(V->cols()), 20, 95, false);
+    const CelestialResult r = cc.compute(X);
+    ASSERT_EQ(r.added_controls.rows(), Index(1) << V->cols());
+    Points all(V->rows() + r.added_controls.rows(), V->cols());
+    all << *V, r.added_controls;
+    const RowErrors e = row_errors(r.W, all, X);
+    EXPECT_GT(e.min_w, 0.0);
+    EXPECT_LE(e.sum, kSumTol);
+    EXPECT_LE(e.repro, kReproTol);
+    EXPECT_TRUE(cc.hull_points_for(X) == r.added_controls);
+  }
+}
+
+// Deforming with the user's controls moved and the corners where they are: the identity pose
+// reproduces the points, and a translation of the user's controls moves the points near them
+// more than the points far from them (the corners hold the far points).
+TEST(CelestialHullPoints, DeformationKeepsTheCornersFixed)
+{
+  const Points V = random_controls(3, 6, 101, false);
+  Points X = random_controls(3, 30, 102, false);
+  X.array() *= 3.0;
+  CelestialOptions o;
+  o.hull_points = CelestialHullPoints::Auto;
+  const CelestialResult r = celestial_coordinates(V, X, o);
+  const Index nc = V.rows(), na = r.added_controls.rows();
+  Points moved(nc + na, 3);
+  moved << V, r.added_controls;
+  const double diam = diameter(moved);
+  EXPECT_LE(((r.W * moved) - X).cwiseAbs().maxCoeff(), kReproTol * diam);
+  moved.topRows(nc).col(0).array() += 1.0; // the user's controls, not the corners
+  const Points Y = r.W * moved;
+  for (Index p = 0; p < X.rows(); ++p)
+  {
+    const double user_share = r.W.row(p).head(nc).sum();
+    // the displacement is exactly the user controls' share of the translation
+    EXPECT_NEAR(Y(p, 0) - X(p, 0), user_share, kReproTol * diam);
+    EXPECT_NEAR((Y.row(p).tail(2) - X.row(p).tail(2)).norm(), 0.0, kReproTol * diam);
+    EXPECT_LT(user_share, 1.0);
+  }
+}
+
+// compute_from: started from the solution of the points before an edit (a control added, one
+// removed), the weights equal a cold computation's within the tolerance; every inside point is
+// started from the given row, and rows of NaN fall back to the neighbours.
+TEST(Celestial, WarmStartFromAGivenSolution)
+{
+  for (CelestialScheme scheme : { CelestialScheme::T, CelestialScheme::S })
+  {
+    const Points V = random_controls(3, 12, 111, true);
+    const Points X = random_inside(V, 300, 112);
+    const CelestialOptions o = options_for(scheme);
+    const CelestialResult before = celestial_coordinates(V, X, o);
+    Points added(V.rows() + 1, 3);
+    added << V, Eigen::RowVector3d(0.1, -0.2, 0.3);
+    Points removed = V.topRows(V.rows() - 1);
+    for (const Points* edited : std::vector<const Points*>{ &added, &removed, &V })
+    {
+      const CelestialCoordinates cc(*edited, o);
+      const CelestialResult cold = cc.compute(X);
+      const CelestialResult warm = cc.compute_from(X, before.solution);
+      EXPECT_LE((warm.W - cold.W).cwiseAbs().maxCoeff(), kWarmColdTol);
+      EXPECT_EQ(warm.warm_starts, warm.inside);
+      EXPECT_TRUE(warm.converged);
+      RecordProperty(std::string(scheme == CelestialScheme::T ? "T" : "S") + "_iterations_" +
+          std::to_string(edited->rows()),
+        sci(static_cast<double>(warm.total_iterations)) + " warm vs " +
+          sci(static_cast<double>(cold.total_iterations)) + " neighbour-started");
+      if (edited == &V) // started at the solution itself: no Newton step needed beyond a check
+      {
+        EXPECT_LE(warm.total_iterations, cold.total_iterations);
+      }
+    }
+    Points partial = before.solution;
+    partial.topRows(100).setConstant(std::numeric_limits<double>::quiet_NaN());
+    const CelestialResult mixed = CelestialCoordinates(V, o).compute_from(X, partial);
+    EXPECT_LE((mixed.W - before.W).cwiseAbs().maxCoeff(), kWarmColdTol);
+    EXPECT_TRUE(throws_error([&] { CelestialCoordinates(V, o).compute_from(X, Points(3, 3)); },
+      ErrorCode::SizeMismatch, { "initial solutions are 3 by 3 but there are 300 points" }));
+  }
 }
 
 } // namespace
