@@ -2,9 +2,9 @@
 /// @file weights_result.h
 /// What every weights computation returns: the weights, where each point lies, the undefined
 /// rows, named statistics and whether the solver converged. The result structs of the methods
-/// (MeanValueResult, CelestialResult, LBCResult, BBWResult) derive from WeightsResult and add
-/// their own fields; each method fills the shared fields itself, so a caller (filter, CLI)
-/// reports any method the same way.
+/// (MeanValueResult, GreenResult, CelestialResult, LBCResult, BBWResult) derive from
+/// WeightsResult and add their own fields; each method fills the shared fields itself, so a
+/// caller (filter, CLI) reports any method the same way.
 
 #include "core/common/types.h"
 
@@ -33,6 +33,12 @@ using Statistics = std::vector<std::pair<std::string, double>>;
 struct WeightsResult
 {
   DenseWeights W;                      ///< #P by #C (row-major)
+  /// #P by #F (row-major): the coefficients of the cage's face normals (3D: the triangles of
+  /// Cage::F in order; 2D: edge j from V(j) to V(j+1)), for methods whose deformation is not
+  /// W alone (Green coordinates: x = W V + face_weights N, N the faces' unit normals as their
+  /// vertex order orients them; see green_coordinates.h). Empty (0 columns) for every other
+  /// method.
+  DenseWeights face_weights;
   std::vector<PointLocation> location; ///< #P (may be empty where a method has none)
   std::vector<Index> undefined;        ///< rows of W that are NaN (undefined weights), increasing
   Statistics statistics;               ///< named figures, order computed

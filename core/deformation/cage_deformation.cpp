@@ -2,6 +2,10 @@
 
 #include "core/common/error.h"
 
+#include <Eigen/Geometry>
+
+#include <algorithm>
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -32,6 +36,69 @@ Points deform_points(const SparseWeights& W, const Eigen::MatrixXd& C)
 {
   check(W.cols(), C);
   return W * C;
+}
+
+Eigen::MatrixXd green_face_terms(const Cage& rest, const Eigen::MatrixXd& deformed)
+{
+  const int dim = rest.dimension();
+  if (dim != 2 && dim != 3)
+    throw Error(ErrorCode::SizeMismatch, "the rest cage must be 2D or 3D");
+  check(rest.V.rows(), deformed);
+  if (deformed.cols() != dim)
+    throw Error(ErrorCode::SizeMismatch,
+      "the deformed cage has " + std::to_string(deformed.cols()) + " coordinates but the rest cage is " +
+        std::to_string(dim) + "D");
+  const Index n = rest.V.rows();
+  if (dim == 2)
+  {
+    Eigen::MatrixXd N(n, 2);
+    for (Index j = 0; j < n; ++j)
+    {
+      const Index k = j + 1 == n ? 0 : j + 1;
+      const double len = (rest.V.row(k) - rest.V.row(j)).norm();
+      const Eigen::RowVector2d e = deformed.row(k) - deformed.row(j);
+      N(j, 0) = e(1) / len;
+      N(j, 1) = -e(0) / len;
+    }
+    return N;
+  }
+  const Index nf = rest.F.rows();
+  if (rest.F.cols() != 3 || (nf > 0 && (rest.F.minCoeff() < 0 || rest.F.maxCoeff() >= n)))
+    throw Error(ErrorCode::SizeMismatch, "the rest cage's faces must be triangles of its vertices");
+  Eigen::MatrixXd N(nf, 3);
+  for (Index f = 0; f < nf; ++f)
+  {
+    const Eigen::Vector3d a = rest.V.row(rest.F(f, 0)), b = rest.V.row(rest.F(f, 1)),
+                          c = rest.V.row(rest.F(f, 2));
+    const Eigen::Vector3d a2 = deformed.row(rest.F(f, 0)), b2 = deformed.row(rest.F(f, 1)),
+                          c2 = deformed.row(rest.F(f, 2));
+    const Eigen::Vector3d u = b - a, v = c - a, u2 = b2 - a2, v2 = c2 - a2;
+    const Eigen::Vector3d cross2 = u2.cross(v2);
+    const double area = 0.5 * u.cross(v).norm(), len2 = cross2.norm();
+    if (!(len2 > 0.0) || !(area > 0.0))
+    {
+      N.row(f).setZero();
+      continue;
+    }
+    const double s2 = u2.squaredNorm() * v.squaredNorm() - 2.0 * u2.dot(v2) * u.dot(v) +
+      v2.squaredNorm() * u.squaredNorm();
+    const double s = std::sqrt(std::max(0.0, s2)) / (std::sqrt(8.0) * area);
+    N.row(f) = (s / len2) * cross2.transpose();
+  }
+  return N;
+}
+
+Points deform_points_green(const DenseWeights& phi, const DenseWeights& psi, const Cage& rest,
+  const Eigen::MatrixXd& deformed)
+{
+  check(phi.cols(), deformed);
+  const Eigen::MatrixXd N = green_face_terms(rest, deformed);
+  if (psi.rows() != phi.rows() || psi.cols() != N.rows())
+    throw Error(ErrorCode::SizeMismatch,
+      "the face coefficients are " + std::to_string(psi.rows()) + " by " + std::to_string(psi.cols()) +
+        " but " + std::to_string(phi.rows()) + " points and " + std::to_string(N.rows()) +
+        " cage faces need " + std::to_string(phi.rows()) + " by " + std::to_string(N.rows()));
+  return phi * deformed + psi * N;
 }
 
 SparseWeights sparsify_weights(const DenseWeights& W, double threshold, bool renormalize,
