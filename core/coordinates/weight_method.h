@@ -30,6 +30,12 @@ struct WeightsInput
   const Eigen::MatrixXi* domain_T = nullptr;
   /// A closed surface / polygon whose interior is meshed (BBW with a skeleton).
   const Cage* domain_boundary = nullptr;
+  /// BBW with a given domain mesh: region handles as lists of domain_V rows, numbered after the
+  /// skeleton's handles (mixed_bbw_handles, bbw_handles.h). Optional.
+  const std::vector<std::vector<int>>* region_vertices = nullptr;
+  /// BBW with a given domain mesh: the shape-preservation brush rho >= 0 per domain_V row
+  /// (§3.3, Eq. 7; shape_preservation_per_element). Optional.
+  const Eigen::VectorXd* shape_preservation = nullptr;
   /// #P by dim evaluation points (required).
   const Eigen::MatrixXd* points = nullptr;
   /// #E by 2 point ids: the input's mesh edges, for warm starts along neighbours (optional).

@@ -2,6 +2,9 @@
 
 #include "core/common/error.h"
 
+#include <Eigen/SVD>
+
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -15,7 +18,62 @@ std::string bone_name(Index b, const Eigen::MatrixXi& BE)
   return "bone " + std::to_string(b) + " (joints " + std::to_string(BE(b, 0)) + ", " +
     std::to_string(BE(b, 1)) + ")";
 }
+
+/// Checks the faces @p F (segments or triangles) over @p nc joints of @p C: indices in range,
+/// no degenerate face. @p what names a face ("cage face", "region 2 face").
+void check_faces(const Eigen::MatrixXi& F, const Eigen::MatrixXd& C, const std::string& what)
+{
+  const Index nc = C.rows();
+  for (Index f = 0; f < F.rows(); ++f)
+  {
+    const std::string name = what + " " + std::to_string(f);
+    for (Index k = 0; k < F.cols(); ++k)
+      if (F(f, k) < 0 || F(f, k) >= nc)
+        throw Error(ErrorCode::InvalidArgument,
+          name + " refers to joint " + std::to_string(F(f, k)) + ", outside [0, " +
+            std::to_string(nc) + ")");
+    const Eigen::VectorXd a = C.row(F(f, 0)).transpose(), b = C.row(F(f, 1)).transpose();
+    double measure = (b - a).norm();
+    if (F.cols() == 3)
+    {
+      const Eigen::Vector3d u = (b - a).head<3>(),
+                            v = (C.row(F(f, 2)).transpose() - a).head<3>();
+      measure = u.cross(v).norm();
+    }
+    if (!(measure > 0.0))
+      throw Error(ErrorCode::InvalidArgument,
+        name + " is degenerate (zero " + (F.cols() == 3 ? "area" : "length") + ")");
+  }
+}
+
+void check_face_columns(const Eigen::MatrixXi& F, Index dim, bool triangles_only_3d,
+  const std::string& what)
+{
+  if (F.rows() == 0)
+    return;
+  const bool ok = triangles_only_3d ? F.cols() == dim
+                                    : (F.cols() == 2 || (F.cols() == 3 && dim == 3));
+  if (!ok)
+    throw Error(ErrorCode::SizeMismatch,
+      what + " must be #F by " +
+        (triangles_only_3d ? std::to_string(dim) + (dim == 2 ? " (edges)" : " (triangles)")
+                           : std::string(dim == 3 ? "2 (segments) or 3 (triangles)" : "2 (segments)")) +
+        ", got " + std::to_string(F.rows()) + " by " + std::to_string(F.cols()));
+}
 } // namespace
+
+Eigen::VectorXi Skeleton::cage_joints() const
+{
+  std::vector<int> joints(CF.data(), CF.data() + CF.size());
+  std::sort(joints.begin(), joints.end());
+  joints.erase(std::unique(joints.begin(), joints.end()), joints.end());
+  return Eigen::Map<const Eigen::VectorXi>(joints.data(), static_cast<Index>(joints.size()));
+}
+
+Index Skeleton::handle_count() const
+{
+  return P.size() + BE.rows() + cage_joints().size() + static_cast<Index>(regions.size());
+}
 
 void validate_skeleton(const Skeleton& s)
 {
@@ -27,6 +85,13 @@ void validate_skeleton(const Skeleton& s)
     throw Error(ErrorCode::SizeMismatch,
       "bones must be #B by 2 (pairs of joint indices), got " + std::to_string(s.BE.rows()) +
         " by " + std::to_string(s.BE.cols()));
+  check_face_columns(s.CF, s.C.cols(), false, "cage faces");
+  for (std::size_t r = 0; r < s.regions.size(); ++r)
+  {
+    if (s.regions[r].rows() == 0)
+      throw Error(ErrorCode::EmptyInput, "region " + std::to_string(r) + " has no face");
+    check_face_columns(s.regions[r], s.C.cols(), true, "region " + std::to_string(r));
+  }
   if (s.handle_count() == 0)
     throw Error(ErrorCode::EmptyInput,
       "the skeleton has no handle: give point handles (joints on no bone) or bones");
@@ -56,6 +121,39 @@ void validate_skeleton(const Skeleton& s)
       throw Error(ErrorCode::InvalidArgument,
         bone_name(b, s.BE) + " has zero length: a bone needs two distinct joints");
   }
+  // Cage faces and regions: valid faces, and joints not shared between kinds of handle.
+  // owner[c]: 0 free, 1 point handle, 2 bone, 3 cage, 4 + r region r.
+  check_faces(s.CF, s.C, "cage face");
+  for (std::size_t r = 0; r < s.regions.size(); ++r)
+    check_faces(s.regions[r], s.C, "region " + std::to_string(r) + " face");
+  std::vector<int> owner(static_cast<std::size_t>(nc), 0);
+  auto owner_name = [](int o) {
+    return o == 1 ? std::string("a point handle")
+      : o == 2   ? std::string("a bone's joint")
+      : o == 3   ? std::string("a cage vertex")
+                 : "region " + std::to_string(o - 4) + "'s corner";
+  };
+  auto claim = [&](int c, int o) {
+    int& current = owner[static_cast<std::size_t>(c)];
+    if (current != 0 && current != o)
+      throw Error(ErrorCode::InvalidArgument,
+        "joint " + std::to_string(c) + " is both " + owner_name(current) + " and " +
+          owner_name(o) + ": handles must be disjoint (§2)",
+        "give each handle its own joints");
+    current = o;
+  };
+  for (Index p = 0; p < s.P.size(); ++p)
+    claim(s.P(p), 1);
+  for (Index b = 0; b < s.BE.rows(); ++b)
+  {
+    claim(s.BE(b, 0), 2);
+    claim(s.BE(b, 1), 2);
+  }
+  for (Index k = 0; k < s.CF.size(); ++k)
+    claim(s.CF.data()[k], 3);
+  for (std::size_t r = 0; r < s.regions.size(); ++r)
+    for (Index k = 0; k < s.regions[r].size(); ++k)
+      claim(s.regions[r].data()[k], 4 + static_cast<int>(r));
 }
 
 Eigen::MatrixXd skeleton_samples(const Skeleton& s, double spacing)
@@ -73,6 +171,25 @@ Eigen::MatrixXd skeleton_samples(const Skeleton& s, double spacing)
     used[static_cast<std::size_t>(s.BE(b, 0))] = used[static_cast<std::size_t>(s.BE(b, 1))] = 1;
     count += std::ceil((s.C.row(s.BE(b, 1)) - s.C.row(s.BE(b, 0))).norm() / spacing);
   }
+  // Cage faces and region faces: their joints, and the pieces per face (the longest edge
+  // split into pieces no longer than spacing).
+  std::vector<const Eigen::MatrixXi*> face_sets{ &s.CF };
+  for (const Eigen::MatrixXi& region : s.regions)
+    face_sets.push_back(&region);
+  auto face_pieces = [&](const Eigen::MatrixXi& F, Index f) {
+    double longest = 0;
+    for (Index k = 0; k < F.cols(); ++k)
+      longest = std::max(longest, (s.C.row(F(f, (k + 1) % F.cols())) - s.C.row(F(f, k))).norm());
+    return std::ceil(longest / spacing);
+  };
+  for (const Eigen::MatrixXi* F : face_sets)
+    for (Index f = 0; f < F->rows(); ++f)
+    {
+      for (Index k = 0; k < F->cols(); ++k)
+        used[static_cast<std::size_t>((*F)(f, k))] = 1;
+      const double n = face_pieces(*F, f);
+      count += F->cols() == 3 ? (n + 1) * (n + 2) / 2 : n;
+    }
   if (count > 1e7)
     throw Error(ErrorCode::InvalidArgument,
       "a bone sampling spacing of " + std::to_string(spacing) + " asks for more than 1e7 samples");
@@ -90,6 +207,33 @@ Eigen::MatrixXd skeleton_samples(const Skeleton& s, double spacing)
       rows.push_back((1.0 - t) * a + t * h);
     }
   }
+  for (const Eigen::MatrixXi* F : face_sets)
+    for (Index f = 0; f < F->rows(); ++f)
+    {
+      const auto n = static_cast<int>(face_pieces(*F, f));
+      const Eigen::RowVectorXd a = s.C.row((*F)(f, 0)), b = s.C.row((*F)(f, 1));
+      if (F->cols() == 2)
+      {
+        for (int k = 1; k < n; ++k)
+        {
+          const double t = static_cast<double>(k) / n;
+          rows.push_back((1.0 - t) * a + t * b);
+        }
+        continue;
+      }
+      // Triangle: the grid points i/n, j/n other than the corners (shared edges repeat their
+      // samples; the mesher merges coincident Steiner points).
+      const Eigen::RowVectorXd c = s.C.row((*F)(f, 2));
+      for (int i = 0; i <= n; ++i)
+        for (int j = 0; i + j <= n; ++j)
+        {
+          const int k = n - i - j;
+          if (i == n || j == n || k == n)
+            continue;
+          rows.push_back((static_cast<double>(i) * a + static_cast<double>(j) * b +
+                           static_cast<double>(k) * c) / n);
+        }
+    }
   Eigen::MatrixXd S(static_cast<Index>(rows.size()), dim);
   for (std::size_t r = 0; r < rows.size(); ++r)
     S.row(static_cast<Index>(r)) = rows[r];
@@ -234,6 +378,38 @@ AffineTransforms transforms_from_joints(
     Eigen::MatrixXd T(dim, dim + 1);
     T.leftCols(dim) = R;
     T.col(dim) = posed_C.row(s.BE(b, 0)).transpose() - R * s.C.row(s.BE(b, 0)).transpose();
+    transforms.push_back(std::move(T));
+  }
+  const Eigen::VectorXi cage = s.cage_joints();
+  for (Index k = 0; k < cage.size(); ++k)
+  {
+    Eigen::MatrixXd T = Eigen::MatrixXd::Zero(dim, dim + 1);
+    T.leftCols(dim).setIdentity();
+    T.col(dim) = (posed_C.row(cage(k)) - s.C.row(cage(k))).transpose();
+    transforms.push_back(std::move(T));
+  }
+  for (const Eigen::MatrixXi& region : s.regions)
+  {
+    std::vector<int> joints(region.data(), region.data() + region.size());
+    std::sort(joints.begin(), joints.end());
+    joints.erase(std::unique(joints.begin(), joints.end()), joints.end());
+    const auto n = static_cast<Index>(joints.size());
+    Eigen::MatrixXd X(n, dim), Y(n, dim);
+    for (Index k = 0; k < n; ++k)
+    {
+      X.row(k) = s.C.row(joints[static_cast<std::size_t>(k)]);
+      Y.row(k) = posed_C.row(joints[static_cast<std::size_t>(k)]);
+    }
+    const Eigen::RowVectorXd cx = X.colwise().mean(), cy = Y.colwise().mean();
+    // Kabsch: R = V diag(1, .., det) U^T of the SVD of the cross-covariance X0^T Y0 = U S V^T.
+    const Eigen::MatrixXd H = (X.rowwise() - cx).transpose() * (Y.rowwise() - cy);
+    Eigen::JacobiSVD<Eigen::MatrixXd> svd(H, Eigen::ComputeFullU | Eigen::ComputeFullV);
+    Eigen::VectorXd d = Eigen::VectorXd::Ones(dim);
+    d(dim - 1) = (svd.matrixV() * svd.matrixU().transpose()).determinant() < 0 ? -1.0 : 1.0;
+    const Eigen::MatrixXd R = svd.matrixV() * d.asDiagonal() * svd.matrixU().transpose();
+    Eigen::MatrixXd T(dim, dim + 1);
+    T.leftCols(dim) = R;
+    T.col(dim) = cy.transpose() - R * cx.transpose();
     transforms.push_back(std::move(T));
   }
   return transforms;

@@ -18,30 +18,52 @@
 namespace bary
 {
 
-/// Joints, point handles and bones.
+/// Joints, point handles and bones, and (mixed handles, paper §2 and Figs. 1, 10, 11, 14) cage
+/// faces and regions over the same joints. Handles are numbered (the weights' columns): the
+/// point handles (in P's order), the bones (in BE's order), the cage vertices (the joints used
+/// by CF, in ascending joint order: cage_joints()), then the regions (in their order). With
+/// CF and regions empty this is libigl's order.
 struct Skeleton
 {
   Eigen::MatrixXd C; ///< #C by dim (2 or 3) joint positions
   Eigen::VectorXi P; ///< #P indices into C: the point handles
   Eigen::MatrixXi BE; ///< #B by 2 indices into C: the bones, (tail, head)
+  /// #F by 2 (segments, 2D or 3D) or #F by 3 (triangles, 3D) indices into C: the faces of a
+  /// cage, closed or open ("a collection of simplices", §2). Every joint they use is a cage
+  /// vertex handle, and the weights are linear on every face (Eq. 4). Empty: no cage.
+  Eigen::MatrixXi CF;
+  /// Region handles: each a closed polygon (2D: #E by 2 edges, indices into C) or a closed
+  /// triangle surface (3D: #F by 3); every domain point inside or on it moves with the region
+  /// (weight 1 for it, 0 for the others: Eq. 3 on a region H_j).
+  std::vector<Eigen::MatrixXi> regions;
 
   int dimension() const noexcept { return static_cast<int>(C.cols()); }
-  /// #P + #B: the number of handles (weights columns).
-  Index handle_count() const noexcept { return P.size() + BE.rows(); }
+  /// The joints of the cage vertex handles: those used by CF, ascending.
+  Eigen::VectorXi cage_joints() const;
+  /// #P + #B + #cage_joints() + #regions: the number of handles (weights columns).
+  Index handle_count() const;
 };
 
 /// Checks a skeleton: 2D or 3D finite joints, indices inside C, no zero-length bone, at least one
-/// handle, no joint listed twice in P.
-/// @throws Error(EmptyInput) for no handle; Error(SizeMismatch) for C not 2 or 3 columns or BE not
-///   #B by 2; Error(NonFinite) naming a joint with NaN / infinity; Error(InvalidArgument) naming a
-///   point handle or bone with an index outside [0, #C), a bone from a joint to itself or of zero
-///   length, a point handle listed twice.
+/// handle, no joint listed twice in P; cage faces and regions of the right shape (segments or,
+/// in 3D, triangles; regions: edges in 2D, triangles in 3D), not degenerate, and disjoint from
+/// the other handles (a cage vertex that is a point handle or a bone's joint, or a region
+/// corner that is any other handle's joint, overlaps).
+/// @throws Error(EmptyInput) for no handle or an empty region; Error(SizeMismatch) for C not 2
+///   or 3 columns, BE not #B by 2, CF or a region with the wrong number of columns;
+///   Error(NonFinite) naming a joint with NaN / infinity; Error(InvalidArgument) naming a
+///   point handle, bone, cage face or region with an index outside [0, #C), a bone from a joint
+///   to itself or of zero length, a point handle listed twice, a degenerate cage face or region
+///   face, a joint shared by two kinds of handle.
 void validate_skeleton(const Skeleton& skeleton);
 
 /// Points along the skeleton to insert into a domain mesh (Steiner points) so that the mesh
-/// holds the handles as vertices (BBW fixes the mesh vertices on a handle, §3.1): every joint
-/// used by a point handle or bone (once), then for each bone the interior samples splitting it
-/// into pieces no longer than @p spacing (the bone's end points are the joints).
+/// holds the handles as vertices (BBW fixes the mesh vertices on a handle, §3.1; "we sample
+/// vertices on all provided skeleton bones and cage faces", §3.4): every joint used by a
+/// handle (once), then for each bone the interior samples splitting it into pieces no longer
+/// than @p spacing (the bone's end points are the joints), then the same along every cage
+/// face and region face (segments: as bones; triangles: a barycentric grid with that many
+/// pieces per edge, its interior and edge points, each edge once per face).
 /// @param spacing > 0, in the units of C
 /// @throws the errors of validate_skeleton; Error(InvalidArgument) for spacing <= 0 or a
 ///   spacing that asks for more than 1e7 samples.
@@ -75,12 +97,15 @@ Eigen::VectorXi bone_parents(const Eigen::MatrixXi& BE);
 AffineTransforms forward_kinematics(
   const Skeleton& skeleton, const std::vector<Eigen::Quaterniond>& rotations);
 
-/// Transforms of every handle (libigl's handle order) from moved joints: a bone gets the
+/// Transforms of every handle (Skeleton's handle order) from moved joints: a bone gets the
 /// smallest rotation taking its rest direction to its posed direction, and the translation
 /// that maps its rest tail to its posed tail (its length change is ignored: skinning is rigid
 /// per bone); point handles get their rotations from @p pseudo_edges between point handles
 /// (indices into P, transforms_from_pseudo_edges) and translations moving them to their posed
-/// joints.
+/// joints; a cage vertex gets the translation by its displacement (A = I: the cage deformation
+/// x' = x + sum_j w_j (c'_j - c_j)); a region gets the rigid motion that best maps its rest
+/// joints to their posed positions in the least-squares sense (Kabsch: rotation about the
+/// joints' centroid, translation of the centroid).
 /// @param posed_C #C by dim posed joint positions
 /// @throws the errors of validate_skeleton and transforms_from_pseudo_edges; Error(SizeMismatch)
 ///   when posed_C's shape differs from C's; Error(InvalidArgument) naming a bone of zero length

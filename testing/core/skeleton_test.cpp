@@ -231,6 +231,104 @@ TEST(Skeleton, TransformsFromJointsMoveBonesRigidlyOntoTheirPosedJoints)
     ErrorCode::SizeMismatch, { "posed joints" }));
 }
 
+TEST(Skeleton, MixedHandlesCountSampleAndPose)
+{
+  // A 3D mix: a point handle (joint 0), a bone (1-2), an open cage of two triangles (3-6) and a
+  // tetrahedral region (7-10). Columns: point, bone, cage joints 3, 4, 5, 6, region.
+  Skeleton s;
+  s.C.resize(11, 3);
+  s.C << -1, -1, -1, 0, 0, 2, 0, 0, 3, //
+    1, 0, 0, 2, 0, 0, 2, 1, 0, 1, 1, 0, //
+    0, 0, 0, 0.5, 0, 0, 0, 0.5, 0, 0, 0, 0.5;
+  s.P.resize(1);
+  s.P << 0;
+  s.BE.resize(1, 2);
+  s.BE << 1, 2;
+  s.CF.resize(2, 3);
+  s.CF << 3, 4, 5, 3, 5, 6;
+  s.regions.push_back((Eigen::MatrixXi(4, 3) << 7, 9, 8, 7, 8, 10, 7, 10, 9, 8, 9, 10).finished());
+  validate_skeleton(s);
+  EXPECT_EQ(s.cage_joints(), (Eigen::VectorXi(4) << 3, 4, 5, 6).finished());
+  ASSERT_EQ(s.handle_count(), 7);
+
+  // Samples: every joint once, then points on the bone, the cage triangles and the region's
+  // faces; each sample lies on one of them, and the cage's sampling is no coarser than asked.
+  const double spacing = 0.25;
+  const Eigen::MatrixXd S = skeleton_samples(s, spacing);
+  auto on_triangle = [](const Eigen::Vector3d& p, const Eigen::Vector3d& a,
+                       const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
+    const Eigen::Vector3d n = (b - a).cross(c - a);
+    if (std::abs((p - a).dot(n)) > 1e-12 * n.norm())
+      return false;
+    const double area = n.norm();
+    const double sum = (b - p).cross(c - p).norm() + (c - p).cross(a - p).norm() +
+      (a - p).cross(b - p).norm();
+    return std::abs(sum - area) <= 1e-12 * area;
+  };
+  int on_cage = 0;
+  for (Eigen::Index i = 0; i < S.rows(); ++i)
+  {
+    const Eigen::Vector3d p = S.row(i);
+    bool on = false;
+    const Eigen::Vector3d a = s.C.row(1), b = s.C.row(2);
+    on = on || ((p - a).cross(b - a).norm() <= 1e-12 && (p - a).dot(p - b) <= 1e-12);
+    bool cage = false;
+    for (Eigen::Index f = 0; f < 2; ++f)
+      cage = cage || on_triangle(p, s.C.row(s.CF(f, 0)), s.C.row(s.CF(f, 1)), s.C.row(s.CF(f, 2)));
+    on_cage += cage;
+    for (Eigen::Index f = 0; f < 4; ++f)
+      on = on || on_triangle(p, s.C.row(s.regions[0](f, 0)), s.C.row(s.regions[0](f, 1)),
+                   s.C.row(s.regions[0](f, 2)));
+    EXPECT_TRUE(on || cage || (p - Eigen::Vector3d(s.C.row(0))).norm() == 0) << "sample " << i;
+  }
+  // The cage (two triangles of area 1/2, longest edge sqrt 2 -> 6 pieces) holds at least the
+  // grid of each triangle: 28 points each, sharing an edge's 7.
+  EXPECT_GE(on_cage, 28 + 28 - 7);
+
+  // Pose: a rigid motion of everything; the cage vertices get translations by their
+  // displacements, the region the rigid motion itself (Kabsch, exact for a rigid motion).
+  std::mt19937 rng(11);
+  const Eigen::Matrix3d R = random_rotation(rng).toRotationMatrix();
+  const Eigen::Vector3d t(0.5, 1.0, -2.0);
+  const Eigen::MatrixXd posed = (s.C * R.transpose()).rowwise() + t.transpose();
+  const AffineTransforms T = transforms_from_joints(s, posed);
+  ASSERT_EQ(T.size(), 7u);
+  for (int k = 0; k < 4; ++k)
+  {
+    const int c = 3 + k;
+    EXPECT_LT((T[2 + k].leftCols(3) - Eigen::Matrix3d::Identity()).norm(), 1e-15);
+    EXPECT_LT((T[2 + k].col(3) - (posed.row(c) - s.C.row(c)).transpose()).norm(), 1e-14);
+  }
+  EXPECT_LT((T[6].leftCols(3) - R).norm(), 1e-12);
+  EXPECT_LT((T[6].col(3) - t).norm(), 1e-12);
+  // 2D region: a rotation by 0.4 and a translation are recovered.
+  Skeleton r2;
+  r2.C.resize(3, 2);
+  r2.C << 0, 0, 1, 0, 0, 2;
+  r2.regions.push_back((Eigen::MatrixXi(3, 2) << 0, 1, 1, 2, 2, 0).finished());
+  Eigen::Matrix2d R2;
+  R2 << std::cos(0.4), -std::sin(0.4), std::sin(0.4), std::cos(0.4);
+  const Eigen::MatrixXd posed2 = (r2.C * R2.transpose()).rowwise() + Eigen::RowVector2d(3, 1);
+  const AffineTransforms T2 = transforms_from_joints(r2, posed2);
+  ASSERT_EQ(T2.size(), 1u);
+  EXPECT_LT((T2[0].leftCols(2) - R2).norm(), 1e-14);
+  EXPECT_LT((T2[0].col(2) - Eigen::Vector2d(3, 1)).norm(), 1e-14);
+
+  // Validation: a region of edges in 3D, a cage vertex that is a bone joint, a region corner
+  // out of range.
+  Skeleton bad = s;
+  bad.regions[0] = (Eigen::MatrixXi(1, 2) << 7, 8).finished();
+  EXPECT_TRUE(throws_error([&] { validate_skeleton(bad); }, ErrorCode::SizeMismatch, { "region 0" }));
+  bad = s;
+  bad.CF(0, 0) = 1;
+  EXPECT_TRUE(throws_error([&] { validate_skeleton(bad); }, ErrorCode::InvalidArgument,
+    { "joint 1", "bone's joint", "cage vertex" }));
+  bad = s;
+  bad.regions[0](0, 0) = 11;
+  EXPECT_TRUE(throws_error([&] { validate_skeleton(bad); }, ErrorCode::InvalidArgument,
+    { "region 0 face 0", "joint 11" }));
+}
+
 TEST(BoneSampleSpacing, TheEdgeOfARegularCellOfThatMeasure)
 {
   // the unit equilateral triangle (area sqrt 3 / 4) and the unit regular tetrahedron
