@@ -1,6 +1,7 @@
 #include "vtkBaryCoordinates.h"
 
 #include "vtkBaryConversion.h"
+#include "vtkBaryMixedHandles.h"
 #include "vtkBaryFilterErrors.h"
 
 #include "core/common/error.h"
@@ -146,8 +147,21 @@ int vtkBaryCoordinates::RequestData(
     vtkBaryCage columns;
     std::vector<std::string> warnings;
     this->UpdateProgress(0.0);
-    const bary::WeightsResult result =
-      this->WeightMethod->Compute(input, cagePoly, domain, progress, &columns, &warnings);
+    // BBW with mixed handles (cage faces among other handles, regions, a HandleType array) or
+    // with the domain's HandleRegion / ShapePreservation arrays: vtkBaryMixedHandles.
+    const bool mixed = this->WeightMethod->GetMethod() == vtkBaryWeightMethod::BBW &&
+      vtkBaryMixedHandles::UsesMixedHandles(cagePoly, domain);
+    const bary::WeightsResult result = mixed
+      ? vtkBaryMixedHandles::Compute(
+          this->WeightMethod->GetSettings(), input, cagePoly, domain, progress)
+      : this->WeightMethod->Compute(input, cagePoly, domain, progress, &columns, &warnings);
+    if (mixed)
+    {
+      columns = vtkBaryCage(); // identity column order: handle j is component j
+      columns.ControlPointIds.resize(static_cast<std::size_t>(result.W.cols()));
+      for (std::size_t j = 0; j < columns.ControlPointIds.size(); ++j)
+        columns.ControlPointIds[j] = static_cast<vtkIdType>(j);
+    }
     for (const std::string& warning : warnings)
       vtkWarningMacro(<< warning);
     this->FinishOutput(output, result, columns);

@@ -20,6 +20,12 @@
  *   tetrahedral mesh or a triangle mesh in a plane z = const (used as is: it must contain the
  *   joints and vertices along the bones, as libigl's .mesh files do), or a closed triangle
  *   surface / one planar polygon, which is meshed with the joints and bone samples inserted.
+ * - **mixed handles** (with a domain): points, bones, a cage (closed or open) and regions in one
+ *   solve, told apart by a cell-data array "HandleType" (0 point, 1 bone, 2 cage, 3 region;
+ *   default by cell type: polygons are cage faces), or regions as the domain's point array
+ *   "HandleRegion"; a shape-preservation brush as the domain's point array "ShapePreservation"
+ *   (rho >= 0 per vertex, §3.3). Columns: points, bones, cage vertices, regions
+ *   (vtkBaryMixedHandles, which says when this path is taken).
  * Celestial coordinates (T_CELESTIAL, S_CELESTIAL) take free control points on input 1 (any
  * points; cells ignored; 2D when they lie in a plane z = const): the domain is their convex hull,
  * component i is control point i. When input 0 has cells, Newton's warm starts follow its edges.
