@@ -96,6 +96,10 @@ int run_weights(WeightsArgs a)
       std::cerr << "barylab: note: " << summary["points"]["outside"]
                 << " point(s) lie outside the cage; mean value coordinates are defined there "
                    "but may be negative\n";
+    if (summary["points"]["outside"].get<long long>() > 0 && a.parameters.method == bary::MethodId::Green)
+      std::cerr << "barylab: note: " << summary["points"]["outside"]
+                << " point(s) lie outside the cage; Green coordinates continue there through "
+                   "each point's nearest cage face (the paper's extension)\n";
   }
   return 0;
 }

@@ -114,7 +114,22 @@ WeightsResult compute_weights(
     scaled_settings.max_cell_size = std::clamp(std::ldexp(settings.max_cell_size, dim * k),
       std::numeric_limits<double>::min(), std::numeric_limits<double>::max());
   }
-  return compute_in_settings_words(scaled, scaled_settings, progress);
+  WeightsResult result = compute_in_settings_words(scaled, scaled_settings, progress);
+  if (result.face_weights.size() > 0 && input.cage)
+  { // Green coordinates' psi: x = phi V + psi N at both scales, phi unchanged, so psi scales
+    // with 1 / s; in 2D psi_j also carries -log(s) |e_j| / (2 pi) from log r (a multiple of
+    // |e_j| that sum_j |e_j| n_j = 0 leaves out of every deformation), taken back out here.
+    result.face_weights /= s;
+    if (input.cage->dimension() == 2)
+    {
+      const Eigen::MatrixXd& V = input.cage->V;
+      const Index n = V.rows();
+      const double log_s = k * std::log(2.0) / (2.0 * 3.14159265358979323846);
+      for (Index j = 0; j < n && j < result.face_weights.cols(); ++j)
+        result.face_weights.col(j).array() += log_s * (V.row((j + 1) % n) - V.row(j)).stableNorm();
+    }
+  }
+  return result;
 }
 
 PolygonMeshOptions polygon_mesh_options(const WeightsSettings& settings, const Eigen::MatrixXd& points)

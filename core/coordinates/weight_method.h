@@ -84,6 +84,7 @@ const WeightMethod& bbw_method();
 const WeightMethod& t_celestial_method();
 const WeightMethod& s_celestial_method();
 const WeightMethod& lbc_method();
+const WeightMethod& green_method();
 
 namespace detail
 {

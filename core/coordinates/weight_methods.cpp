@@ -326,7 +326,7 @@ void hash_bytes(std::uint64_t& h, const void* data, std::size_t n)
 const std::vector<MethodInfo>& method_table()
 {
   // name, title, reference, controls, domain mesh, accepts a domain, linear precision,
-  // non-negative, 2D, 3D, compute
+  // non-negative, 2D, 3D, compute, face terms
   static const std::vector<MethodInfo> table = {
     { MethodId::MeanValue, "mvc", "mean value coordinates",
       "Hormann & Floater 2006 (2D); Ju, Schaefer & Warren 2005 (3D)", ControlKind::Cage, false,
@@ -341,6 +341,8 @@ const std::vector<MethodInfo>& method_table()
       ControlKind::FreePoints, false, false, true, true, true, true, &s_celestial_method },
     { MethodId::LBC, "lbc", "local barycentric coordinates", "Zhang et al. 2014",
       ControlKind::Cage, true, true, true, true, true, true, &lbc_method },
+    { MethodId::Green, "green", "Green coordinates", "Lipman, Levin & Cohen-Or 2008",
+      ControlKind::Cage, false, false, true, false, true, true, &green_method, true },
   };
   return table;
 }

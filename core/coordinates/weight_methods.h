@@ -33,7 +33,8 @@ enum class MethodId : int
   BBW = 2,        ///< Jacobson et al. 2011, bounded biharmonic weights
   TCelestial = 3, ///< Cerveró et al., T-celestial coordinates of free control points
   SCelestial = 4, ///< Cerveró et al., S-celestial coordinates of free control points
-  LBC = 5         ///< Zhang et al. 2014, local barycentric coordinates
+  LBC = 5,        ///< Zhang et al. 2014, local barycentric coordinates
+  Green = 6       ///< Lipman, Levin & Cohen-Or 2008, Green coordinates (vertices and face normals)
 };
 
 /// What a method's controls are.
@@ -61,6 +62,11 @@ struct MethodInfo
   bool dim2, dim3;       ///< dimensions supported
   /// The method's compute (see weight_method.h).
   const WeightMethod& (*instance)();
+  /// The method also returns face coefficients (WeightsResult::face_weights), and a deformation
+  /// is x' = W C' + face_weights N' with N' the deformed cage's face normals scaled by their
+  /// stretch (deform_points_green): W alone neither reproduces x nor deforms (Green
+  /// coordinates). Its linear_precision is that of W and face_weights together.
+  bool face_terms = false;
 };
 
 /// Every method, in MethodId order.

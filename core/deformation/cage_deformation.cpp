@@ -55,7 +55,7 @@ Eigen::MatrixXd green_face_terms(const Cage& rest, const Eigen::MatrixXd& deform
     for (Index j = 0; j < n; ++j)
     {
       const Index k = j + 1 == n ? 0 : j + 1;
-      const double len = (rest.V.row(k) - rest.V.row(j)).norm();
+      const double len = (rest.V.row(k) - rest.V.row(j)).stableNorm(); // no overflow at 1e300
       const Eigen::RowVector2d e = deformed.row(k) - deformed.row(j);
       N(j, 0) = e(1) / len;
       N(j, 1) = -e(0) / len;
@@ -72,7 +72,20 @@ Eigen::MatrixXd green_face_terms(const Cage& rest, const Eigen::MatrixXd& deform
                           c = rest.V.row(rest.F(f, 2));
     const Eigen::Vector3d a2 = deformed.row(rest.F(f, 0)), b2 = deformed.row(rest.F(f, 1)),
                           c2 = deformed.row(rest.F(f, 2));
-    const Eigen::Vector3d u = b - a, v = c - a, u2 = b2 - a2, v2 = c2 - a2;
+    // edge vectors divided by their largest coordinate, so that no square over- or
+    // underflows at extreme scales (s is a ratio of lengths: the scales come back as L2 / L)
+    Eigen::Vector3d u = b - a, v = c - a, u2 = b2 - a2, v2 = c2 - a2;
+    const double L = std::max(u.lpNorm<Eigen::Infinity>(), v.lpNorm<Eigen::Infinity>());
+    const double L2 = std::max(u2.lpNorm<Eigen::Infinity>(), v2.lpNorm<Eigen::Infinity>());
+    if (!(L > 0.0) || !(L2 > 0.0))
+    {
+      N.row(f).setZero();
+      continue;
+    }
+    u /= L;
+    v /= L;
+    u2 /= L2;
+    v2 /= L2;
     const Eigen::Vector3d cross2 = u2.cross(v2);
     const double area = 0.5 * u.cross(v).norm(), len2 = cross2.norm();
     if (!(len2 > 0.0) || !(area > 0.0))
@@ -82,7 +95,7 @@ Eigen::MatrixXd green_face_terms(const Cage& rest, const Eigen::MatrixXd& deform
     }
     const double s2 = u2.squaredNorm() * v.squaredNorm() - 2.0 * u2.dot(v2) * u.dot(v) +
       v2.squaredNorm() * u.squaredNorm();
-    const double s = std::sqrt(std::max(0.0, s2)) / (std::sqrt(8.0) * area);
+    const double s = std::sqrt(std::max(0.0, s2)) / (std::sqrt(8.0) * area) * (L2 / L);
     N.row(f) = (s / len2) * cross2.transpose();
   }
   return N;

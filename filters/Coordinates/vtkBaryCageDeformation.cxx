@@ -23,6 +23,7 @@
 #include <cstring>
 #include <cmath>
 #include <string>
+#include <utility>
 
 vtkStandardNewMacro(vtkBaryCageDeformation);
 
@@ -77,7 +78,8 @@ struct vtkBaryCageDeformation::Cache
 {
   bool Valid = false;
   std::uint64_t Key = 0;
-  bary::DenseWeights W; // core control order
+  bary::DenseWeights W;   // core control order
+  bary::DenseWeights Psi; // face coefficients (GREEN), core face order; empty otherwise
 };
 
 vtkBaryCageDeformation::vtkBaryCageDeformation()
@@ -86,6 +88,7 @@ vtkBaryCageDeformation::vtkBaryCageDeformation()
   this->SetNumberOfInputPorts(3);
   this->WeightMethod = vtkBaryWeightMethod::New();
   this->SetWeightsArrayName("Weights");
+  this->SetFaceWeightsArrayName("FaceWeights");
 }
 
 void vtkBaryCageDeformation::SetWeightMethod(vtkBaryWeightMethod* method)
@@ -104,12 +107,14 @@ vtkBaryCageDeformation::~vtkBaryCageDeformation()
 {
   this->WeightMethod->UnRegister(this);
   this->SetWeightsArrayName(nullptr);
+  this->SetFaceWeightsArrayName(nullptr);
 }
 
 void vtkBaryCageDeformation::ClearCache()
 {
   this->WeightCache->Valid = false;
   this->WeightCache->W.resize(0, 0);
+  this->WeightCache->Psi.resize(0, 0);
 }
 
 void vtkBaryCageDeformation::SetRestCageData(vtkPolyData* cage)
@@ -175,13 +180,17 @@ int vtkBaryCageDeformation::RequestData(
     const bool blendsDisplacements =
       !bary::method_info(static_cast<bary::MethodId>(this->WeightMethod->GetMethod()))
          .linear_precision;
+    // Green coordinates: vertex weights and face coefficients, deformed with the faces' normals
+    const bool faceTerms = vtkBaryWeightMethod::HasFaceTerms(this->WeightMethod->GetMethod());
     const vtkBaryCage cage = this->WeightMethod->ReadControls(restCage);
     const int dim = cage.Cage.dimension();
     const vtkIdType nc = cage.Cage.num_controls();
     const Eigen::MatrixXd C = vtkBaryConversion::ControlPoints(deformedCage, cage);
 
+    const vtkIdType nf = dim == 2 ? nc : cage.Cage.F.rows();
     const bary::DenseWeights* W = nullptr;
-    bary::DenseWeights fromInput;
+    const bary::DenseWeights* Psi = nullptr;
+    bary::DenseWeights fromInput, facesFromInput;
     vtkDataArray* given = this->UseInputWeights && this->WeightsArrayName
       ? input->GetPointData()->GetArray(this->WeightsArrayName)
       : nullptr;
@@ -197,6 +206,14 @@ int vtkBaryCageDeformation::RequestData(
       if (!compactIndices || !compactValues)
         compactIndices = compactValues = nullptr;
     }
+    if (compactIndices && faceTerms)
+      throw bary::Error(bary::ErrorCode::InvalidArgument,
+        "Green coordinates cannot deform with the compact (reduced) weights '" +
+          std::string(this->WeightsArrayName) + "Indices'/'" + this->WeightsArrayName +
+          "Values': the deformation needs every vertex weight and every face coefficient; give "
+          "the dense arrays '" + this->WeightsArrayName + "' and '" +
+          (this->FaceWeightsArrayName ? this->FaceWeightsArrayName : "") +
+          "', or turn UseInputWeights off to compute them");
     if (compactIndices)
     {
       const std::string name = this->WeightsArrayName;
@@ -229,15 +246,43 @@ int vtkBaryCageDeformation::RequestData(
       this->UpdateProgress(1.0);
       return 1;
     }
-    if (given && given->GetNumberOfComponents() == nc)
+    // GREEN: the face coefficients must come with the weights, else both are computed
+    vtkDataArray* givenFaces = faceTerms && given && this->FaceWeightsArrayName &&
+        *this->FaceWeightsArrayName
+      ? input->GetPointData()->GetArray(this->FaceWeightsArrayName)
+      : nullptr;
+    const bool facesUsable = !faceTerms || (givenFaces && givenFaces->GetNumberOfComponents() == nf);
+    if (given && given->GetNumberOfComponents() == nc && !facesUsable)
+    {
+      if (givenFaces)
+        vtkWarningMacro(<< "Ignoring input arrays '" << this->WeightsArrayName << "' and '"
+                        << this->FaceWeightsArrayName << "': the face coefficients have "
+                        << givenFaces->GetNumberOfComponents() << " components but the cage has "
+                        << nf << " faces; computing Green coordinates instead.");
+      else
+        vtkWarningMacro(<< "Ignoring input array '" << this->WeightsArrayName
+                        << "': Green coordinates also need the face coefficients '"
+                        << (this->FaceWeightsArrayName ? this->FaceWeightsArrayName : "")
+                        << "', which the model does not carry; computing them instead.");
+    }
+    if (given && given->GetNumberOfComponents() == nc && facesUsable)
     {
       fromInput = vtkBaryConversion::FromArray(given, cage);
       W = &fromInput;
+      if (faceTerms)
+      {
+        facesFromInput = vtkBaryConversion::ArrayToMatrix(givenFaces);
+        if (!facesFromInput.allFinite())
+          throw bary::Error(bary::ErrorCode::NonFinite,
+            "the face coefficients '" + std::string(this->FaceWeightsArrayName) +
+              "' contain NaN or infinity");
+        Psi = &facesFromInput;
+      }
       this->UpdateProgress(0.5);
     }
     else
     {
-      if (given)
+      if (given && given->GetNumberOfComponents() != nc)
         vtkWarningMacro(<< "Ignoring input array '" << this->WeightsArrayName << "': it has "
                         << given->GetNumberOfComponents() << " components but the cage has "
                         << nc << " points; computing weights instead.");
@@ -251,19 +296,20 @@ int vtkBaryCageDeformation::RequestData(
       {
         this->WeightCache->Valid = false;
         const Eigen::MatrixXd points = vtkBaryConversion::PointsToMatrix(input, dim);
-        this->WeightCache->W = this->WeightMethod
-                                 ->Compute(input, restCage, nullptr,
-                                   [this](double f) {
-                                     this->UpdateProgress(0.9 * f);
-                                     return !this->GetAbortExecute();
-                                   },
-                                   nullptr, nullptr)
-                                 .W;
+        bary::WeightsResult computed = this->WeightMethod->Compute(input, restCage, nullptr,
+          [this](double f) {
+            this->UpdateProgress(0.9 * f);
+            return !this->GetAbortExecute();
+          },
+          nullptr, nullptr);
+        this->WeightCache->W = std::move(computed.W);
+        this->WeightCache->Psi = std::move(computed.face_weights);
         this->WeightCache->Key = hasher.h;
         this->WeightCache->Valid = true;
         ++this->NumberOfWeightComputations;
       }
       W = &this->WeightCache->W;
+      Psi = &this->WeightCache->Psi;
     }
 
     if (!W->allFinite())
@@ -272,7 +318,10 @@ int vtkBaryCageDeformation::RequestData(
     // Methods with linear precision (sum_i w_i c_i = x): x' = sum_i w_i c'_i. BBW have none (the
     // paper, §4): they blend the cage vertices' displacements instead, x' = x + sum_i w_i
     // (c'_i - c_i) — linear blend skinning with translations — so the rest pose is the identity.
-    const Eigen::MatrixXd X = blendsDisplacements
+    // Green coordinates (face terms): x' = phi C' + psi (s n(t')), Lipman et al. 2008.
+    const Eigen::MatrixXd X = faceTerms
+      ? bary::deform_points_green(*W, *Psi, cage.Cage, C)
+      : blendsDisplacements
       ? Eigen::MatrixXd(vtkBaryConversion::PointsToMatrix(input, dim) +
           bary::deform_points(*W, C - cage.Cage.V))
       : bary::deform_points(*W, C);
@@ -280,6 +329,8 @@ int vtkBaryCageDeformation::RequestData(
     if (this->PassWeights && this->WeightsArrayName && *this->WeightsArrayName)
       output->GetPointData()->AddArray(
         vtkBaryConversion::ToArray(*W, cage, this->WeightsArrayName));
+    if (this->PassWeights && faceTerms && this->FaceWeightsArrayName && *this->FaceWeightsArrayName)
+      output->GetPointData()->AddArray(vtkBaryConversion::FaceArray(*Psi, this->FaceWeightsArrayName));
     this->UpdateProgress(1.0);
   }
   VTKBARY_CATCH_ERRORS
@@ -293,6 +344,8 @@ void vtkBaryCageDeformation::PrintSelf(ostream& os, vtkIndent indent)
   this->WeightMethod->PrintSelf(os, indent.GetNextIndent());
   os << indent << "WeightsArrayName: " << (this->WeightsArrayName ? this->WeightsArrayName : "(none)")
      << "\n";
+  os << indent << "FaceWeightsArrayName: "
+     << (this->FaceWeightsArrayName ? this->FaceWeightsArrayName : "(none)") << "\n";
   os << indent << "UseInputWeights: " << this->UseInputWeights << "\n";
   os << indent << "PassWeights: " << this->PassWeights << "\n";
   os << indent << "NumberOfWeightComputations: " << this->NumberOfWeightComputations << "\n";

@@ -10,6 +10,15 @@
  * translations, as Jacobson et al. 2011 deform with cages); the rest cage then reproduces the
  * model exactly and a translated cage translates it.
  *
+ * Green coordinates (GREEN, Lipman et al. 2008) deform with the vertex weights phi and the
+ * face coefficients psi: x'_p = sum_i phi_i(x_p) c'_i + sum_j psi_j(x_p) s_j n(t'_j), with n(t'_j)
+ * the unit normal of the deformed face (2D: edge) j and s_j its stretch (bary::
+ * deform_points_green): conformal in 2D, quasi-conformal in 3D, exact under similarities of the
+ * cage. The model's arrays WeightsArrayName and FaceWeightsArrayName (both from
+ * vtkBaryCoordinates with GREEN) are used when both are present with the right component
+ * counts; otherwise both are computed and cached. Compact (reduced) weights cannot carry them
+ * and are refused with GREEN.
+ *
  * Input 0: the model (any vtkPointSet). Input 1: the rest cage (vtkPolyData, as in
  * vtkBaryCoordinates). Input 2: the deformed cage: a vtkPointSet with the same number of points
  * as the rest cage, in the same order (its cells, if any, are ignored).
@@ -77,6 +86,13 @@ public:
   ///@}
 
   ///@{
+  /// Face coefficients array (GREEN only: psi, one component per cage face or 2D edge) read from
+  /// the model with UseInputWeights and written with PassWeights. Default "FaceWeights".
+  vtkSetStringMacro(FaceWeightsArrayName);
+  vtkGetStringMacro(FaceWeightsArrayName);
+  ///@}
+
+  ///@{
   /// Use weights stored on the model when present. Default on.
   vtkSetMacro(UseInputWeights, bool);
   vtkGetMacro(UseInputWeights, bool);
@@ -113,6 +129,7 @@ protected:
 
   vtkBaryWeightMethod* WeightMethod = nullptr;
   char* WeightsArrayName = nullptr;
+  char* FaceWeightsArrayName = nullptr;
   bool UseInputWeights = true;
   bool PassWeights = true;
   vtkIdType NumberOfWeightComputations = 0;

@@ -240,6 +240,19 @@ vtkSmartPointer<vtkDoubleArray> vtkBaryConversion::ToArray(
   return array;
 }
 
+vtkSmartPointer<vtkDoubleArray> vtkBaryConversion::FaceArray(
+  const bary::DenseWeights& face_weights, const char* name)
+{
+  auto array = vtkSmartPointer<vtkDoubleArray>::New();
+  array->SetName(name);
+  array->SetNumberOfComponents(static_cast<int>(face_weights.cols()));
+  array->SetNumberOfTuples(face_weights.rows());
+  std::copy(face_weights.data(), face_weights.data() + face_weights.size(), array->GetPointer(0));
+  for (vtkIdType j = 0; j < face_weights.cols(); ++j)
+    array->SetComponentName(j, ("f" + std::to_string(j)).c_str());
+  return array;
+}
+
 std::string vtkBaryConversion::CountText(double value)
 {
   if (value == std::floor(value) && std::fabs(value) < 1e15)

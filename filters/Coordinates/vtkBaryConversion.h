@@ -87,6 +87,12 @@ public:
    */
   static vtkSmartPointer<vtkDoubleArray> ToArray(
     const bary::DenseWeights& W, const vtkBaryCage& cage, const char* name);
+  /// Face coefficients (bary::WeightsResult::face_weights, Green coordinates' psi) as a
+  /// point-data array: tuple p, component j (named "f<j>") = the coefficient of face j, faces in
+  /// core order (3D: the cage's triangles in cell order; 2D: polygon edge j, from the polygon's
+  /// j-th point to its next). No permutation: faces have no other order.
+  static vtkSmartPointer<vtkDoubleArray> FaceArray(
+    const bary::DenseWeights& face_weights, const char* name);
   /// Inverse of ToArray: #tuples by #components, columns in core control order. Stored weights
   /// must be finite: throws bary::Error(NonFinite) otherwise, (SizeMismatch) for a wrong
   /// number of components.

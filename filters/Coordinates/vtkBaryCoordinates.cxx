@@ -28,6 +28,7 @@ vtkBaryCoordinates::vtkBaryCoordinates()
   this->WeightMethod = vtkBaryWeightMethod::New();
   this->SetWeightsArrayName("Weights");
   this->SetLocationArrayName("CageLocation");
+  this->SetFaceWeightsArrayName("FaceWeights");
 }
 
 void vtkBaryCoordinates::SetWeightMethod(vtkBaryWeightMethod* method)
@@ -47,6 +48,7 @@ vtkBaryCoordinates::~vtkBaryCoordinates()
   this->WeightMethod->UnRegister(this);
   this->SetWeightsArrayName(nullptr);
   this->SetLocationArrayName(nullptr);
+  this->SetFaceWeightsArrayName(nullptr);
 }
 
 void vtkBaryCoordinates::SetCageData(vtkPolyData* cage)
@@ -175,6 +177,17 @@ void vtkBaryCoordinates::FinishOutput(
 {
   output->GetPointData()->AddArray(
     vtkBaryConversion::ToArray(result.W, columns, this->WeightsArrayName));
+  // Green coordinates: the faces' normal coefficients (psi), faces in core order
+  if (result.face_weights.cols() > 0)
+  {
+    if (!this->FaceWeightsArrayName || !*this->FaceWeightsArrayName)
+      throw bary::Error(bary::ErrorCode::InvalidArgument,
+        "FaceWeightsArrayName must not be empty: the method computes face coefficients");
+    output->GetPointData()->AddArray(
+      vtkBaryConversion::FaceArray(result.face_weights, this->FaceWeightsArrayName));
+  }
+  else if (this->FaceWeightsArrayName && *this->FaceWeightsArrayName)
+    output->GetPointData()->RemoveArray(this->FaceWeightsArrayName); // stale: not these weights'
   if (this->GenerateLocation && this->LocationArrayName && *this->LocationArrayName)
   {
     vtkNew<vtkUnsignedCharArray> location;
@@ -202,6 +215,8 @@ void vtkBaryCoordinates::PrintSelf(ostream& os, vtkIndent indent)
   this->WeightMethod->PrintSelf(os, indent.GetNextIndent());
   os << indent << "WeightsArrayName: " << (this->WeightsArrayName ? this->WeightsArrayName : "(none)")
      << "\n";
+  os << indent << "FaceWeightsArrayName: "
+     << (this->FaceWeightsArrayName ? this->FaceWeightsArrayName : "(none)") << "\n";
   os << indent << "GenerateLocation: " << this->GenerateLocation << "\n";
   os << indent << "LocationArrayName: "
      << (this->LocationArrayName ? this->LocationArrayName : "(none)") << "\n";

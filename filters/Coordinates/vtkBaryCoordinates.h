@@ -49,6 +49,14 @@
  *   weight of cage point i, so ParaView can colour, contour and warp by any component;
  * - if GenerateLocation is on, a point-data array LocationArrayName (default "CageLocation",
  *   unsigned char): 0 inside the cage, 1 outside, 2 on the cage.
+ * - for Green coordinates (GREEN, Lipman et al. 2008), whose deformation needs more than the
+ *   vertex weights, a second point-data array FaceWeightsArrayName (default "FaceWeights") of
+ *   #F components f0, f1, ...: the coefficient psi_j of face j's unit normal (3D: triangle j of
+ *   the cage in cell order; 2D: edge j of the polygon, from its j-th to its (j+1)-th point in
+ *   the order the polygon lists them), the normal oriented by the face's vertex order, so that
+ *   x = sum_i Weights_i c_i + sum_j FaceWeights_j n_j. "Weights" holds phi. Other methods add no
+ *   such array (one of that name on the input is removed from the output, so stale
+ *   coefficients never sit beside new weights).
  * Mean value coordinates are defined outside the cage too (they may be negative there); points
  * where they are undefined get NaN weights and are counted in NumberOfUndefinedPoints.
  *
@@ -138,6 +146,13 @@ public:
   ///@}
 
   ///@{
+  /// Name of the output face-coefficients array of methods that have one (GREEN: psi, one
+  /// component per cage face or 2D edge). Default "FaceWeights".
+  vtkSetStringMacro(FaceWeightsArrayName);
+  vtkGetStringMacro(FaceWeightsArrayName);
+  ///@}
+
+  ///@{
   /// The cage (input port 1).
   void SetCageData(vtkPolyData* cage);
   void SetCageConnection(vtkAlgorithmOutput* output);
@@ -164,6 +179,7 @@ protected:
 
   vtkBaryWeightMethod* WeightMethod = nullptr;
   char* WeightsArrayName = nullptr;
+  char* FaceWeightsArrayName = nullptr;
   bool GenerateLocation = true;
   char* LocationArrayName = nullptr;
 

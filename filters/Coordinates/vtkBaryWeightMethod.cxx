@@ -22,6 +22,8 @@ vtkCxxSetObjectMacro(vtkBaryWeightMethod, UserWeights, vtkDataArray);
 
 static_assert(vtkBaryWeightMethod::LBC == static_cast<int>(bary::MethodId::LBC),
   "vtkBaryWeightMethod::Methods follows bary::MethodId");
+static_assert(vtkBaryWeightMethod::GREEN == static_cast<int>(bary::MethodId::Green),
+  "vtkBaryWeightMethod::Methods follows bary::MethodId");
 
 vtkBaryWeightMethod::vtkBaryWeightMethod() = default;
 
@@ -80,6 +82,12 @@ bool vtkBaryWeightMethod::IsPointBased(int method)
   return method >= 0 && method < NUMBER_OF_METHODS &&
     bary::method_info(static_cast<bary::MethodId>(method)).controls ==
     bary::ControlKind::FreePoints;
+}
+
+bool vtkBaryWeightMethod::HasFaceTerms(int method)
+{
+  return method >= 0 && method < NUMBER_OF_METHODS &&
+    bary::method_info(static_cast<bary::MethodId>(method)).face_terms;
 }
 
 void vtkBaryWeightMethod::SetSetting(const char* key, double value)

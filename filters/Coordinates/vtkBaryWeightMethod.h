@@ -4,7 +4,7 @@
  *          vtkBaryCageDeformation share, as VTK's point-interpolation filters share a
  *          vtkInterpolationKernel.
  *
- * Holds the method (MEAN_VALUE, HARMONIC, BBW, T_CELESTIAL, S_CELESTIAL, LBC) and every
+ * Holds the method (MEAN_VALUE, HARMONIC, BBW, T_CELESTIAL, S_CELESTIAL, LBC, GREEN) and every
  * setting of every method. The settings, their defaults, ranges and documentation are BaryLab's
  * one settings table (core/coordinates/weight_methods.h, bary::weights_setting_fields()): each property
  * below is a view of one row of it (the row's `property` name), so the command line's options,
@@ -56,6 +56,7 @@ public:
     T_CELESTIAL = 3, ///< Cerveró et al.: T-celestial coordinates of free control points
     S_CELESTIAL = 4, ///< Cerveró et al.: S-celestial coordinates of free control points
     LBC = 5,         ///< Zhang et al. 2014: local barycentric coordinates on a mesh of the cage
+    GREEN = 6,       ///< Lipman et al. 2008: Green coordinates (vertex weights and face coefficients)
     NUMBER_OF_METHODS
   };
 
@@ -114,6 +115,7 @@ public:
   void SetMethodToTCelestial() { this->SetMethod(T_CELESTIAL); }
   void SetMethodToSCelestial() { this->SetMethod(S_CELESTIAL); }
   void SetMethodToLBC() { this->SetMethod(LBC); }
+  void SetMethodToGreen() { this->SetMethod(GREEN); }
   /// By command-line name ("mvc", "lbc", ...); false (and no change) for an unknown name.
   bool SetMethodByName(const char* name);
   ///@}
@@ -124,6 +126,9 @@ public:
   static int GetMethodFromName(const char* name);
   /// True for methods whose controls are free points (celestial coordinates).
   static bool IsPointBased(int method);
+  /// True for methods that also compute face coefficients (Green coordinates: the result's
+  /// face_weights, the filters' FaceWeights array) and deform with the faces' normals.
+  static bool HasFaceTerms(int method);
 
   ///@{
   /// Any setting by its table key ("lbc_primal_tolerance"); a Choice by its index, a Bool as

@@ -5,6 +5,7 @@
 
 #include "core/common/error.h"
 #include "core/analysis/weight_statistics.h"
+#include "core/deformation/cage_deformation.h"
 
 #include "vtkDataArray.h"
 #include "vtkDataSet.h"
@@ -39,11 +40,13 @@ vtkBaryWeightStatistics::vtkBaryWeightStatistics()
   this->SetNumberOfInputPorts(2);
   this->SetNumberOfOutputPorts(2);
   this->SetWeightsArrayName("Weights");
+  this->SetFaceWeightsArrayName("FaceWeights");
 }
 
 vtkBaryWeightStatistics::~vtkBaryWeightStatistics()
 {
   this->SetWeightsArrayName(nullptr);
+  this->SetFaceWeightsArrayName(nullptr);
 }
 
 void vtkBaryWeightStatistics::SetCageData(vtkPolyData* cage)
@@ -80,6 +83,7 @@ int vtkBaryWeightStatistics::RequestData(
     bary::WeightStatisticsOptions options;
     options.threshold = this->Threshold;
     bary::WeightStatistics s;
+    vtkIdType faceCoefficients = 0;
     if (cage)
     {
       // bare points (free control points, or a 2D cage as `v` lines): component i = point i
@@ -92,7 +96,23 @@ int vtkBaryWeightStatistics::RequestData(
             " components but the cage has " + std::to_string(c.Cage.num_controls()) + " points");
       const int dim = c.Cage.dimension();
       const Eigen::MatrixXd C = vtkBaryConversion::ToMatrix(cage->GetPoints(), dim);
-      const Eigen::MatrixXd P = vtkBaryConversion::PointsToMatrix(input, dim);
+      Eigen::MatrixXd P = vtkBaryConversion::PointsToMatrix(input, dim);
+      // Green coordinates: x = W C + psi N; the reproduction of x - psi N by W C is checked
+      vtkDataArray* faces = this->FaceWeightsArrayName && *this->FaceWeightsArrayName
+        ? vtkBaryConversion::FindPointArray(input, this->FaceWeightsArrayName)
+        : nullptr;
+      if (faces)
+      {
+        const vtkIdType nf = dim == 2 ? c.Cage.num_controls() : c.Cage.F.rows();
+        if (faces->GetNumberOfComponents() != nf || nf == 0)
+          throw bary::Error(bary::ErrorCode::SizeMismatch,
+            "the face coefficients '" + std::string(this->FaceWeightsArrayName) + "' have " +
+              std::to_string(faces->GetNumberOfComponents()) + " components but the cage has " +
+              std::to_string(nf) + (dim == 2 ? " edges" : " faces"));
+        const bary::DenseWeights psi = vtkBaryConversion::ArrayToMatrix(faces);
+        P -= psi * bary::green_face_terms(c.Cage, c.Cage.V); // rest cage: the unit normals
+        faceCoefficients = nf;
+      }
       s = bary::weight_statistics(W, &C, &P, options);
     }
     else
@@ -114,6 +134,8 @@ int vtkBaryWeightStatistics::RequestData(
     {
       add_value(table, "max_reproduction_error", s.max_reproduction_error);
       add_value(table, "mean_reproduction_error", s.mean_reproduction_error);
+      if (faceCoefficients > 0)
+        add_value(table, "face_coefficients", static_cast<double>(faceCoefficients));
     }
     vtkNew<vtkIntArray> k;
     k->SetName("k");
@@ -141,6 +163,8 @@ void vtkBaryWeightStatistics::PrintSelf(ostream& os, vtkIndent indent)
   this->Superclass::PrintSelf(os, indent);
   os << indent << "WeightsArrayName: " << (this->WeightsArrayName ? this->WeightsArrayName : "(none)")
      << "\n";
+  os << indent << "FaceWeightsArrayName: "
+     << (this->FaceWeightsArrayName ? this->FaceWeightsArrayName : "(none)") << "\n";
   os << indent << "Threshold: " << this->Threshold << "\n";
   os << indent << "CageDimension: " << this->CageDimension << "\n";
 }

@@ -8,7 +8,13 @@
  * control points) on the optional input 1, also the reproduction error
  * max_p |sum_i w_i(p) c_i - p| relative to the cage's bounding-box diagonal; the cage is read
  * as vtkBaryCoordinates reads it (CageDimension; bare points are free control points, component
- * i = point i), and its point count must equal the number of components.
+ * i = point i), and its point count must equal the number of components. Green coordinates'
+ * weights do not reproduce x alone: when the input also carries the point-data array
+ * FaceWeightsArrayName (default "FaceWeights", written by vtkBaryCoordinates with GREEN: one
+ * component per cage face or 2D edge), the reproduction error is that of
+ * sum_i w_i c_i + sum_j psi_j n_j, n_j the faces' unit normals as their vertex order orients
+ * them, and the table gets the column "face_coefficients" (their number). Partition of unity,
+ * range and significance are those of the weights (phi) alone.
  *
  * Outputs (vtkTable each):
  * - port 0: one row, vtkDoubleArray columns "points", "controls", "threshold", "min_weight",
@@ -58,6 +64,13 @@ public:
   vtkGetMacro(CageDimension, int);
   ///@}
 
+  ///@{
+  /// Name of the face-coefficients array (Green coordinates' psi), used with a cage when
+  /// present. Default "FaceWeights".
+  vtkSetStringMacro(FaceWeightsArrayName);
+  vtkGetStringMacro(FaceWeightsArrayName);
+  ///@}
+
   /// The cage or control points (input 1, optional).
   void SetCageData(vtkPolyData* cage);
 
@@ -69,6 +82,7 @@ protected:
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
 
   char* WeightsArrayName = nullptr;
+  char* FaceWeightsArrayName = nullptr;
   double Threshold = -1.0;
   int CageDimension = 0;
 

@@ -1960,3 +1960,104 @@ TEST_F(CLI, SplineFitAndPinnedBorder)
                 " --output " + out("x.vtu") + " -q"), "pinned");
   EXPECT_FALSE(fs::exists(out("x.vtu")));
 }
+
+// ---- Green coordinates --------------------------------------------------------------------------
+
+TEST_F(CLI, GreenWeightsAndDeformRoundTrip)
+{
+  // weights --method green writes phi ("Weights") and psi ("FaceWeights"); the summary's
+  // reproduction includes the face term; deform with the stored arrays equals deform computing
+  // them; a rotated, scaled, translated cage moves the model by exactly that similarity.
+  const CommandResult w = run("weights --method green --cage " + data("cage2d.obj") + " --points " +
+    data("model2d.obj") + " --output " + out("w.vtp") + " --json " + out("w.json") + " -q");
+  ASSERT_EQ(w.code, 0) << w.output;
+  auto weighted = vtkBaryDataIO::Read(out("w.vtp"));
+  auto cage = vtkBaryDataIO::Read(data("cage2d.obj"));
+  ASSERT_NE(weighted->GetPointData()->GetArray("Weights"), nullptr);
+  ASSERT_NE(weighted->GetPointData()->GetArray("FaceWeights"), nullptr);
+  EXPECT_EQ(weighted->GetPointData()->GetArray("Weights")->GetNumberOfComponents(), cage->GetNumberOfPoints());
+  EXPECT_EQ(weighted->GetPointData()->GetArray("FaceWeights")->GetNumberOfComponents(), cage->GetNumberOfPoints());
+  std::ifstream json_file(out("w.json"));
+  const nlohmann::json summary = nlohmann::json::parse(json_file);
+  EXPECT_LT(summary["statistics"]["reproduction"]["max_error"].get<double>(), 1e-12);
+  EXPECT_LT(summary["statistics"]["partition_of_unity"]["max_error"].get<double>(), 1e-12);
+
+  // a similarity of the cage, written as a file
+  const double c = 1.3 * std::cos(0.8), s = 1.3 * std::sin(0.8);
+  auto similar = [&](const double* x, double* y) {
+    y[0] = c * x[0] - s * x[1] + 2.0;
+    y[1] = s * x[0] + c * x[1] - 1.0;
+    y[2] = x[2];
+  };
+  vtkNew<vtkPolyData> moved;
+  moved->DeepCopy(cage);
+  for (vtkIdType i = 0; i < moved->GetNumberOfPoints(); ++i)
+  {
+    double x[3], y[3];
+    cage->GetPoint(i, x);
+    similar(x, y);
+    moved->GetPoints()->SetPoint(i, y);
+  }
+  vtkBaryDataIO::Write(moved, out("moved.vtp"));
+  const CommandResult a = run("deform --method green --cage " + data("cage2d.obj") +
+    " --deformed-cage " + out("moved.vtp") + " --points " + data("model2d.obj") + " --output " + out("a.vtp"));
+  ASSERT_EQ(a.code, 0) << a.output;
+  EXPECT_NE(a.output.find("weights computed"), std::string::npos) << a.output;
+  const CommandResult b = run("deform --method green --cage " + data("cage2d.obj") +
+    " --deformed-cage " + out("moved.vtp") + " --weights " + out("w.vtp") + " --output " + out("b.vtp"));
+  ASSERT_EQ(b.code, 0) << b.output;
+  EXPECT_NE(b.output.find("weights from the input"), std::string::npos) << b.output;
+  auto da = vtkBaryDataIO::Read(out("a.vtp"));
+  auto db = vtkBaryDataIO::Read(out("b.vtp"));
+  auto model = vtkBaryDataIO::Read(data("model2d.obj"));
+  ASSERT_EQ(da->GetNumberOfPoints(), model->GetNumberOfPoints());
+  double same = 0.0, similarity = 0.0;
+  for (vtkIdType i = 0; i < model->GetNumberOfPoints(); ++i)
+  {
+    double x[3], y[3], p[3], q[3];
+    model->GetPoint(i, x);
+    similar(x, y);
+    da->GetPoint(i, p);
+    db->GetPoint(i, q);
+    for (int k = 0; k < 3; ++k)
+    {
+      same = std::max(same, std::abs(p[k] - q[k]));
+      similarity = std::max(similarity, std::abs(p[k] - y[k]));
+    }
+  }
+  EXPECT_LT(same, 1e-12);
+  EXPECT_LT(similarity, 1e-11);
+}
+
+TEST_F(CLI, GreenDeformation3DAndBadCages)
+{
+  // the rest cage as the deformed one: the identity (the face term included); the posed cage
+  // moves the model, finitely
+  for (const std::string posed : { "cage3d.obj", "cage3d_posed.obj" })
+  {
+    const CommandResult r = run("deform --method green --cage " + data("cage3d.obj") +
+      " --deformed-cage " + data(posed) + " --points " + data("model3d.off") + " --output " +
+      out("d.vtp") + " -q");
+    ASSERT_EQ(r.code, 0) << r.output;
+    auto deformed = vtkBaryDataIO::Read(out("d.vtp"));
+    auto rest = vtkBaryDataIO::Read(data("model3d.off"));
+    double moved = 0.0;
+    for (vtkIdType i = 0; i < rest->GetNumberOfPoints(); ++i)
+      for (int k = 0; k < 3; ++k)
+      {
+        ASSERT_TRUE(std::isfinite(deformed->GetPoint(i)[k]));
+        moved = std::max(moved, std::abs(rest->GetPoint(i)[k] - deformed->GetPoint(i)[k]));
+      }
+    if (posed == "cage3d.obj")
+      EXPECT_LT(moved, 1e-12);
+    else
+      EXPECT_GT(moved, 1e-2);
+  }
+  ExpectError(run("weights --method green --cage " + data("bad/open_cage.obj") + " --points " +
+                data("model3d.off") + " --output " + out("x.vtp")),
+    "the cage is not closed");
+  ExpectError(run("weights --method green --cage " + data("bad/bowtie2d.obj") + " --points " +
+                data("model2d.obj") + " --output " + out("y.vtp")),
+    "the polygon is not simple");
+  EXPECT_FALSE(fs::exists(out("x.vtp")));
+}

@@ -6,6 +6,7 @@
 
 #include "core/coordinates/weight_method.h"
 #include "core/coordinates/weight_methods.h"
+#include "core/deformation/cage_deformation.h"
 
 #include "core/coordinates/celestial_coordinates.h"
 #include "core/common/error.h"
@@ -50,7 +51,7 @@ double other_value(const SettingField& field, const WeightsSettings& s)
 TEST(MethodTable, IdsNamesAndLookups)
 {
   const auto& table = bary::method_table();
-  ASSERT_EQ(table.size(), 6u);
+  ASSERT_EQ(table.size(), 7u);
   std::set<std::string> names;
   for (std::size_t i = 0; i < table.size(); ++i)
   {
@@ -60,7 +61,7 @@ TEST(MethodTable, IdsNamesAndLookups)
     EXPECT_EQ(&bary::method_info(table[i].id), &table[i]);
     EXPECT_NE(table[i].instance, nullptr);
   }
-  EXPECT_EQ(bary::method_names(), "mvc|harmonic|bbw|tcc|scc|lbc");
+  EXPECT_EQ(bary::method_names(), "mvc|harmonic|bbw|tcc|scc|lbc|green");
   EXPECT_EQ(bary::find_method("nope"), nullptr);
   try
   {
@@ -70,7 +71,7 @@ TEST(MethodTable, IdsNamesAndLookups)
   catch (const bary::Error& e)
   {
     EXPECT_EQ(e.code(), bary::ErrorCode::InvalidArgument);
-    EXPECT_STREQ(e.what(), "unknown method 'nope' (available: mvc, harmonic, bbw, tcc, scc, lbc)");
+    EXPECT_STREQ(e.what(), "unknown method 'nope' (available: mvc, harmonic, bbw, tcc, scc, lbc, green)");
   }
   // what the table says about the methods
   EXPECT_EQ(bary::method_info(MethodId::TCelestial).controls, bary::ControlKind::FreePoints);
@@ -78,6 +79,11 @@ TEST(MethodTable, IdsNamesAndLookups)
   EXPECT_FALSE(bary::method_info(MethodId::BBW).linear_precision);
   EXPECT_FALSE(bary::method_info(MethodId::MeanValue).non_negative);
   EXPECT_TRUE(bary::method_info(MethodId::LBC).domain_mesh);
+  // Green coordinates: only the method with face terms (x = W C + face_weights N)
+  for (const bary::MethodInfo& m : table)
+    EXPECT_EQ(m.face_terms, m.id == MethodId::Green) << m.name;
+  EXPECT_FALSE(bary::method_info(MethodId::Green).non_negative);
+  EXPECT_EQ(bary::method_info(MethodId::Green).controls, bary::ControlKind::Cage);
 }
 
 TEST(SettingsTable, NamesFlagsAndPropertiesAreUnique)
@@ -321,6 +327,38 @@ TEST(ComputeWeights, PowerOfTwoScalesGiveTheUnitScaleWeights)
       const bary::WeightsResult ref = weights_at_scale(m, cube, p3, 1.0, 2000);
       const bary::WeightsResult big = weights_at_scale(m, cube, p3, scale, 2000);
       EXPECT_LE((big.W - ref.W).cwiseAbs().maxCoeff(), 1e-9);
+    }
+  }
+}
+
+TEST(ComputeWeights, GreenCoordinatesAtExtremeScales)
+{
+  // Green coordinates' psi is not scale invariant (3D: psi scales with the cage; 2D: also a
+  // log term): compute_weights scales it back, so x = W V + psi N holds at every scale and W
+  // is the unit scale's (independently of how psi is stored).
+  for (const bary::Cage& unit : { bary::test::unit_square(), bary::test::unit_cube() })
+  {
+    const int dim = unit.dimension();
+    Eigen::MatrixXd p(2, dim);
+    p.row(0).setConstant(0.3);
+    p.row(1).setConstant(0.6);
+    p(1, 0) = 0.2;
+    const bary::WeightsResult ref = weights_at_scale(MethodId::Green, unit, p, 1.0);
+    for (const double scale : { std::ldexp(1.0, 300), 1e300, 1e-300, std::ldexp(1.0, -290) })
+    {
+      SCOPED_TRACE(scale);
+      bary::Cage cage = unit;
+      cage.V *= scale;
+      const bary::WeightsResult r = weights_at_scale(MethodId::Green, unit, p, scale);
+      ASSERT_EQ(r.face_weights.cols(), dim == 2 ? 4 : 12);
+      EXPECT_LE((r.W - ref.W).cwiseAbs().maxCoeff(), 1e-12);
+      const Eigen::MatrixXd N = bary::green_face_terms(cage, cage.V); // unit normals
+      const Eigen::MatrixXd x = r.W * cage.V + r.face_weights * N;
+      EXPECT_LE((x - p * scale).cwiseAbs().maxCoeff(), 1e-12 * scale);
+      if (dim == 3)
+      { // psi = integral of 1 / (4 pi r): exactly proportional to the scale
+        EXPECT_LE((r.face_weights / scale - ref.face_weights).cwiseAbs().maxCoeff(), 1e-12);
+      }
     }
   }
 }

@@ -7,10 +7,14 @@
 #include "vtkBaryCageDeformation.h"
 #include "vtkBaryCoordinates.h"
 #include "vtkBaryReduceWeights.h"
+#include "vtkBaryWeightStatistics.h"
+
+#include "core/deformation/cage_deformation.h"
 
 #include "vtkDoubleArray.h"
 #include "vtkFieldData.h"
 #include "vtkIntArray.h"
+#include "vtkTable.h"
 #include "vtkUnstructuredGrid.h"
 
 #include <gtest/gtest.h>
@@ -768,6 +772,170 @@ TEST(vtkBaryCageDeformation, CompactWeightsErrors)
     EXPECT_EQ(d.Run(), 0);
     EXPECT_TRUE(d.Observer->HasError("outside [0, 72)")) << d.Observer->AllErrors();
   }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Green coordinates (Lipman et al. 2008): vertex weights and face coefficients
+// ---------------------------------------------------------------------------------------------
+
+/// Green coordinates of @p model w.r.t. @p rest from vtkBaryCoordinates (Weights, FaceWeights).
+vtkSmartPointer<vtkDataSet> GreenOf(vtkDataSet* model, vtkPolyData* rest)
+{
+  vtkNew<vtkBaryCoordinates> coordinates;
+  coordinates->GetWeightMethod()->SetMethodToGreen();
+  coordinates->SetInputData(0, model);
+  coordinates->SetCageData(rest);
+  coordinates->Update();
+  return vtkDataSet::SafeDownCast(coordinates->GetOutputDataObject(0));
+}
+
+TEST(vtkBaryCageDeformation, GreenCoordinatesArraysAndStatistics)
+{
+  // vtkBaryCoordinates with GREEN writes phi as "Weights" (#C components) and psi as
+  // "FaceWeights" (#F); the statistics filter checks reproduction with the face term.
+  auto model = ReadData("model3d.off");
+  auto cage = ReadData("cage3d.obj");
+  ASSERT_TRUE(model && cage);
+  auto weighted = GreenOf(model, cage);
+  ASSERT_NE(GetWeights(weighted), nullptr);
+  EXPECT_EQ(GetWeights(weighted)->GetNumberOfComponents(), cage->GetNumberOfPoints());
+  vtkDataArray* faces = GetWeights(weighted, "FaceWeights");
+  ASSERT_NE(faces, nullptr);
+  EXPECT_EQ(faces->GetNumberOfComponents(), cage->GetNumberOfPolys());
+  EXPECT_STREQ(faces->GetComponentName(0), "f0");
+  auto figures = [&](const char* faceName) {
+    vtkNew<vtkBaryWeightStatistics> stats;
+    stats->SetInputData(0, weighted);
+    stats->SetCageData(cage);
+    stats->SetFaceWeightsArrayName(faceName);
+    stats->Update();
+    return vtkSmartPointer<vtkTable>(stats->GetOutput(0));
+  };
+  auto with = figures("FaceWeights");
+  EXPECT_LT(with->GetValueByName(0, "max_partition_error").ToDouble(), 1e-12);
+  EXPECT_LT(with->GetValueByName(0, "max_reproduction_error").ToDouble(), 1e-12);
+  EXPECT_EQ(with->GetValueByName(0, "face_coefficients").ToDouble(), cage->GetNumberOfPolys());
+  // phi alone does not reproduce x: the statistics must not pretend it does
+  auto without = figures("NoSuchArray");
+  EXPECT_GT(without->GetValueByName(0, "max_reproduction_error").ToDouble(), 1e-3);
+  EXPECT_EQ(without->GetColumnByName("face_coefficients"), nullptr);
+  // another method on the same data drops the stale face coefficients
+  vtkNew<vtkBaryCoordinates> mvc;
+  mvc->SetInputData(0, weighted);
+  mvc->SetCageData(cage);
+  mvc->Update();
+  EXPECT_EQ(GetWeights(vtkDataSet::SafeDownCast(mvc->GetOutputDataObject(0)), "FaceWeights"), nullptr);
+}
+
+TEST(vtkBaryCageDeformation, GreenSimilarityMovesTheModelBySimilarity3D)
+{
+  // A rotated, scaled, translated cage moves the model by exactly that similarity (the paper's
+  // invariance; with W alone the model would not even stay in place).
+  auto model = ReadData("model3d.off");
+  auto cage = ReadData("cage3d.obj");
+  ASSERT_TRUE(model && cage);
+  const double axis[3] = { 1, -2, 0.5 }, t[3] = { 0.4, -1.2, 2.5 };
+  const Affine3 A(axis, 0.9, 1.7, t);
+  auto apply = [&](const double* x, double* y) { A.Apply(x, y); };
+  Deformation d(model, cage, MapPoints(cage, apply));
+  d.Filter->GetWeightMethod()->SetMethodToGreen();
+  ASSERT_EQ(d.Run(), 1) << d.Observer->AllErrors();
+  EXPECT_LE(MaxPointDifference(d.Output(), MapPoints(model, apply)), 1e-10);
+  EXPECT_NE(GetWeights(d.Output(), "FaceWeights"), nullptr);
+}
+
+TEST(vtkBaryCageDeformation, GreenSimilarityMovesTheModelBySimilarity2DAndKeepsZ)
+{
+  auto model = ReadData("model2d.obj");
+  auto cage = ReadData("cage2d.obj");
+  ASSERT_TRUE(model && cage);
+  const double c = std::cos(0.4) * 0.8, s = std::sin(0.4) * 0.8;
+  auto similarity = [&](const double* x, double* y)
+  {
+    y[0] = c * x[0] - s * x[1] + 0.3;
+    y[1] = s * x[0] + c * x[1] - 0.2;
+    y[2] = x[2];
+  };
+  Deformation d(model, cage, MapPoints(cage, similarity));
+  d.Filter->GetWeightMethod()->SetMethodToGreen();
+  ASSERT_EQ(d.Run(), 1) << d.Observer->AllErrors();
+  EXPECT_LE(MaxPointDifference(d.Output(), MapPoints(model, similarity)), 1e-11);
+}
+
+TEST(vtkBaryCageDeformation, GreenStoredArraysCacheAndCoreAgree)
+{
+  // The deformation from stored arrays, from computed (cached) ones and core's
+  // deform_points_green on the same numbers agree; moving the deformed cage never recomputes.
+  auto cube = MakeCube();
+  auto model = PointsInCube();
+  auto twisted = TwistedCube(0.3);
+  auto weighted = GreenOf(model, cube);
+  Deformation stored(vtkPointSet::SafeDownCast(weighted), cube, twisted);
+  stored.Filter->GetWeightMethod()->SetMethodToGreen();
+  ASSERT_EQ(stored.Run(), 1) << stored.Observer->AllErrors();
+  EXPECT_EQ(stored.Computations(), 0);
+  Deformation computed(model, cube, twisted);
+  computed.Filter->GetWeightMethod()->SetMethodToGreen();
+  ASSERT_EQ(computed.Run(), 1) << computed.Observer->AllErrors();
+  EXPECT_EQ(computed.Computations(), 1);
+  EXPECT_LE(MaxPointDifference(stored.Output(), computed.Output()), 1e-13);
+  // core on the stored arrays (cube points and cells in order: core order = VTK order)
+  bary::Cage rest;
+  rest.V.resize(8, 3);
+  rest.F.resize(12, 3);
+  Eigen::MatrixXd moved(8, 3);
+  for (vtkIdType i = 0; i < 8; ++i)
+    for (int k = 0; k < 3; ++k)
+    {
+      rest.V(i, k) = cube->GetPoint(i)[k];
+      moved(i, k) = twisted->GetPoint(i)[k];
+    }
+  for (vtkIdType f = 0; f < 12; ++f)
+    for (int k = 0; k < 3; ++k)
+      rest.F(f, k) = static_cast<int>(cube->GetCell(f)->GetPointId(k));
+  vtkDataArray* phi = GetWeights(weighted);
+  vtkDataArray* psi = GetWeights(weighted, "FaceWeights");
+  bary::DenseWeights Phi(model->GetNumberOfPoints(), 8), Psi(model->GetNumberOfPoints(), 12);
+  for (vtkIdType p = 0; p < model->GetNumberOfPoints(); ++p)
+  {
+    for (int i = 0; i < 8; ++i)
+      Phi(p, i) = phi->GetComponent(p, i);
+    for (int f = 0; f < 12; ++f)
+      Psi(p, f) = psi->GetComponent(p, f);
+  }
+  const Eigen::MatrixXd X = bary::deform_points_green(Phi, Psi, rest, moved);
+  double worst = 0.0;
+  for (vtkIdType p = 0; p < model->GetNumberOfPoints(); ++p)
+    for (int k = 0; k < 3; ++k)
+      worst = std::max(worst, std::abs(X(p, k) - stored.Output()->GetPoint(p)[k]));
+  EXPECT_LE(worst, 1e-13);
+  // the cache: a new deformed cage only
+  computed.Filter->SetDeformedCageData(TwistedCube(-0.2));
+  ASSERT_EQ(computed.Run(), 1);
+  EXPECT_EQ(computed.Computations(), 1);
+}
+
+TEST(vtkBaryCageDeformation, GreenWithoutFaceWeightsComputesAndCompactIsRefused)
+{
+  auto cube = MakeCube();
+  auto model = PointsInCube();
+  auto twisted = TwistedCube(0.2);
+  // mean value weights on the model, Green asked for: the face coefficients are missing
+  auto mvcWeighted = WeightsOf(model, cube);
+  Deformation d(vtkPointSet::SafeDownCast(mvcWeighted), cube, twisted);
+  d.Filter->GetWeightMethod()->SetMethodToGreen();
+  ASSERT_EQ(d.Run(), 1) << d.Observer->AllErrors();
+  EXPECT_EQ(d.Computations(), 1);
+  EXPECT_TRUE(d.Observer->HasWarning("FaceWeights")) << d.Observer->AllWarnings();
+  // compact (reduced) weights cannot carry psi
+  auto model3d = ReadData("model3d.off");
+  auto cage = ReadData("cage3d.obj");
+  ASSERT_TRUE(model3d && cage);
+  auto compact = ReducedKidney(model3d, cage, vtkBaryReduceWeights::RENORMALIZE_ROW_SUM);
+  Deformation g(compact, cage, cage);
+  g.Filter->GetWeightMethod()->SetMethodToGreen();
+  EXPECT_EQ(g.Run(), 0);
+  EXPECT_TRUE(g.Observer->HasError("compact (reduced) weights")) << g.Observer->AllErrors();
 }
 
 } // namespace

@@ -108,7 +108,7 @@ TEST(vtkBaryCoordinatesLBC, MethodNameAndDefaults)
 {
   EXPECT_STREQ(vtkBaryWeightMethod::GetMethodName(vtkBaryWeightMethod::LBC), "lbc");
   EXPECT_EQ(vtkBaryWeightMethod::GetMethodFromName("lbc"), vtkBaryWeightMethod::LBC);
-  EXPECT_EQ(vtkBaryWeightMethod::NUMBER_OF_METHODS, 6);
+  EXPECT_EQ(vtkBaryWeightMethod::NUMBER_OF_METHODS, 7);
   vtkNew<vtkBaryCoordinates> f;
   const bary::LBCOptions core;
   EXPECT_EQ(f->GetWeightMethod()->GetLBCLocality(), vtkBaryWeightMethod::LBC_LOCALITY_SQUARED);
