@@ -4,6 +4,7 @@
 #include "vtkBaryCageMesher.h"
 #include "vtkBaryConversion.h"
 #include "vtkBaryCoordinates.h"
+#include "vtkBaryMixedHandles.h"
 #include "vtkBaryErrorObserver.h"
 #include "vtkBaryDataIO.h"
 #include "vtkBaryLinearBlendSkinning.h"
@@ -27,6 +28,8 @@
 #include "vtkPointData.h"
 #include "vtkPointSet.h"
 #include "vtkPolyData.h"
+#include "vtkFieldData.h"
+#include "vtkPoints.h"
 #include "vtkTable.h"
 #include "vtkVariant.h"
 #include "vtkUnstructuredGrid.h"
@@ -167,13 +170,22 @@ vtkSmartPointer<vtkDataSet> ComputeWeights(vtkDataSet* points, vtkPolyData* cage
   if (summary)
   {
     (*summary)["method"] = MethodName(parameters);
-    const bool skeleton = filter->GetWeightMethod()->IsSkeleton(cage, domain);
-    if (skeleton)
+    const bool mixed = parameters.method == bary::MethodId::BBW &&
+      vtkBaryMixedHandles::UsesMixedHandles(cage, domain);
+    if (mixed || filter->GetWeightMethod()->IsSkeleton(cage, domain))
     {
       const int dim = vtkBaryConversion::DomainDimension(domain);
-      const bary::Skeleton s = vtkBaryConversion::ToSkeleton(cage, dim);
-      (*summary)["handles"] = { { "dimension", dim }, { "count", s.handle_count() },
-        { "point_handles", s.P.size() }, { "bones", s.BE.rows() }, { "joints", s.C.rows() } };
+      const bary::Skeleton s = vtkBaryMixedHandles::ToHandles(cage, dim);
+      const auto vertex_regions =
+        static_cast<bary::Index>(vtkBaryMixedHandles::RegionVertices(domain).size());
+      (*summary)["handles"] = { { "dimension", dim },
+        { "count", s.handle_count() + vertex_regions }, { "point_handles", s.P.size() },
+        { "bones", s.BE.rows() }, { "cage_vertices", s.cage_joints().size() },
+        { "regions", static_cast<bary::Index>(s.regions.size()) + vertex_regions },
+        { "joints", s.C.rows() },
+        { "shape_preservation",
+          domain->GetPointData()->GetArray(vtkBaryMixedHandles::ShapePreservationArrayName()) !=
+            nullptr } };
     }
     else if (IsPointBasedMethod(parameters.method))
     {
@@ -200,20 +212,70 @@ vtkSmartPointer<vtkDataSet> ComputeWeights(vtkDataSet* points, vtkPolyData* cage
       { "on_cage", filter->GetNumberOfBoundaryPoints() },
       { "undefined", filter->GetNumberOfUndefinedPoints() } };
     (*summary)["weights_array"] = parameters.weights_name;
+    // control points the method added (celestial hull points): the weights' last columns
+    if (vtkDataArray* added = out && out->GetFieldData()
+          ? out->GetFieldData()->GetArray("AddedControlPoints")
+          : nullptr)
+    {
+      nlohmann::json list = nlohmann::json::array();
+      for (vtkIdType k = 0; k < added->GetNumberOfTuples(); ++k)
+      {
+        const double* x = added->GetTuple3(k);
+        list.push_back({ x[0], x[1], x[2] });
+      }
+      (*summary)["added_control_points"] = list;
+    }
     (*summary)["seconds"] = elapsed;
   }
   return out;
 }
 
+namespace
+{
+/// Bare points: @p points, then the tuples of @p added (a method's added control points).
+vtkSmartPointer<vtkPolyData> with_added_controls(vtkPoints* points, vtkDataArray* added)
+{
+  auto poly = vtkSmartPointer<vtkPolyData>::New();
+  vtkNew<vtkPoints> all;
+  all->SetDataTypeToDouble();
+  for (vtkIdType i = 0; i < points->GetNumberOfPoints(); ++i)
+    all->InsertNextPoint(points->GetPoint(i));
+  for (vtkIdType k = 0; k < added->GetNumberOfTuples(); ++k)
+    all->InsertNextPoint(added->GetTuple3(k));
+  poly->SetPoints(all);
+  return poly;
+}
+} // namespace
+
 vtkSmartPointer<vtkPointSet> Deform(vtkPointSet* model, vtkPolyData* rest_cage,
   vtkPointSet* posed_cage, const WeightsParameters& parameters, const RunCallbacks& callbacks,
   nlohmann::json* summary)
 {
+  // Free control points: weights first, so that the hull points the method may add are known.
+  vtkSmartPointer<vtkPointSet> weighted = model;
+  if (model && rest_cage && IsPointBasedMethod(parameters.method) &&
+    !vtkBaryConversion::FindPointArray(model, parameters.weights_name) &&
+    !model->GetPointData()->GetArray((parameters.weights_name + "Indices").c_str()))
+    weighted = vtkPointSet::SafeDownCast(ComputeWeights(model, rest_cage, parameters, callbacks));
+  // The added control points (celestial hull points) stay where they are: appended to the
+  // rest and the posed controls, matching the weights' last columns.
+  vtkSmartPointer<vtkPolyData> rest = rest_cage;
+  vtkSmartPointer<vtkPointSet> posed = posed_cage;
+  vtkDataArray* added = weighted && weighted->GetFieldData()
+    ? weighted->GetFieldData()->GetArray("AddedControlPoints")
+    : nullptr;
+  vtkDataArray* given = weighted ? vtkBaryConversion::FindPointArray(weighted, parameters.weights_name) : nullptr;
+  if (added && rest_cage && posed_cage && given &&
+    given->GetNumberOfComponents() == rest_cage->GetNumberOfPoints() + added->GetNumberOfTuples())
+  {
+    rest = with_added_controls(rest_cage->GetPoints(), added);
+    posed = with_added_controls(posed_cage->GetPoints(), added);
+  }
   vtkNew<vtkBaryCageDeformation> filter;
   Configure(filter.Get(), parameters);
-  filter->SetInputData(0, model);
-  filter->SetRestCageData(rest_cage);
-  filter->SetDeformedCageData(posed_cage);
+  filter->SetInputData(0, weighted);
+  filter->SetRestCageData(rest);
+  filter->SetDeformedCageData(posed);
   const auto t0 = std::chrono::steady_clock::now();
   RunAlgorithm(filter, callbacks, bary::ErrorCode::InvalidCage);
   if (summary)
@@ -404,8 +466,17 @@ nlohmann::json WeightStatisticsJson(vtkDataSet* data, const std::string& array_n
 {
   vtkNew<vtkBaryWeightStatistics> filter;
   filter->SetInputData(0, data);
-  if (cage)
-    filter->SetCageData(cage);
+  // control points the method added (celestial hull points) count as controls
+  vtkDataArray* added = data && cage && data->GetFieldData()
+    ? data->GetFieldData()->GetArray("AddedControlPoints")
+    : nullptr;
+  vtkDataArray* weights = data ? data->GetPointData()->GetArray(array_name.c_str()) : nullptr;
+  vtkSmartPointer<vtkPolyData> controls = cage;
+  if (added && weights && cage->GetNumberOfPolys() == 0 && cage->GetNumberOfLines() == 0 &&
+    weights->GetNumberOfComponents() == cage->GetNumberOfPoints() + added->GetNumberOfTuples())
+    controls = with_added_controls(cage->GetPoints(), added);
+  if (controls)
+    filter->SetCageData(controls);
   filter->SetWeightsArrayName(array_name.c_str());
   filter->SetThreshold(threshold);
   filter->SetCageDimension(cage_dimension);

@@ -85,7 +85,11 @@ vtkSmartPointer<vtkPointSet> Skin(vtkPointSet* weighted, const std::vector<Eigen
   nlohmann::json* summary = nullptr);
 
 /// Deforms @p model by moving @p rest_cage to @p posed_cage. If @p model carries the weights
-/// array (e.g. read from a file written by ComputeWeights), it is used as is.
+/// array (e.g. read from a file written by ComputeWeights), it is used as is. Control points
+/// the weights method added (celestial hull points: the field data "AddedControlPoints" of
+/// vtkBaryCoordinates, whose columns follow the controls') stay where they are: @p posed_cage
+/// holds the given controls only. Free control points without weights on @p model get them
+/// computed here first (so that hull points can be added).
 vtkSmartPointer<vtkPointSet> Deform(vtkPointSet* model, vtkPolyData* rest_cage,
   vtkPointSet* posed_cage, const WeightsParameters& parameters,
   const RunCallbacks& callbacks = {}, nlohmann::json* summary = nullptr);

@@ -53,8 +53,10 @@ WeightsResult compute_in_settings_words(
     const SettingField& outside = setting_field("outside");
     const std::string set = "set " + outside.property + " (" + outside.primary_flag() + ") to ";
     const bool hull = settings.method == MethodId::TCelestial || settings.method == MethodId::SCelestial;
+    const SettingField& hull_points = setting_field("celestial_hull_points");
     throw Error(e.code(), e.message(),
-      hull ? "add control points around the model (the paper adds the corners of a box), or " +
+      hull ? "add control points around the model (the paper adds the corners of a box): set " +
+          hull_points.property + " (" + hull_points.primary_flag() + ") to auto to add them, or " +
           set + "nan to get NaN rows for them"
            : set + "nearest to clamp them to the mesh or nan to mark them");
   }

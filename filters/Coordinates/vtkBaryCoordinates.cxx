@@ -9,6 +9,7 @@
 #include "vtkDataArray.h"
 #include "vtkDataSet.h"
 #include "vtkDoubleArray.h"
+#include "vtkFieldData.h"
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
 #include "vtkObjectFactory.h"
@@ -188,6 +189,24 @@ void vtkBaryCoordinates::FinishOutput(
   }
   else if (this->FaceWeightsArrayName && *this->FaceWeightsArrayName)
     output->GetPointData()->RemoveArray(this->FaceWeightsArrayName); // stale: not these weights'
+  // control points the method added (celestial hull points): their positions, columns last
+  vtkNew<vtkFieldData> field;
+  if (output->GetFieldData())
+    field->ShallowCopy(output->GetFieldData());
+  field->RemoveArray("AddedControlPoints");
+  if (result.added_controls.rows() > 0)
+  {
+    vtkNew<vtkDoubleArray> added;
+    added->SetName("AddedControlPoints");
+    added->SetNumberOfComponents(3);
+    added->SetNumberOfTuples(result.added_controls.rows());
+    for (Eigen::Index k = 0; k < result.added_controls.rows(); ++k)
+      for (int j = 0; j < 3; ++j)
+        added->SetComponent(k, j,
+          j < result.added_controls.cols() ? result.added_controls(k, j) : columns.PlaneZ);
+    field->AddArray(added);
+  }
+  output->SetFieldData(field);
   if (this->GenerateLocation && this->LocationArrayName && *this->LocationArrayName)
   {
     vtkNew<vtkUnsignedCharArray> location;

@@ -29,6 +29,13 @@
  * Celestial coordinates (T_CELESTIAL, S_CELESTIAL) take free control points on input 1 (any
  * points; cells ignored; 2D when they lie in a plane z = const): the domain is their convex hull,
  * component i is control point i. When input 0 has cells, Newton's warm starts follow its edges.
+ * With the method's CelestialHullPoints set to auto, when some point is outside the control
+ * points' hull or on it, the corners of the enlarged bounding box of the points and the
+ * controls (4 in 2D, 8 in 3D, CelestialHullMargin times its diagonal beyond it) are added as
+ * controls: the weights array then has #C + #A components, the added ones last, and the output's
+ * field data holds their positions as the array "AddedControlPoints" (#A tuples of 3, 2D: at
+ * the controls' plane z); its number of tuples is #A. Deforming such weights moves the #C
+ * controls and leaves the added ones where they are (barylab::Deform, `barylab deform`).
  *
  * The mesh-based cage methods (HARMONIC, BBW with cage handles, LBC: Zhang et al. 2014) compute
  * the weights on a mesh of the cage's interior, made here (the method's TargetNumberOfCells /
@@ -137,19 +144,19 @@ public:
   ///@}
 
   ///@{
+  /// Name of the output face-coefficients array of methods that have one (GREEN: psi, one
+  /// component per cage face or 2D edge). Default "FaceWeights".
+  vtkSetStringMacro(FaceWeightsArrayName);
+  vtkGetStringMacro(FaceWeightsArrayName);
+  ///@}
+
+  ///@{
   /// Add the per-point location array (inside/outside/on the cage). Default on.
   vtkSetMacro(GenerateLocation, bool);
   vtkGetMacro(GenerateLocation, bool);
   vtkBooleanMacro(GenerateLocation, bool);
   vtkSetStringMacro(LocationArrayName);
   vtkGetStringMacro(LocationArrayName);
-  ///@}
-
-  ///@{
-  /// Name of the output face-coefficients array of methods that have one (GREEN: psi, one
-  /// component per cage face or 2D edge). Default "FaceWeights".
-  vtkSetStringMacro(FaceWeightsArrayName);
-  vtkGetStringMacro(FaceWeightsArrayName);
   ///@}
 
   ///@{

@@ -5,6 +5,7 @@
 
 #include "vtkCell.h"
 #include "vtkDataArray.h"
+#include "vtkFieldData.h"
 #include "vtkDataSet.h"
 #include "vtkDoubleArray.h"
 #include "vtkNew.h"
@@ -915,6 +916,81 @@ TEST_F(CLI, CelestialWeightsAndDeformationOfTheHeart)
   ASSERT_EQ(b.code, 0) << b.output;
   EXPECT_LT(MaxPointDifference(out("a.vtp"), out("b.vtp")), 1e-12);
   EXPECT_GT(MaxPointDifference(out("a.vtp"), data("heart.off")), 0.02) << "systole moves the heart";
+}
+
+// Hull points (--hull-points auto, the paper's §6): a heart far larger than a small control
+// set. The weights get the 8 corners' columns last and their positions in the field data;
+// `deform` moves the 5 given controls and keeps the corners: the rest pose reproduces the heart,
+// a translation of the controls by (d, 0, 0) moves every point by its controls' share of d,
+// strictly between 0 and d (the corners hold it), the same with weights computed or reused.
+TEST_F(CLI, CelestialHullPointsInWeightsAndDeform)
+{
+  const double v[5][3] = { { 0, 0, 0 }, { 0.2, 0, 0 }, { 0, 0.2, 0 }, { 0, 0, 0.2 }, { 0.1, 0.1, 0.1 } };
+  {
+    std::ofstream rest(out("small.obj")), moved(out("moved.obj"));
+    for (const auto& c : v)
+    {
+      rest << "v " << c[0] << " " << c[1] << " " << c[2] << "\n";
+      moved << "v " << c[0] + 0.5 << " " << c[1] << " " << c[2] << "\n";
+    }
+  }
+  const std::string base = "--method scc --control-points " + out("small.obj") + " --points " + data("heart.off");
+  ExpectError(run("weights " + base + " --output " + out("none.vtp")), "(--hull-points) to auto");
+  const CommandResult w = run("weights " + base + " --hull-points auto --output " + out("w.vtp") +
+    " --json " + out("w.json"));
+  ASSERT_EQ(w.code, 0) << w.output;
+  const WeightCheck c = CheckWeights(out("w.vtp"));
+  EXPECT_EQ(c.components, 5 + 8);
+  EXPECT_LE(c.partition, 1e-12);
+  EXPECT_GT(c.min, 0.0) << "every point strictly inside the added hull";
+  auto weighted = vtkBaryDataIO::Read(out("w.vtp"));
+  vtkDataArray* added = weighted->GetFieldData()->GetArray("AddedControlPoints");
+  ASSERT_NE(added, nullptr);
+  EXPECT_EQ(added->GetNumberOfTuples(), 8);
+  std::ifstream in(out("w.json"));
+  const nlohmann::json s = nlohmann::json::parse(in);
+  EXPECT_EQ(s["solver"]["hull_points_added"].get<double>(), 8.0);
+  ASSERT_EQ(s["added_control_points"].size(), 8u);
+  EXPECT_EQ(s["added_control_points"][7][0].get<double>(), added->GetComponent(7, 0));
+  // the corners enclose the heart and the controls, 0.1 of the diagonal beyond their box
+  auto heart = vtkBaryDataIO::Read(data("heart.off"));
+  double b[6];
+  heart->GetBounds(b);
+  for (int j = 0; j < 3; ++j)
+  {
+    b[2 * j] = std::min(b[2 * j], 0.0);
+    b[2 * j + 1] = std::max(b[2 * j + 1], 0.2);
+  }
+  const double diag = std::sqrt(std::pow(b[1] - b[0], 2) + std::pow(b[3] - b[2], 2) + std::pow(b[5] - b[4], 2));
+  for (vtkIdType k = 0; k < 8; ++k)
+    for (int j = 0; j < 3; ++j)
+      EXPECT_NEAR(std::abs(added->GetComponent(k, j) - 0.5 * (b[2 * j] + b[2 * j + 1])),
+        0.5 * (b[2 * j + 1] - b[2 * j]) + 0.1 * diag, 1e-9 * diag);
+  // deform: the rest pose, then the controls translated
+  ASSERT_EQ(run("deform " + base + " --hull-points auto --deformed-control-points " + out("small.obj") +
+              " --output " + out("rest.vtp")).code, 0);
+  EXPECT_LT(MaxPointDifference(out("rest.vtp"), data("heart.off")), 1e-9 * diag);
+  const CommandResult a = run("deform " + base + " --hull-points auto --deformed-control-points " +
+    out("moved.obj") + " --output " + out("a.vtp"));
+  ASSERT_EQ(a.code, 0) << a.output;
+  const CommandResult r = run("deform --method scc --hull-points auto --control-points " + out("small.obj") +
+    " --deformed-control-points " + out("moved.obj") + " --weights " + out("w.vtp") + " --output " + out("b.vtp"));
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_LT(MaxPointDifference(out("a.vtp"), out("b.vtp")), 1e-12);
+  auto moved = vtkBaryDataIO::Read(out("a.vtp"));
+  vtkDataArray* W = weighted->GetPointData()->GetArray("Weights");
+  for (vtkIdType p = 0; p < heart->GetNumberOfPoints(); ++p)
+  {
+    double x[3], y[3], share = 0.0;
+    heart->GetPoint(p, x);
+    moved->GetPoint(p, y);
+    for (int j = 0; j < 5; ++j)
+      share += W->GetComponent(p, j);
+    ASSERT_NEAR(y[0] - x[0], 0.5 * share, 1e-9 * diag) << "point " << p;
+    ASSERT_GT(y[0] - x[0], 0.0);
+    ASSERT_LT(y[0] - x[0], 0.5) << "the corners did not move";
+    ASSERT_NEAR(y[1], x[1], 1e-9 * diag);
+  }
 }
 
 TEST_F(CLI, AnimateWritesFramesAndAParaViewCollection)
