@@ -19,6 +19,7 @@
 #include "vtkColorTransferFunction.h"
 #include "vtkContourFilter.h"
 #include "vtkDataArray.h"
+#include "vtkFieldData.h"
 #include "vtkDataSet.h"
 #include "vtkDataSetSurfaceFilter.h"
 #include "vtkDoubleArray.h"
@@ -145,7 +146,7 @@ double diameter_of(vtkPoints* points)
 }
 
 void add_controls(vtkRenderer* renderer, vtkPolyData* controls, vtkPoints* posed,
-  const SceneOptions& options)
+  const SceneOptions& options, vtkDataSet* weighted = nullptr)
 {
   vtkPoints* points = posed ? posed : controls->GetPoints();
   const double blue[3] = { 0.2, 0.35, 0.8 }, red[3] = { 0.9, 0.15, 0.1 };
@@ -153,6 +154,21 @@ void add_controls(vtkRenderer* renderer, vtkPolyData* controls, vtkPoints* posed
   vtkNew<vtkPoints> selected;
   ModeFor(options.controls).addControlActors(renderer, controls, points, options, selected);
   AddSpheres(renderer, points, radius, blue);
+  // control points the weights method added (celestial hull points): fixed, small and grey;
+  // their weights components follow the controls'
+  if (vtkDataArray* added = weighted && weighted->GetFieldData()
+        ? weighted->GetFieldData()->GetArray("AddedControlPoints")
+        : nullptr)
+  {
+    vtkNew<vtkPoints> hull;
+    for (vtkIdType k = 0; k < added->GetNumberOfTuples(); ++k)
+      hull->InsertNextPoint(added->GetTuple3(k));
+    const double grey[3] = { 0.55, 0.55, 0.55 };
+    AddSpheres(renderer, hull, 0.6 * radius, grey);
+    const vtkIdType k = options.component - points->GetNumberOfPoints();
+    if (k >= 0 && k < hull->GetNumberOfPoints())
+      selected->InsertNextPoint(hull->GetPoint(k));
+  }
   if (selected->GetNumberOfPoints() > 0)
     AddSpheres(renderer, selected, 2.0 * radius, red);
 }
@@ -378,7 +394,7 @@ SceneInfo BuildScene(vtkRenderer* renderer, vtkDataSet* weighted, vtkPoints* pos
     renderer->AddActor(actor);
     info.shown_points = surface->GetNumberOfPoints();
     if (controls && options.show_controls)
-      add_controls(renderer, controls, posed_controls, options);
+      add_controls(renderer, controls, posed_controls, options, weighted);
     return info;
   }
 
@@ -455,7 +471,7 @@ SceneInfo BuildScene(vtkRenderer* renderer, vtkDataSet* weighted, vtkPoints* pos
     add_level_set(renderer, shown, { info.influence_level }, magenta, 3.0);
 
   if (controls && options.show_controls)
-    add_controls(renderer, controls, posed_controls, options);
+    add_controls(renderer, controls, posed_controls, options, weighted);
 
   vtkNew<vtkScalarBarActor> bar;
   bar->SetLookupTable(lut);

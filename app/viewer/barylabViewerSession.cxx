@@ -91,6 +91,7 @@ void Session::open(const Inputs& given)
   this->PosedControls = CopyPoints(controls->GetPoints());
   this->UndoStack.clear();
   this->Twists.clear();
+  this->HasViewLine = false;
 }
 
 int Session::modelDimension() const
@@ -167,10 +168,40 @@ bool Session::undo()
 {
   if (this->UndoStack.empty())
     return false;
-  this->PosedControls = this->UndoStack.back().points;
-  this->Twists = this->UndoStack.back().twists;
+  PoseState& last = this->UndoStack.back();
+  if (last.controls) // an edit of the controls
+  {
+    this->Controls = last.controls;
+    this->Weighted = last.weighted;
+    this->clearCompare();
+  }
+  this->PosedControls = last.points;
+  this->Twists = last.twists;
   this->UndoStack.pop_back();
   return true;
+}
+
+void Session::replaceControls(vtkSmartPointer<vtkPolyData> controls,
+  vtkSmartPointer<vtkPoints> posed, vtkSmartPointer<vtkDataSet> weighted)
+{
+  this->UndoStack.push_back(
+    { CopyPoints(this->PosedControls), this->Twists, this->Controls, this->Weighted });
+  this->Controls = controls;
+  this->PosedControls = posed;
+  this->Weighted = weighted;
+  this->Twists.clear();
+  this->clearCompare();
+  this->HasViewLine = false;
+}
+
+void Session::setViewLine(const double a[3], const double b[3])
+{
+  for (int k = 0; k < 3; ++k)
+  {
+    this->ViewLine[0][k] = a[k];
+    this->ViewLine[1][k] = b[k];
+  }
+  this->HasViewLine = true;
 }
 
 void Session::moveControl(int id, const double x[3])

@@ -117,6 +117,21 @@ public:
   /// Drops the pending pose (a computation failed); pending twists wait for the next weights.
   void clearPendingPose() { this->PendingPose = nullptr; }
 
+  // --- editing the controls (free control points: added, removed) ------------------------
+  /// New controls with their pose and the weights for them (an added or removed control
+  /// point); undoable: undo() brings back the controls, pose and weights before. Drops the
+  /// comparison method's weights (they are for the old controls).
+  void replaceControls(vtkSmartPointer<vtkPolyData> controls, vtkSmartPointer<vtkPoints> posed,
+    vtkSmartPointer<vtkDataSet> weighted);
+  /// The view line of a control point being added (the paper's Fig. 7): the line through the
+  /// pixel first clicked, from @p a to @p b (world, across the view's depth), drawn until the
+  /// point is placed on it or the adding is cancelled.
+  void setViewLine(const double a[3], const double b[3]);
+  void clearViewLine() { this->HasViewLine = false; }
+  bool hasViewLine() const { return this->HasViewLine; }
+  const double* viewLineStart() const { return this->ViewLine[0]; }
+  const double* viewLineEnd() const { return this->ViewLine[1]; }
+
   // --- deformation ----------------------------------------------------------------------
   /// Deforms the models that carry weights to the current pose with @p mode (null when at
   /// rest). On failure the deformed models are null and the error is thrown.
@@ -143,7 +158,11 @@ private:
   {
     vtkSmartPointer<vtkPoints> points;
     std::vector<HandleTwist> twists;
+    vtkSmartPointer<vtkPolyData> controls{}; ///< an edit of the controls: the controls before
+    vtkSmartPointer<vtkDataSet> weighted{};  ///< and their weights (null for a pose change)
   };
+  bool HasViewLine = false;
+  double ViewLine[2][3] = { { 0, 0, 0 }, { 0, 0, 0 } };
   std::vector<PoseState> UndoStack;
   vtkSmartPointer<vtkPoints> PendingPose;
   std::vector<HandleTwist> PendingTwists;

@@ -8,7 +8,12 @@
 
 #include <QVTKOpenGLNativeWidget.h>
 
+#include "vtkActor.h"
 #include "vtkCallbackCommand.h"
+#include "vtkLineSource.h"
+#include "vtkNew.h"
+#include "vtkPolyDataMapper.h"
+#include "vtkProperty.h"
 #include "vtkCamera.h"
 #include "vtkGenericOpenGLRenderWindow.h"
 #include "vtkInteractorObserver.h"
@@ -76,6 +81,19 @@ void Views::build(const Session& session, SceneOptions options, const QString& c
   vtkPointSet* deformed = session.deformedModel();
   info = BuildScene(this->Renderer, weighted, weighted && deformed ? deformed->GetPoints() : nullptr,
     session.controls(), session.posedControls(), options);
+  if (session.hasViewLine())
+  {
+    vtkNew<vtkLineSource> line;
+    line->SetPoint1(session.viewLineStart());
+    line->SetPoint2(session.viewLineEnd());
+    vtkNew<vtkPolyDataMapper> mapper;
+    mapper->SetInputConnection(line->GetOutputPort());
+    vtkNew<vtkActor> actor;
+    actor->SetMapper(mapper);
+    actor->GetProperty()->SetColor(0.95, 0.8, 0.1);
+    actor->GetProperty()->SetLineWidth(3.0);
+    this->Renderer->AddActor(actor);
+  }
   if (!compare)
     return;
   vtkDataSet* compared = session.compareWeighted();
@@ -146,7 +164,12 @@ void Views::OnInteractorEvent(vtkObject* caller, unsigned long event, void* clie
   auto* interactor = static_cast<vtkRenderWindowInteractor*>(caller);
   int pos[2];
   interactor->GetEventPosition(pos);
-  if (event == vtkCommand::LeftButtonPressEvent)
+  if (event == vtkCommand::LeftButtonPressEvent && interactor->GetControlKey())
+  {
+    self->InteractorCallback->AbortFlagOn();
+    emit self->viewClicked(pos[0], pos[1]);
+  }
+  else if (event == vtkCommand::LeftButtonPressEvent)
   {
     const int id = self->pickControl(pos[0], pos[1]);
     if (id < 0)

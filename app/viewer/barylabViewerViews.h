@@ -2,8 +2,9 @@
 /// @file barylabViewerViews.h
 /// The viewer's two VTK views: the weights shown and, beside it, the comparison method's, with
 /// one camera for both. Clicking near a control point in the first view (12 pixels) and
-/// dragging it is reported as signals in world coordinates; what a click or drag does is the
-/// window's (and its mode's) business. What they draw is a Session's weights (BuildScene).
+/// dragging it is reported as signals in world coordinates, a Ctrl + click anywhere as
+/// viewClicked; what a click or drag does is the window's (and its mode's) business. The view
+/// line of a control point being added (Session::hasViewLine) is drawn as a yellow line. What they draw is a Session's weights (BuildScene).
 
 #include <QObject>
 #include <QString>
@@ -60,6 +61,9 @@ signals:
   void controlDragged(int id, const double* world);
   /// The drag of control @p id ended.
   void controlReleased(int id);
+  /// Left button pressed with Ctrl at display position (@p x, @p y) (VTK's: origin bottom
+  /// left): a control point to add there (the camera does not move).
+  void viewClicked(int x, int y);
 
 private:
   int pickControl(int x, int y) const;

@@ -1,6 +1,7 @@
 #include "barylabViewerWindow.h"
 
 #include "barylabViewerExamples.h"
+#include "barylabViewerFreePointsMode.h"
 #include "barylabViewerLocality.h"
 #include "barylabViewerMenus.h"
 #include "barylabViewerMode.h"
@@ -20,10 +21,15 @@
 
 #include <QVTKOpenGLNativeWidget.h>
 
+#include "vtkInteractorObserver.h"
 #include "vtkRenderer.h"
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cmath>
 
 namespace barylab
@@ -114,6 +120,8 @@ void ViewerWindow::buildViews()
   connect(this->ViewPair, &Views::controlReleased, this, [this](int id) {
     this->Panel->setMovePosition(this->posedControls()->GetPoint(id));
   });
+  connect(this->ViewPair, &Views::viewClicked, this,
+    [this](int x, int y) { this->addControlPointAt(x, y); });
 
   // locality charts (P(t), Q(k)), hidden until asked for
   this->Locality = new LocalityDock(this->State, this);
@@ -567,7 +575,173 @@ void ViewerWindow::undo()
     this->statusBar()->showMessage("Nothing to undo.");
     return;
   }
+  // an edit of the controls undone: other controls, other weights
+  this->Options.component =
+    std::clamp(this->Options.component, 0, std::max(0, this->componentCount() - 1));
+  this->updateControlList();
+  this->Panel->sync();
   this->poseChanged();
+}
+
+// ------------------------------------------------------------------------------------------
+// adding and removing free control points (celestial coordinates)
+
+namespace
+{
+/// The world points of display position (x, y) on the near and far clipping planes.
+void view_ray(vtkRenderer* renderer, double x, double y, Eigen::Vector3d& near, Eigen::Vector3d& far)
+{
+  double w[4];
+  vtkInteractorObserver::ComputeDisplayToWorld(renderer, x, y, 0.0, w);
+  near = Eigen::Vector3d(w[0], w[1], w[2]);
+  vtkInteractorObserver::ComputeDisplayToWorld(renderer, x, y, 1.0, w);
+  far = Eigen::Vector3d(w[0], w[1], w[2]);
+}
+} // namespace
+
+bool ViewerWindow::addControlPointAt(double x, double y)
+{
+  if (!this->hasWeights() || this->shownKind() != ControlKind::FreePoints || this->isComputing())
+  {
+    this->reportError("adding control points needs the weights of celestial coordinates (tcc, "
+                      "scc) of free control points: compute them first");
+    return false;
+  }
+  vtkRenderer* renderer = this->renderer();
+  renderer->ResetCameraClippingRange();
+  Eigen::Vector3d near, far;
+  view_ray(renderer, x, y, near, far);
+  vtkPolyData* controls = this->State.controls();
+  double point[3];
+  if (this->Options.dimension == 2)
+  {
+    // the view looks down z: the point in the controls' plane
+    const double z = controls->GetPoint(0)[2];
+    const double t = std::abs(far.z() - near.z()) > 0.0 ? (z - near.z()) / (far.z() - near.z()) : 0.0;
+    const Eigen::Vector3d p = near + t * (far - near);
+    point[0] = p.x();
+    point[1] = p.y();
+    point[2] = z;
+  }
+  else
+  {
+    // the scene's extent: the view line is drawn across it
+    double b[6];
+    this->State.model()->GetBounds(b);
+    double cb[6];
+    controls->GetBounds(cb);
+    for (int k = 0; k < 3; ++k)
+    {
+      b[2 * k] = std::min(b[2 * k], cb[2 * k]);
+      b[2 * k + 1] = std::max(b[2 * k + 1], cb[2 * k + 1]);
+    }
+    const Eigen::Vector3d centre(0.5 * (b[0] + b[1]), 0.5 * (b[2] + b[3]), 0.5 * (b[4] + b[5]));
+    const double diagonal =
+      Eigen::Vector3d(b[1] - b[0], b[3] - b[2], b[5] - b[4]).norm();
+    const Eigen::Vector3d e = (far - near).normalized();
+    const auto new_line = [&]() {
+      // the part of the view line within a diagonal of the scene's centre
+      const Eigen::Vector3d m = near + (centre - near).dot(e) * e;
+      const Eigen::Vector3d a = m - diagonal * e, c = m + diagonal * e;
+      this->State.setViewLine(a.data(), c.data());
+      this->updateScene();
+      this->statusBar()->showMessage("Adding a control point: rotate the view and Ctrl + click on "
+                                     "the yellow view line to place it (Esc cancels).");
+      return false;
+    };
+    if (!this->State.hasViewLine())
+      return new_line();
+    const Eigen::Vector3d a(this->State.viewLineStart()), c(this->State.viewLineEnd());
+    const Eigen::Vector3d d = (c - a).normalized();
+    // the points of the view line and the click's ray nearest to each other
+    const double de = d.dot(e);
+    const double denominator = 1.0 - de * de;
+    if (denominator < 1e-6) // seen end on: the view was not rotated
+      return new_line();
+    const Eigen::Vector3d w0 = a - near;
+    const double s = (de * e.dot(w0) - d.dot(w0)) / denominator;
+    const Eigen::Vector3d p = a + s * d;
+    double display[3];
+    vtkInteractorObserver::ComputeWorldToDisplay(renderer, p.x(), p.y(), p.z(), display);
+    if (std::hypot(display[0] - x, display[1] - y) > 12.0)
+      return new_line(); // not on the line: a new line through this pixel
+    point[0] = p.x();
+    point[1] = p.y();
+    point[2] = p.z();
+  }
+  // the new point, at rest and posed where it was placed
+  auto edited = vtkSmartPointer<vtkPolyData>::New();
+  edited->SetPoints(CopyPoints(controls->GetPoints()));
+  edited->GetPoints()->InsertNextPoint(point);
+  auto posed = CopyPoints(this->State.posedControls());
+  posed->InsertNextPoint(point);
+  const int id = static_cast<int>(controls->GetNumberOfPoints());
+  return this->editControls(edited, posed, id,
+    QString("Added control point %1 at (%2, %3, %4)").arg(id).arg(point[0]).arg(point[1]).arg(point[2]));
+}
+
+void ViewerWindow::cancelAddControlPoint()
+{
+  if (!this->State.hasViewLine())
+    return;
+  this->State.clearViewLine();
+  this->updateScene();
+  this->statusBar()->showMessage("Adding a control point cancelled.");
+}
+
+bool ViewerWindow::removeControlPoint(int id)
+{
+  if (!this->hasWeights() || this->shownKind() != ControlKind::FreePoints || this->isComputing())
+  {
+    this->reportError("removing control points needs the weights of celestial coordinates (tcc, "
+                      "scc) of free control points: compute them first");
+    return false;
+  }
+  vtkPolyData* controls = this->State.controls();
+  const int n = static_cast<int>(controls->GetNumberOfPoints());
+  if (id < 0 || id >= n)
+  {
+    this->reportError(id >= n && id < this->componentCount()
+        ? QString("hull point %1 is fixed: the method adds it (hull points: auto); remove the "
+                  "control points, not the hull points").arg(id - n)
+        : QString("control point %1 does not exist").arg(id));
+    return false;
+  }
+  auto edited = vtkSmartPointer<vtkPolyData>::New();
+  auto rest = vtkSmartPointer<vtkPoints>::New();
+  auto posed = vtkSmartPointer<vtkPoints>::New();
+  rest->SetDataTypeToDouble();
+  posed->SetDataTypeToDouble();
+  for (int i = 0; i < n; ++i)
+    if (i != id)
+    {
+      rest->InsertNextPoint(controls->GetPoint(i));
+      posed->InsertNextPoint(this->State.posedControls()->GetPoint(i));
+    }
+  edited->SetPoints(rest);
+  return this->editControls(edited, posed, std::min(id, n - 2),
+    QString("Removed control point %1").arg(id));
+}
+
+bool ViewerWindow::editControls(vtkSmartPointer<vtkPolyData> controls,
+  vtkSmartPointer<vtkPoints> posed, int select, const QString& what)
+{
+  vtkSmartPointer<vtkDataSet> weighted;
+  double seconds = 0.0;
+  if (!this->reporting([&]() { weighted = FreePointsMode::EditedWeights(this->State, controls, &seconds); },
+        what + " failed: "))
+    return false;
+  this->LastEditSeconds = seconds;
+  this->State.replaceControls(controls, posed, weighted);
+  this->Options.component = std::clamp(select, 0, std::max(0, this->componentCount() - 1));
+  this->updateControlList();
+  this->Panel->sync();
+  if (this->shownMode().componentsAreControlPoints())
+    this->Panel->setMoveId(this->Options.component);
+  this->poseChanged();
+  this->statusBar()->showMessage(
+    what + QString(": weights updated in %1 s.").arg(seconds, 0, 'f', 3));
+  return true;
 }
 
 bool ViewerWindow::loadPose(const QString& path)

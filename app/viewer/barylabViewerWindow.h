@@ -77,6 +77,9 @@ public:
   /// interactive).
   const QStringList& errors() const { return this->Errors; }
   double lastComputeSeconds() const { return this->LastSeconds; }
+  /// Seconds the last control point edit took to update the weights (addControlPointAt,
+  /// removeControlPoint).
+  double lastEditSeconds() const { return this->LastEditSeconds; }
   std::size_t undoDepth() const { return this->State.undoDepth(); }
   /// BBW handle @p handle's rotation / scale (identity when none or out of range).
   HandleTwist handleTwist(int handle) const { return this->State.twist(handle); }
@@ -146,6 +149,22 @@ public slots:
   /// for other controls, a handle out of range or a scale that is not > 0.
   bool setHandleTwist(int handle, double angle_degrees, double scale);
   void undo();
+
+  /// Free control points (tcc, scc) with weights: adds a control point where the user clicks,
+  /// along the view line (the celestial paper's Fig. 7). (@p x, @p y) is a display position
+  /// (VTK's, origin bottom left; the view does a Ctrl + click). 3D: the first click defines the
+  /// line through that pixel (drawn; rotate the view to see it); a later click within 12 pixels
+  /// of the drawn line places the point at the point of the line nearest to the view ray
+  /// through the click, and a click away from it starts a new line. 2D: the point is placed at
+  /// once, in the controls' plane. The weights are then updated incrementally
+  /// (FreePointsMode::EditedWeights; a failure, e.g. a point left outside, is reported and
+  /// changes nothing); undoable. True when a point was added.
+  bool addControlPointAt(double x, double y);
+  /// Drops the view line of a point being added (Esc).
+  void cancelAddControlPoint();
+  /// Removes free control point @p id (not a hull point) and updates the weights; undoable.
+  bool removeControlPoint(int id);
+
   /// The example's pose, or a pose file: posed cage / control points, or BBW transforms.
   bool loadPose(const QString& path);
   bool applyExamplePose();
@@ -191,6 +210,10 @@ private:
   QStringList Errors;
   bool Interactive = true;
   double LastSeconds = 0.0;
+  double LastEditSeconds = 0.0;
+  /// New controls (rest and posed) for the weights shown: weights updated, undoable.
+  bool editControls(vtkSmartPointer<vtkPolyData> controls, vtkSmartPointer<vtkPoints> posed,
+    int select, const QString& what);
   bool CameraNeedsReset = true;
 
   ComputeRunner Runner; ///< declared after the session: a worker still running stops first

@@ -15,6 +15,7 @@
 #include "vtkBaryDataIO.h"
 #include "core/deformation/skeleton.h"
 
+#include <QAction>
 #include <QApplication>
 #include <QDir>
 #include <QElapsedTimer>
@@ -542,6 +543,180 @@ private slots:
     weights_with({ 1.0, 2.0 });
     QCOMPARE(w->errors().size(), 2);
     QVERIFY(w->hasWeights());
+  }
+
+  // Editing free control points (the celestial paper's Fig. 7): a click defines the view line
+  // through a pixel, a click on that line in a rotated view places the point there; Delete
+  // removes the selected point; both are undone; the weights follow each edit incrementally.
+  void celestialAddRemoveControlPoints()
+  {
+    loadAndWait("heart-scc");
+    const int n = static_cast<int>(w->controls()->GetNumberOfPoints());
+    vtkRenderer* r = w->renderer();
+    vtkCamera* camera = r->GetActiveCamera();
+    double b[6];
+    w->controls()->GetBounds(b);
+    const double c[3] = { 0.5 * (b[0] + b[1]), 0.5 * (b[2] + b[3]), 0.5 * (b[4] + b[5]) };
+    const double diag = std::sqrt((b[1] - b[0]) * (b[1] - b[0]) + (b[3] - b[2]) * (b[3] - b[2]) +
+      (b[5] - b[4]) * (b[5] - b[4]));
+    // a known camera: from +z at the controls' centre; the target at the centre's height
+    camera->SetFocalPoint(c[0], c[1], c[2]);
+    camera->SetPosition(c[0], c[1], c[2] + 3.0 * diag);
+    camera->SetViewUp(0.0, 1.0, 0.0);
+    r->ResetCameraClippingRange();
+    const double T[3] = { c[0] + 0.05 * diag, c[1], c[2] - 0.03 * diag };
+    double d[3];
+    to_display(r, T, d);
+    QVERIFY(!w->addControlPointAt(d[0], d[1])); // the view line, no point yet
+    QVERIFY(w->session().hasViewLine());
+    const auto off_line = [&](const double p[3]) {
+      const double* a = w->session().viewLineStart();
+      const double* e = w->session().viewLineEnd();
+      double u[3], v[3], uu = 0, uv = 0;
+      for (int k = 0; k < 3; ++k)
+      {
+        u[k] = e[k] - a[k];
+        v[k] = p[k] - a[k];
+        uu += u[k] * u[k];
+        uv += u[k] * v[k];
+      }
+      double d2 = 0;
+      for (int k = 0; k < 3; ++k)
+        d2 += (v[k] - uv / uu * u[k]) * (v[k] - uv / uu * u[k]);
+      return std::sqrt(d2);
+    };
+    QVERIFY2(off_line(T) < 1e-9 * diag, qPrintable(QString::number(off_line(T))));
+    const double line[2][3] = { { w->session().viewLineStart()[0], w->session().viewLineStart()[1],
+                                  w->session().viewLineStart()[2] },
+      { w->session().viewLineEnd()[0], w->session().viewLineEnd()[1], w->session().viewLineEnd()[2] } };
+    // the view rotated by 90 degrees about the vertical: the line runs across the view at T's
+    // height; a click 5 pixels along and 3 across it places the point on the line, under the
+    // click's column
+    camera->Azimuth(90.0);
+    r->ResetCameraClippingRange();
+    to_display(r, T, d);
+    QVERIFY2(w->addControlPointAt(d[0] + 5.0, d[1] + 3.0), qPrintable(w->errors().join("; ")));
+    QVERIFY(!w->session().hasViewLine());
+    QCOMPARE(static_cast<int>(w->controls()->GetNumberOfPoints()), n + 1);
+    QCOMPARE(w->selectedControl(), n);
+    double P[3];
+    w->controls()->GetPoint(n, P);
+    {
+      double a[3] = { line[0][0], line[0][1], line[0][2] }, e[3] = { line[1][0], line[1][1], line[1][2] };
+      double u[3], v[3], uu = 0, uv = 0, d2 = 0;
+      for (int k = 0; k < 3; ++k)
+      {
+        u[k] = e[k] - a[k];
+        v[k] = P[k] - a[k];
+        uu += u[k] * u[k];
+        uv += u[k] * v[k];
+      }
+      for (int k = 0; k < 3; ++k)
+        d2 += (v[k] - uv / uu * u[k]) * (v[k] - uv / uu * u[k]);
+      QVERIFY2(std::sqrt(d2) < 1e-9 * diag, qPrintable(QString::number(std::sqrt(d2))));
+    }
+    double dp[3];
+    to_display(r, P, dp);
+    QVERIFY2(std::abs(dp[0] - (d[0] + 5.0)) < 1e-3 && std::abs(dp[1] - d[1]) < 1e-3,
+      qPrintable(QString("(%1, %2) vs (%3, %4)").arg(dp[0]).arg(dp[1]).arg(d[0] + 5.0).arg(d[1])));
+    double posed[3];
+    w->posedControls()->GetPoint(n, posed);
+    QCOMPARE(posed[0], P[0]);
+
+    // the weights: one more component, positive, a partition of unity reproducing the points,
+    // and the same as a full computation for the new controls
+    const auto check_weights = [&](int controls) {
+      vtkDataArray* W = w->weighted()->GetPointData()->GetArray("Weights");
+      QVERIFY(W != nullptr);
+      QCOMPARE(W->GetNumberOfComponents(), controls);
+      double partition = 0.0, repro = 0.0, min = 1.0;
+      for (vtkIdType i = 0; i < W->GetNumberOfTuples(); ++i)
+      {
+        double sum = 0.0, x[3] = { 0, 0, 0 }, p[3];
+        for (int j = 0; j < controls; ++j)
+        {
+          const double wij = W->GetComponent(i, j);
+          sum += wij;
+          min = std::min(min, wij);
+          double v[3];
+          w->controls()->GetPoint(j, v);
+          for (int k = 0; k < 3; ++k)
+            x[k] += wij * v[k];
+        }
+        w->weighted()->GetPoint(i, p);
+        partition = std::max(partition, std::abs(sum - 1.0));
+        repro = std::max(repro, std::sqrt((x[0] - p[0]) * (x[0] - p[0]) + (x[1] - p[1]) * (x[1] - p[1]) +
+          (x[2] - p[2]) * (x[2] - p[2])));
+      }
+      QVERIFY2(partition < 1e-12, qPrintable(QString::number(partition)));
+      QVERIFY2(repro < 1e-9 * diag, qPrintable(QString::number(repro)));
+      QVERIFY(min > 0.0);
+    };
+    check_weights(n + 1);
+    const double first_edit = w->lastEditSeconds();
+    vtkSmartPointer<vtkDataSet> added = w->weighted();
+    // a second point along another line: started from the first edit's solution
+    camera->SetPosition(c[0], c[1], c[2] + 3.0 * diag);
+    camera->SetViewUp(0.0, 1.0, 0.0);
+    r->ResetCameraClippingRange();
+    const double T2[3] = { c[0] - 0.04 * diag, c[1], c[2] + 0.02 * diag };
+    to_display(r, T2, d);
+    QVERIFY(!w->addControlPointAt(d[0], d[1]));
+    camera->Azimuth(90.0);
+    r->ResetCameraClippingRange();
+    to_display(r, T2, d);
+    QVERIFY(w->addControlPointAt(d[0], d[1]));
+    check_weights(n + 2);
+    const double warm_edit = w->lastEditSeconds();
+    vtkSmartPointer<vtkDataArray> incremental = w->weighted()->GetPointData()->GetArray("Weights");
+    w->compute();
+    QVERIFY(w->waitForComputation(60000));
+    vtkDataArray* full = w->weighted()->GetPointData()->GetArray("Weights");
+    double differs = 0.0;
+    for (vtkIdType i = 0; i < full->GetNumberOfTuples(); ++i)
+      for (int j = 0; j < n + 2; ++j)
+        differs = std::max(differs, std::abs(full->GetComponent(i, j) - incremental->GetComponent(i, j)));
+    QVERIFY2(differs < 1e-9, qPrintable(QString::number(differs)));
+    qInfo("edit updates: %.4f s (first, from neighbours), %.4f s (from the previous solution); "
+          "full computation %.4f s", first_edit, warm_edit, w->lastComputeSeconds());
+
+    // Delete: the selected control point (Edit > Remove control point, key Delete)
+    w->selectControl(0);
+    double second[3];
+    w->controls()->GetPoint(1, second);
+    QAction* remove = nullptr;
+    for (QAction* a : w->findChildren<QAction*>())
+      if (a->text() == "Remove control point")
+        remove = a;
+    QVERIFY(remove != nullptr);
+    QCOMPARE(remove->shortcut(), QKeySequence(Qt::Key_Delete));
+    remove->trigger();
+    QCOMPARE(static_cast<int>(w->controls()->GetNumberOfPoints()), n + 1);
+    double now_first[3];
+    w->controls()->GetPoint(0, now_first);
+    QCOMPARE(now_first[0], second[0]);
+    QCOMPARE(now_first[2], second[2]);
+    check_weights(n + 1);
+    QVERIFY(!w->removeControlPoint(n + 5));
+    QVERIFY(w->errors().last().contains("does not exist"));
+
+    // undo: the removal, then the two additions (the recomputation is no edit)
+    w->undo();
+    QCOMPARE(static_cast<int>(w->controls()->GetNumberOfPoints()), n + 2);
+    check_weights(n + 2);
+    w->undo();
+    QCOMPARE(static_cast<int>(w->controls()->GetNumberOfPoints()), n + 1);
+    QCOMPARE(w->weighted(), added.Get());
+    w->undo();
+    QCOMPARE(static_cast<int>(w->controls()->GetNumberOfPoints()), n);
+    check_weights(n);
+
+    // Esc drops the view line
+    QVERIFY(!w->addControlPointAt(d[0], d[1]));
+    QVERIFY(w->session().hasViewLine());
+    w->cancelAddControlPoint();
+    QVERIFY(!w->session().hasViewLine());
+    QCOMPARE(static_cast<int>(w->controls()->GetNumberOfPoints()), n);
   }
 
   void lbcExample()
