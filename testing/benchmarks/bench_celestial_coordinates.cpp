@@ -21,6 +21,12 @@
 /// repro_err = max |sum_i w_i v_i - p| / diameter, max_residual. A benchmark is skipped with an
 /// error if a point is not Inside or did not converge, or if an error exceeds 1e-10.
 ///
+/// Edits (the viewer's incremental update, FreePointsMode::EditedWeights): one control point
+/// added (at a random interior position) to 30 controls, 1e4 and 1e5 points; timed: the
+/// compute() for the 31 controls started from the solution for the 30 (compute_from,
+/// "from_solution") against the same compute() started as usual ("recompute"). Removing a
+/// control is the same computation with one control fewer.
+///
 /// How it was run and what it measured: docs/celestial-coordinates.md.
 
 #include "core/coordinates/celestial_coordinates.h"
@@ -137,8 +143,49 @@ void bm_celestial(
   state.counters["hull_facets"] = static_cast<double>(cc.num_hull_facets());
 }
 
+void bm_edit(benchmark::State& state, bary::CelestialScheme scheme, Index np, bool from_solution)
+{
+  const int dim = 3;
+  const bary::Points V = make_controls(dim, 30);
+  const bary::Points& X = points(dim, np);
+  bary::CelestialOptions options;
+  options.scheme = scheme;
+  options.threads = bench_threads();
+  const bary::CelestialResult before = bary::CelestialCoordinates(V, options).compute(X);
+  bary::Points edited(V.rows() + 1, dim);
+  edited << V, bary::Points::Constant(1, dim, 0.0);
+  edited.row(V.rows()) << 0.31, -0.42, 0.17;
+  const bary::CelestialCoordinates cc(edited, options);
+  bary::CelestialResult result;
+  for (auto _ : state)
+  {
+    result = from_solution ? cc.compute_from(X, before.solution) : cc.compute(X);
+    benchmark::DoNotOptimize(result.W.data());
+    benchmark::ClobberMemory();
+  }
+  if (result.inside != np || !result.not_converged.empty())
+    state.SkipWithError("not every point was Inside and converged");
+  state.SetItemsProcessed(state.iterations() * np);
+  state.counters["it_per_point"] = static_cast<double>(result.total_iterations) / np;
+  state.counters["warm_frac"] = static_cast<double>(result.warm_starts) / np;
+  state.counters["cold_restarts"] = static_cast<double>(result.cold_restarts);
+}
+
 void register_all()
 {
+  for (Index np : { 10000, 100000 })
+    for (bary::CelestialScheme scheme : { bary::CelestialScheme::S, bary::CelestialScheme::T })
+      for (bool from_solution : { true, false })
+      {
+        const std::string name = std::string(scheme == bary::CelestialScheme::S ? "SCC" : "TCC") +
+          "_3d_edit/controls:30+1/points:" + std::to_string(np) +
+          (from_solution ? "/from_solution" : "/recompute");
+        benchmark::RegisterBenchmark(name.c_str(), bm_edit, scheme, np, from_solution)
+          ->Unit(benchmark::kMillisecond)
+          ->UseRealTime()
+          ->MeasureProcessCPUTime();
+      }
+
   using bary::CelestialScheme;
   struct Case
   {
