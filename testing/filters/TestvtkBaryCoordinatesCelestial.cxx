@@ -1,7 +1,8 @@
 // Tests of vtkBaryCoordinates and vtkBaryCageDeformation with the celestial methods (free control
 // points, no cage): partition of unity, reproduction, positivity, Lagrange at the controls, the
 // outside policies, user weights, warm starts along the input's edges giving the same weights,
-// 2D controls, deformation by moved controls, and the error paths.
+// 2D controls, deformation by moved controls, hull points (AddedControlPoints), and the error
+// paths.
 #include "filters_test_utils.h"
 
 #include "vtkBaryCageDeformation.h"
@@ -9,6 +10,7 @@
 
 #include "vtkCellArray.h"
 #include "vtkDoubleArray.h"
+#include "vtkFieldData.h"
 #include "vtkPolyData.h"
 
 #include <gtest/gtest.h>
@@ -238,6 +240,50 @@ TEST(vtkBaryCoordinatesCelestial, DeformationByMovedControlPoints)
   moved->Modified();
   ASSERT_EQ(RunPipeline(deform), 1);
   EXPECT_EQ(deform->GetNumberOfWeightComputations(), 1);
+}
+
+// Hull points (CelestialHullPoints auto) in 2D at z = 0.5: points far outside three controls get
+// 3 + 4 weights, positive, a partition of unity reproducing them with the added corners, whose
+// positions are the field data AddedControlPoints (z: the controls' plane), the corners of the
+// bounding box enlarged by the margin; rerunning with none drops the array again.
+TEST(vtkBaryCoordinatesCelestial, HullPointsAreAddedAndReported)
+{
+  auto controls = MakePointCloud({ { 0, 0, 0.5 }, { 1, 0, 0.5 }, { 0, 1, 0.5 } });
+  auto points = MakePointCloud({ { 3, 2, 0.5 }, { -2, 0.5, 0.5 }, { 0.2, 0.2, 0.5 }, { 1, -4, 0.5 } });
+  Celestial c(points, controls, vtkBaryWeightMethod::S_CELESTIAL);
+  EXPECT_EQ(c.Run(), 0) << "outside the hull without hull points";
+  c.Filter->GetWeightMethod()->SetCelestialHullPoints(vtkBaryWeightMethod::HULL_POINTS_AUTO);
+  c.Filter->GetWeightMethod()->SetCelestialHullMargin(0.25);
+  ASSERT_EQ(c.Run(), 1) << c.Observer->AllErrors();
+  vtkDataArray* W = c.Weights();
+  ASSERT_NE(W, nullptr);
+  ASSERT_EQ(W->GetNumberOfComponents(), 7);
+  vtkDataSet* out = vtkDataSet::SafeDownCast(c.Filter->GetOutputDataObject(0));
+  vtkDataArray* added = out->GetFieldData()->GetArray("AddedControlPoints");
+  ASSERT_NE(added, nullptr);
+  ASSERT_EQ(added->GetNumberOfTuples(), 4);
+  // the box of points and controls: [-2, 3] x [-4, 2], diagonal sqrt(61)
+  const double pad = 0.25 * std::sqrt(61.0);
+  for (vtkIdType k = 0; k < 4; ++k)
+  {
+    EXPECT_NEAR(added->GetComponent(k, 0), (k & 1) ? 3 + pad : -2 - pad, 1e-12);
+    EXPECT_NEAR(added->GetComponent(k, 1), (k & 2) ? 2 + pad : -4 - pad, 1e-12);
+    EXPECT_EQ(added->GetComponent(k, 2), 0.5);
+  }
+  auto all = MakePointCloud({ { 0, 0, 0.5 }, { 1, 0, 0.5 }, { 0, 1, 0.5 } });
+  for (vtkIdType k = 0; k < 4; ++k)
+    all->GetPoints()->InsertNextPoint(added->GetTuple3(k));
+  const auto [partition, reproduction, lo] = Properties(points, W, all, 2);
+  EXPECT_LE(partition, 1e-12);
+  EXPECT_LE(reproduction, 1e-10);
+  EXPECT_GT(lo, 0.0);
+  EXPECT_EQ(c.Filter->GetStatistic("hull_points_added"), 4.0);
+  c.Filter->GetWeightMethod()->SetCelestialHullPoints(vtkBaryWeightMethod::HULL_POINTS_NONE);
+  c.Filter->GetWeightMethod()->SetOutsidePolicy(vtkBaryWeightMethod::OUTSIDE_NAN);
+  ASSERT_EQ(c.Run(), 1) << c.Observer->AllErrors();
+  out = vtkDataSet::SafeDownCast(c.Filter->GetOutputDataObject(0));
+  EXPECT_EQ(out->GetFieldData()->GetArray("AddedControlPoints"), nullptr);
+  EXPECT_EQ(c.Weights()->GetNumberOfComponents(), 3);
 }
 
 } // namespace
