@@ -3,6 +3,12 @@
 #include "barylabCli.h"
 
 #include "vtkBaryDataIO.h"
+#include "vtkBaryMixedHandles.h"
+
+#include "vtkDataArray.h"
+#include "vtkDoubleArray.h"
+#include "vtkNew.h"
+#include "vtkPointData.h"
 
 #include "core/common/error.h"
 
@@ -198,9 +204,17 @@ void print_summary(const json& s)
   std::cerr << "barylab: " << s["method"].get<std::string>() << " weights: " << p["count"]
             << " points x ";
   if (s.contains("handles") && s["handles"].contains("count"))
-    std::cerr << s["handles"]["count"] << " handles (" << s["handles"]["point_handles"]
-              << " points, " << s["handles"]["bones"] << " bones; " << s["handles"]["dimension"]
-              << "D)";
+  {
+    const nlohmann::json& h = s["handles"];
+    std::cerr << h["count"] << " handles (" << h["point_handles"] << " points, " << h["bones"]
+              << " bones";
+    // mixed handles: the cage vertices and regions, when there are any
+    if (h.value("cage_vertices", 0) > 0)
+      std::cerr << ", " << h["cage_vertices"] << " cage vertices";
+    if (h.value("regions", 0) > 0)
+      std::cerr << ", " << h["regions"] << " regions";
+    std::cerr << "; " << h["dimension"] << "D" << (h.value("shape_preservation", false) ? ", shape brush" : "") << ")";
+  }
   else if (s["cage"].contains("free_points"))
     std::cerr << s["cage"]["control_points"] << " free control points (" << s["cage"]["dimension"]
               << "D)";
@@ -230,6 +244,49 @@ void print_summary(const json& s)
 std::vector<double> read_user_weights(const std::string& path)
 {
   return path.empty() ? std::vector<double>() : vtkBaryDataIO::ReadNumbers(path);
+}
+
+vtkSmartPointer<vtkDataSet> with_shape_preservation(
+  vtkDataSet* domain, const std::string& spec, const std::string& mesh_path)
+{
+  if (spec.empty())
+    return domain;
+  vtkSmartPointer<vtkDataSet> copy;
+  copy.TakeReference(domain->NewInstance());
+  copy->ShallowCopy(domain);
+  const char* name = vtkBaryMixedHandles::ShapePreservationArrayName();
+  vtkNew<vtkDoubleArray> rho;
+  rho->SetName(name);
+  std::error_code ec;
+  if (std::filesystem::is_regular_file(spec, ec))
+  {
+    const std::vector<double> values = vtkBaryDataIO::ReadNumbers(spec);
+    if (static_cast<vtkIdType>(values.size()) != domain->GetNumberOfPoints())
+      throw bary::Error(bary::ErrorCode::SizeMismatch,
+        "--shape-preservation '" + spec + "' has " + std::to_string(values.size()) +
+          " values but the domain '" + mesh_path + "' has " +
+          std::to_string(domain->GetNumberOfPoints()) + " vertices (one value per vertex)");
+    rho->SetNumberOfTuples(static_cast<vtkIdType>(values.size()));
+    for (std::size_t i = 0; i < values.size(); ++i)
+      rho->SetValue(static_cast<vtkIdType>(i), values[i]);
+  }
+  else
+  {
+    vtkDataArray* array = domain->GetPointData()->GetArray(spec.c_str());
+    if (!array)
+      throw bary::Error(bary::ErrorCode::InvalidArgument,
+        "--shape-preservation '" + spec + "' is neither a file nor a point-data array of the "
+        "domain '" + mesh_path + "'");
+    if (array->GetNumberOfComponents() != 1)
+      throw bary::Error(bary::ErrorCode::InvalidArgument,
+        "--shape-preservation: the domain's array '" + spec + "' has " +
+          std::to_string(array->GetNumberOfComponents()) + " components, expected 1 (rho per vertex)");
+    rho->SetNumberOfTuples(array->GetNumberOfTuples());
+    for (vtkIdType i = 0; i < array->GetNumberOfTuples(); ++i)
+      rho->SetValue(i, array->GetComponent(i, 0));
+  }
+  copy->GetPointData()->AddArray(rho);
+  return copy;
 }
 
 void write_locality_csv(const std::string& path, const json& inputs, const char* key,

@@ -12,6 +12,7 @@
 
 #include "barylabPipeline.h"
 
+#include "vtkDataSet.h"
 #include "vtkPolyData.h"
 #include "vtkSmartPointer.h"
 
@@ -169,6 +170,17 @@ void print_summary(const nlohmann::json& s);
 /// tcc user weights: one number per control point (whitespace separated, '#' comments), or a
 /// libigl .dmat column.
 std::vector<double> read_user_weights(const std::string& path);
+
+/// BBW's --shape-preservation SPEC: a shallow copy of @p domain (read from @p mesh_path) with
+/// the point-data array "ShapePreservation" (rho >= 0 per domain vertex, §3.3) that
+/// vtkBaryCoordinates reads: SPEC is a file of one number per domain vertex (text: whitespace
+/// separated, '#' comments; or a libigl .dmat), or else the name of a one-component point-data
+/// array of the domain. An empty SPEC returns @p domain. Values are checked by the filter.
+/// @throws bary::Error(SizeMismatch) for a file with another count than the domain's vertices;
+///   (InvalidArgument) when SPEC is neither a file nor a point array of the domain, or names an
+///   array of more than one component; the errors of vtkBaryDataIO::ReadNumbers.
+vtkSmartPointer<vtkDataSet> with_shape_preservation(
+  vtkDataSet* domain, const std::string& spec, const std::string& mesh_path);
 
 /// Writes one CSV: first column @p key (the longest series' values), then one column per input.
 void write_locality_csv(const std::string& path, const nlohmann::json& inputs, const char* key,

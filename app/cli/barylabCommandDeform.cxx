@@ -4,6 +4,7 @@
 
 #include "vtkBaryConversion.h"
 #include "vtkBaryLinearBlendSkinning.h"
+#include "vtkBaryMixedHandles.h"
 #include "vtkBaryDataIO.h"
 
 #include "core/common/error.h"
@@ -38,7 +39,7 @@ struct DeformArgs
 {
   WeightsParameters parameters;
   std::string cage, posed, controls, posed_controls, user_weights;
-  std::string handles, mesh, transforms, posed_handles, pseudo_edges;
+  std::string handles, mesh, transforms, posed_handles, pseudo_edges, shape_preservation;
   std::string points, weights, output, json_path;
   bool quiet = false;
 };
@@ -133,8 +134,12 @@ int run_deform_bbw(const DeformArgs& a)
   if (a.mesh.empty() && a.weights.empty())
     throw UsageError("--method bbw needs --mesh DOMAIN to compute the weights (or --weights FILE)");
   check_outputs(a);
+  if (!a.shape_preservation.empty() && a.mesh.empty())
+    throw UsageError("--shape-preservation needs the domain mesh (--mesh)");
   auto handles = vtkBaryDataIO::ReadPolyData(a.handles);
   vtkSmartPointer<vtkDataSet> domain = a.mesh.empty() ? nullptr : vtkBaryDataIO::Read(a.mesh);
+  if (domain)
+    domain = with_shape_preservation(domain, a.shape_preservation, a.mesh);
   int dim = 3;
   if (domain)
     dim = vtkBaryConversion::DomainDimension(domain);
@@ -144,12 +149,20 @@ int run_deform_bbw(const DeformArgs& a)
     handles->GetBounds(b);
     dim = b[5] - b[4] <= 1e-9 * std::max(1.0, std::max(b[1] - b[0], b[3] - b[2])) ? 2 : 3;
   }
-  const bary::Skeleton skeleton = vtkBaryConversion::ToSkeleton(handles, dim);
+  // Mixed handles (points, bones, cage faces, regions: vtkBaryMixedHandles; a plain skeleton
+  // reads as before), then the domain's vertex regions (HandleRegion), in the weights' order.
+  const bary::Skeleton skeleton = vtkBaryMixedHandles::ToHandles(handles, dim);
+  const auto vertex_regions =
+    static_cast<Eigen::Index>(domain ? vtkBaryMixedHandles::RegionVertices(domain).size() : 0);
+  const Eigen::Index handle_count = skeleton.handle_count() + vertex_regions;
   std::vector<Eigen::MatrixXd> pose;
   if (!a.transforms.empty())
-    pose = vtkBaryDataIO::ReadPose(a.transforms, skeleton.handle_count(), &skeleton);
+    pose = vtkBaryDataIO::ReadPose(a.transforms, handle_count, &skeleton);
   else
   {
+    if (vertex_regions > 0)
+      throw UsageError("the domain's HandleRegion regions have no joints to move: pose them "
+                       "with --transforms");
     auto posed = vtkBaryDataIO::Read(a.posed_handles);
     auto* posedSet = vtkPointSet::SafeDownCast(posed);
     if (!posedSet || posedSet->GetNumberOfPoints() != handles->GetNumberOfPoints())
@@ -161,7 +174,7 @@ int run_deform_bbw(const DeformArgs& a)
   }
   vtkSmartPointer<vtkDataSet> model = a.points.empty() ? nullptr : vtkBaryDataIO::Read(a.points);
   model = attach_weights(model, a.points, a.weights, a.parameters.weights_name,
-    skeleton.handle_count(), "the skeleton '" + a.handles + "'");
+    handle_count, "the handles '" + a.handles + "'");
   ProgressBar bar(!a.quiet, "deform");
   json summary;
   bool computed = false;
@@ -270,8 +283,11 @@ void AddDeformCommand(Subcommands& subcommands)
   command->add_option("--deformed-control-points", a->posed_controls,
     "tcc|scc: the control points moved (same points, same order)");
   command->add_option("--user-weights", a->user_weights, "tcc: s_i of Eq. 8 (text or .dmat)");
-  command->add_option("--handles", a->handles, "bbw: skeleton (.tgf or .vtp points + lines)");
+  command->add_option("--handles", a->handles,
+    "bbw: skeleton (.tgf or .vtp points + lines) or mixed handles (see 'weights')");
   command->add_option("--mesh", a->mesh, "bbw: domain mesh or closed surface (see 'weights')");
+  command->add_option("--shape-preservation", a->shape_preservation,
+    "bbw: shape-preservation brush per --mesh vertex (a file or a point array; see 'weights')");
   command->add_option("--transforms", a->transforms,
     "bbw: pose, one affine transform per handle (text: 12 numbers [A|t] row-major per line, 6 "
     "in 2D; or libigl .dmat: per-bone quaternions or stacked transforms)");

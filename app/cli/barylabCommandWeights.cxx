@@ -27,6 +27,7 @@ struct WeightsArgs
 {
   WeightsParameters parameters;
   std::string cage, controls, handles, mesh, points, output, json_path, user_weights;
+  std::string shape_preservation;
   bool quiet = false;
 };
 
@@ -38,6 +39,9 @@ int run_weights(WeightsArgs a)
     a.mesh, !a.controls.empty());
   if (!a.user_weights.empty() && a.parameters.method != bary::MethodId::TCelestial)
     throw UsageError("--user-weights is for --method tcc (Eq. 8's s_i)");
+  if (!a.shape_preservation.empty() &&
+    (a.parameters.method != bary::MethodId::BBW || a.mesh.empty()))
+    throw UsageError("--shape-preservation is for --method bbw with a domain mesh (--mesh)");
   if (!a.controls.empty())
     a.cage = a.controls;
   a.parameters.user_weights = read_user_weights(a.user_weights);
@@ -54,6 +58,8 @@ int run_weights(WeightsArgs a)
   const bool skeleton = !a.handles.empty();
   auto cage = vtkBaryDataIO::ReadPolyData(skeleton ? a.handles : a.cage);
   vtkSmartPointer<vtkDataSet> domain = a.mesh.empty() ? nullptr : vtkBaryDataIO::Read(a.mesh);
+  if (domain)
+    domain = with_shape_preservation(domain, a.shape_preservation, a.mesh);
   vtkSmartPointer<vtkDataSet> points;
   if (!a.points.empty())
     points = vtkBaryDataIO::Read(a.points);
@@ -116,7 +122,11 @@ void AddWeightsCommand(Subcommands& subcommands)
   command->add_option("--user-weights", a->user_weights,
     "tcc: s_i of Eq. 8, one number per control point (text or .dmat)");
   command->add_option("--handles", a->handles,
-    "bbw: skeleton (.tgf, or .vtp points + lines): bones and point handles");
+    "bbw: skeleton (.tgf, or .vtp points + lines), or mixed handles (.vtp: points, bones, cage "
+    "faces, regions; cell array HandleType)");
+  command->add_option("--shape-preservation", a->shape_preservation,
+    "bbw: shape-preservation brush rho >= 0 per --mesh vertex (Eq. 7): a file of one number per "
+    "vertex, or the name of a point array of the mesh");
   command->add_option("--mesh", a->mesh,
     "bbw with --handles: domain: tet/triangle mesh (.vtu, .mesh) or a closed surface / polygon "
     "to mesh; harmonic, lbc, bbw with --cage: a tet/triangle mesh of the cage's interior, used as "

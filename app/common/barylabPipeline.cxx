@@ -4,6 +4,7 @@
 #include "vtkBaryCageMesher.h"
 #include "vtkBaryConversion.h"
 #include "vtkBaryCoordinates.h"
+#include "vtkBaryMixedHandles.h"
 #include "vtkBaryErrorObserver.h"
 #include "vtkBaryDataIO.h"
 #include "vtkBaryLinearBlendSkinning.h"
@@ -169,13 +170,22 @@ vtkSmartPointer<vtkDataSet> ComputeWeights(vtkDataSet* points, vtkPolyData* cage
   if (summary)
   {
     (*summary)["method"] = MethodName(parameters);
-    const bool skeleton = filter->GetWeightMethod()->IsSkeleton(cage, domain);
-    if (skeleton)
+    const bool mixed = parameters.method == bary::MethodId::BBW &&
+      vtkBaryMixedHandles::UsesMixedHandles(cage, domain);
+    if (mixed || filter->GetWeightMethod()->IsSkeleton(cage, domain))
     {
       const int dim = vtkBaryConversion::DomainDimension(domain);
-      const bary::Skeleton s = vtkBaryConversion::ToSkeleton(cage, dim);
-      (*summary)["handles"] = { { "dimension", dim }, { "count", s.handle_count() },
-        { "point_handles", s.P.size() }, { "bones", s.BE.rows() }, { "joints", s.C.rows() } };
+      const bary::Skeleton s = vtkBaryMixedHandles::ToHandles(cage, dim);
+      const auto vertex_regions =
+        static_cast<bary::Index>(vtkBaryMixedHandles::RegionVertices(domain).size());
+      (*summary)["handles"] = { { "dimension", dim },
+        { "count", s.handle_count() + vertex_regions }, { "point_handles", s.P.size() },
+        { "bones", s.BE.rows() }, { "cage_vertices", s.cage_joints().size() },
+        { "regions", static_cast<bary::Index>(s.regions.size()) + vertex_regions },
+        { "joints", s.C.rows() },
+        { "shape_preservation",
+          domain->GetPointData()->GetArray(vtkBaryMixedHandles::ShapePreservationArrayName()) !=
+            nullptr } };
     }
     else if (IsPointBasedMethod(parameters.method))
     {

@@ -1,6 +1,7 @@
 #include "vtkBaryLinearBlendSkinning.h"
 
 #include "vtkBaryConversion.h"
+#include "vtkBaryMixedHandles.h"
 #include "vtkBaryFilterErrors.h"
 
 #include "core/common/error.h"
@@ -114,7 +115,7 @@ void vtkBaryLinearBlendSkinning::PrintSelf(ostream& os, vtkIndent indent)
 std::vector<Eigen::MatrixXd> vtkBaryLinearBlendSkinning::PoseFromJoints(vtkPolyData* handles,
   vtkPointSet* posedJoints, int dimension, const Eigen::MatrixXi& pseudoEdges)
 {
-  const bary::Skeleton skeleton = vtkBaryConversion::ToSkeleton(handles, dimension);
+  const bary::Skeleton skeleton = vtkBaryMixedHandles::ToHandles(handles, dimension);
   const Eigen::MatrixXd posed = vtkBaryConversion::PointsToMatrix(posedJoints, dimension);
   std::vector<Eigen::MatrixXd> pose;
   for (const Eigen::MatrixXd& T : bary::transforms_from_joints(skeleton, posed, pseudoEdges))

@@ -59,11 +59,13 @@ public:
 
 #ifndef __VTK_WRAP__
   /**
-   * The pose of the skeleton @p handles (points and lines, see vtkBaryConversion::ToSkeleton)
-   * whose joints moved to @p posedJoints (same points, same order): one 3 x 4 transform
-   * [A | t] per handle in the weights' column order (bary::transforms_from_joints; 2D
-   * transforms lifted to 3 x 4). @p pseudoEdges (#E by 2 indices into the point handles,
-   * optional) give point handles their rotations.
+   * The pose of the handles @p handles (a skeleton of points and lines, or mixed handles with
+   * cage faces and regions: vtkBaryMixedHandles::ToHandles) whose joints moved to
+   * @p posedJoints (same points, same order): one 3 x 4 transform [A | t] per handle in the
+   * weights' column order (bary::transforms_from_joints: bones rigid, cage vertices translated
+   * by their displacement, regions by their best rigid fit; 2D transforms lifted to 3 x 4).
+   * @p pseudoEdges (#E by 2 indices into the point handles, optional) give point handles their
+   * rotations.
    * @throws bary::Error
    */
   static std::vector<Eigen::MatrixXd> PoseFromJoints(vtkPolyData* handles,
