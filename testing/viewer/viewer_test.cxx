@@ -47,6 +47,7 @@
 #include "vtkCellLocator.h"
 #include "vtkCellArray.h"
 #include "vtkDataArray.h"
+#include "vtkFieldData.h"
 #include "vtkGenericOpenGLRenderWindow.h"
 #include "vtkNew.h"
 #include "vtkPointData.h"
@@ -717,6 +718,73 @@ private slots:
     w->cancelAddControlPoint();
     QVERIFY(!w->session().hasViewLine());
     QCOMPARE(static_cast<int>(w->controls()->GetNumberOfPoints()), n);
+  }
+
+  // Hull points (celestial_hull_points auto) in the viewer: five controls inside the heart get
+  // the 8 corners, listed as fixed hull points, not removable; a moved control deforms the heart
+  // with the corners where they are; removing a control keeps them.
+  void celestialHullPointsInTheViewer()
+  {
+    const QString few = output("few_controls.obj");
+    {
+      QFile f(few);
+      QVERIFY(f.open(QIODevice::WriteOnly));
+      f.write("v 0 0 0\nv 0.2 0 0\nv 0 0.2 0\nv 0 0 0.2\nv 0.05 0.05 0.05\n");
+    }
+    QVERIFY(w->openFiles({ few, data("heart.off") }));
+    w->setMethod("scc");
+    QVERIFY(w->setParameter("celestial_hull_points", "auto"));
+    w->compute();
+    QVERIFY(w->waitForComputation(60000));
+    QVERIFY2(w->hasWeights(), qPrintable(w->errors().join("; ")));
+    QCOMPARE(w->componentCount(), 5 + 8);
+    auto* list = w->findChild<QListWidget*>("controls");
+    QCOMPARE(list->count(), 13);
+    QCOMPARE(list->item(4)->text(), QString("control point 4"));
+    QCOMPARE(list->item(5)->text(), QString("hull point 0 (fixed)"));
+    QVERIFY(!w->removeControlPoint(5));
+    QVERIFY2(w->errors().last().contains("hull point 0 is fixed"), qPrintable(w->errors().last()));
+    // a moved control: every vertex moves by its weighted sum over the moved controls and the
+    // unmoved corners
+    const auto check_deformation = [&]() {
+      vtkDataArray* W = w->weighted()->GetPointData()->GetArray("Weights");
+      vtkDataArray* added = w->weighted()->GetFieldData()->GetArray("AddedControlPoints");
+      QVERIFY(W && added);
+      const int n = static_cast<int>(w->controls()->GetNumberOfPoints());
+      QCOMPARE(W->GetNumberOfComponents(), n + static_cast<int>(added->GetNumberOfTuples()));
+      double worst = 0.0;
+      for (vtkIdType i = 0; i < W->GetNumberOfTuples(); i += 7)
+      {
+        double x[3] = { 0, 0, 0 }, y[3];
+        for (int j = 0; j < W->GetNumberOfComponents(); ++j)
+        {
+          double c[3];
+          if (j < n)
+            w->posedControls()->GetPoint(j, c);
+          else
+            added->GetTuple(j - n, c);
+          for (int k = 0; k < 3; ++k)
+            x[k] += W->GetComponent(i, j) * c[k];
+        }
+        w->deformedModel()->GetPoint(i, y);
+        for (int k = 0; k < 3; ++k)
+          worst = std::max(worst, std::abs(x[k] - y[k]));
+      }
+      QVERIFY2(worst < 1e-9, qPrintable(QString::number(worst)));
+    };
+    w->setControlPosition(1, 0.5, 0.0, 0.1);
+    check_deformation();
+    double moved[3];
+    w->deformedModel()->GetPoint(0, moved);
+    double rest[3];
+    w->weighted()->GetPoint(0, rest);
+    QVERIFY(moved[0] != rest[0]);
+    // removing control 4 keeps the corners and the pose of the others
+    QVERIFY2(w->removeControlPoint(4), qPrintable(w->errors().join("; ")));
+    QCOMPARE(w->componentCount(), 4 + 8);
+    check_deformation();
+    w->undo();
+    QCOMPARE(w->componentCount(), 5 + 8);
   }
 
   void lbcExample()
