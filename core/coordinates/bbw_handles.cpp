@@ -1,6 +1,7 @@
 #include "core/coordinates/bbw_handles.h"
 
 #include "core/common/error.h"
+#include "core/detail/closest_point.h"
 #include "core/detail/format.h"
 
 #include <algorithm>
@@ -18,54 +19,17 @@ constexpr double pi = 3.14159265358979323846;
 double segment_closest(const Eigen::VectorXd& p, const Eigen::VectorXd& a,
   const Eigen::VectorXd& b, Eigen::Vector3d& bary)
 {
-  const Eigen::VectorXd d = b - a;
-  const double t = std::clamp((p - a).dot(d) / d.squaredNorm(), 0.0, 1.0);
+  const double t = detail::closest_on_segment(p, a, b);
   bary = Eigen::Vector3d(1.0 - t, t, 0.0);
-  return (p - a - t * d).norm();
+  return (p - a - t * (b - a)).norm();
 }
 
-/// Closest point of the triangle (a, b, c) to p (Ericson, Real-Time Collision Detection §5.1.5):
-/// its barycentric coordinates in @p bary and the distance.
+/// Closest point of the triangle (a, b, c) to p: its barycentric coordinates in @p bary and the
+/// distance.
 double triangle_closest(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
   const Eigen::Vector3d& b, const Eigen::Vector3d& c, Eigen::Vector3d& bary)
 {
-  const Eigen::Vector3d ab = b - a, ac = c - a, ap = p - a;
-  const double d1 = ab.dot(ap), d2 = ac.dot(ap);
-  if (d1 <= 0 && d2 <= 0)
-    bary = { 1, 0, 0 };
-  else
-  {
-    const Eigen::Vector3d bp = p - b;
-    const double d3 = ab.dot(bp), d4 = ac.dot(bp);
-    const Eigen::Vector3d cp = p - c;
-    const double d5 = ab.dot(cp), d6 = ac.dot(cp);
-    const double vc = d1 * d4 - d3 * d2, vb = d5 * d2 - d1 * d6, va = d3 * d6 - d5 * d4;
-    if (d3 >= 0 && d4 <= d3)
-      bary = { 0, 1, 0 };
-    else if (d6 >= 0 && d5 <= d6)
-      bary = { 0, 0, 1 };
-    else if (vc <= 0 && d1 >= 0 && d3 <= 0)
-    {
-      const double v = d1 / (d1 - d3);
-      bary = { 1 - v, v, 0 };
-    }
-    else if (vb <= 0 && d2 >= 0 && d6 <= 0)
-    {
-      const double w = d2 / (d2 - d6);
-      bary = { 1 - w, 0, w };
-    }
-    else if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0)
-    {
-      const double w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
-      bary = { 0, 1 - w, w };
-    }
-    else
-    {
-      const double denom = 1.0 / (va + vb + vc);
-      const double v = vb * denom, w = vc * denom;
-      bary = { 1 - v - w, v, w };
-    }
-  }
+  bary = detail::closest_on_triangle(p, a, b, c);
   return (p - (bary(0) * a + bary(1) * b + bary(2) * c)).norm();
 }
 
