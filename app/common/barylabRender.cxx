@@ -1,6 +1,7 @@
 #include "barylabRender.h"
 
 #include "vtkBaryConversion.h"
+#include "vtkBaryMixedHandles.h"
 #include "vtkBarySplineData.h"
 
 #include "core/common/error.h"
@@ -536,7 +537,8 @@ vtkSmartPointer<vtkRenderWindow> DeformationWindow(vtkDataSet* rest, vtkPolyData
 
 vtkSmartPointer<vtkPolyData> PoseHandles(vtkPolyData* handles, const std::vector<Eigen::MatrixXd>& pose)
 {
-  const bary::Skeleton skeleton = vtkBaryConversion::ToSkeleton(handles, 3);
+  // a skeleton or mixed handles (cage vertices and region corners move with their handle)
+  const bary::Skeleton skeleton = vtkBaryMixedHandles::ToHandles(handles, 3);
   if (static_cast<bary::Index>(pose.size()) != skeleton.handle_count())
     throw Error(ErrorCode::SizeMismatch,
       "the pose has " + std::to_string(pose.size()) + " transforms but the skeleton has " +
@@ -550,6 +552,14 @@ vtkSmartPointer<vtkPolyData> PoseHandles(vtkPolyData* handles, const std::vector
     for (int b = 0; b < skeleton.BE.rows(); ++b)
       if (owner[static_cast<std::size_t>(skeleton.BE(b, end))] < 0)
         owner[static_cast<std::size_t>(skeleton.BE(b, end))] = np + b;
+  const Eigen::VectorXi cage = skeleton.cage_joints();
+  const int first_cage = np + static_cast<int>(skeleton.BE.rows());
+  for (Eigen::Index k = 0; k < cage.size(); ++k)
+    owner[static_cast<std::size_t>(cage(k))] = first_cage + static_cast<int>(k);
+  for (std::size_t r = 0; r < skeleton.regions.size(); ++r)
+    for (Eigen::Index k = 0; k < skeleton.regions[r].size(); ++k)
+      owner[static_cast<std::size_t>(skeleton.regions[r].data()[k])] =
+        first_cage + static_cast<int>(cage.size() + static_cast<Eigen::Index>(r));
   auto posed = vtkSmartPointer<vtkPolyData>::New();
   posed->DeepCopy(handles);
   for (vtkIdType i = 0; i < n; ++i)

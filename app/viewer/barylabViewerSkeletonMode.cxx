@@ -6,6 +6,7 @@
 
 #include "vtkBaryConversion.h"
 #include "vtkBaryLinearBlendSkinning.h"
+#include "vtkBaryMixedHandles.h"
 #include "vtkBaryDataIO.h"
 
 #include "core/common/error.h"
@@ -17,6 +18,7 @@
 #include <QPushButton>
 
 #include "vtkCellArray.h"
+#include "vtkCellData.h"
 #include "vtkNew.h"
 #include "vtkPoints.h"
 #include "vtkPointSet.h"
@@ -34,16 +36,46 @@ namespace viewer
 bool SkeletonMode::serves(const std::string& method, const Session& session) const
 {
   vtkPolyData* controls = session.controls();
-  return controls && method == "bbw" && controls->GetNumberOfPolys() == 0 &&
-    (controls->GetNumberOfLines() > 0 || IsSkeletonFile(session.inputs().controls));
+  // a skeleton, or mixed handles marked by a HandleType cell array (vtkBaryMixedHandles)
+  return controls && method == "bbw" &&
+    ((controls->GetNumberOfPolys() == 0 &&
+       (controls->GetNumberOfLines() > 0 || IsSkeletonFile(session.inputs().controls))) ||
+      controls->GetCellData()->GetAbstractArray(vtkBaryMixedHandles::HandleTypeArrayName()));
 }
 
 void SkeletonMode::addControlActors(vtkRenderer* renderer, vtkPolyData* controls,
   vtkPoints* points, const SceneOptions& options, vtkPoints* selected) const
 {
   const double grey[3] = { 0.25, 0.25, 0.3 }, red[3] = { 0.9, 0.15, 0.1 };
-  const bary::Skeleton skeleton = vtkBaryConversion::ToSkeleton(controls, options.dimension);
+  const bary::Skeleton skeleton = vtkBaryMixedHandles::ToHandles(controls, options.dimension);
   vtkNew<vtkCellArray> bones, chosen;
+  // mixed handles: the cage's faces and the regions' boundaries as thinner lines (their
+  // edges), the selected cage vertex as its joint, a selected region as its outline
+  const Eigen::VectorXi cage = skeleton.cage_joints();
+  const Eigen::Index first_cage = skeleton.P.size() + skeleton.BE.rows();
+  const Eigen::Index first_region = first_cage + cage.size();
+  vtkNew<vtkCellArray> outlines;
+  auto add_edges = [](vtkCellArray* cells, const Eigen::MatrixXi& F) {
+    for (Eigen::Index f = 0; f < F.rows(); ++f)
+      for (Eigen::Index k = 0; k < F.cols(); ++k)
+      {
+        if (F.cols() == 2 && k == 1)
+          break;
+        const vtkIdType ids[2] = { F(f, k), F(f, (k + 1) % F.cols()) };
+        cells->InsertNextCell(2, ids);
+      }
+  };
+  add_edges(outlines, skeleton.CF);
+  for (std::size_t r = 0; r < skeleton.regions.size(); ++r)
+  {
+    add_edges(outlines, skeleton.regions[r]);
+    if (options.component == first_region + static_cast<Eigen::Index>(r))
+      add_edges(chosen, skeleton.regions[r]);
+  }
+  if (outlines->GetNumberOfCells() > 0)
+    AddLines(renderer, points, outlines, 2.0, grey);
+  if (options.component >= first_cage && options.component < first_region)
+    selected->InsertNextPoint(points->GetPoint(cage(options.component - first_cage)));
   for (Eigen::Index b = 0; b < skeleton.BE.rows(); ++b)
   {
     const vtkIdType ids[2] = { skeleton.BE(b, 0), skeleton.BE(b, 1) };
@@ -70,11 +102,16 @@ QStringList SkeletonMode::controlLabels(const Session& session, int components) 
   try
   {
     const bary::Skeleton s =
-      vtkBaryConversion::ToSkeleton(session.controls(), session.modelDimension());
+      vtkBaryMixedHandles::ToHandles(session.controls(), session.modelDimension());
     for (Eigen::Index j = 0; j < s.P.size(); ++j)
       labels << QString("point handle %1 (joint %2)").arg(j).arg(s.P(j));
     for (Eigen::Index b = 0; b < s.BE.rows(); ++b)
       labels << QString("bone %1 (joints %2-%3)").arg(b).arg(s.BE(b, 0)).arg(s.BE(b, 1));
+    const Eigen::VectorXi cage = s.cage_joints();
+    for (Eigen::Index k = 0; k < cage.size(); ++k)
+      labels << QString("cage vertex %1 (joint %2)").arg(k).arg(cage(k));
+    for (std::size_t r = 0; r < s.regions.size(); ++r)
+      labels << QString("region %1").arg(r);
   }
   catch (const std::exception&)
   {
@@ -133,8 +170,10 @@ vtkSmartPointer<vtkPointSet> SkeletonMode::deform(const Session& session, vtkDat
 std::vector<Eigen::MatrixXd> SkeletonMode::Transforms(const Session& session)
 {
   const int dim = session.modelDimension();
-  const bary::Skeleton s = vtkBaryConversion::ToSkeleton(session.controls(), dim);
+  const bary::Skeleton s = vtkBaryMixedHandles::ToHandles(session.controls(), dim);
   const Eigen::MatrixXd posed = vtkBaryConversion::ToMatrix(session.posedControls(), dim);
+  const Eigen::VectorXi cage = s.cage_joints();
+  const Eigen::Index first_cage = s.P.size() + s.BE.rows();
   vtkNew<vtkPolyData> joints;
   joints->SetPoints(session.posedControls());
   std::vector<Eigen::MatrixXd> pose;
@@ -145,11 +184,23 @@ std::vector<Eigen::MatrixXd> SkeletonMode::Transforms(const Session& session)
     const HandleTwist twist = session.twist(handle);
     if (!twist.IsIdentity())
     {
-      // centre and axis at the current pose: a point handle's joint, a bone's first joint
-      const bool bone = handle >= s.P.size();
-      const int joint = bone ? s.BE(handle - s.P.size(), 0) : s.P(handle);
+      // centre and axis at the current pose: a point handle's joint, a bone's first joint, a
+      // cage vertex's joint, a region's corners' centroid
+      const bool bone = handle >= s.P.size() && handle < first_cage;
       Eigen::Vector3d c = Eigen::Vector3d::Zero(), axis = Eigen::Vector3d::UnitZ();
-      c.head(dim) = posed.row(joint).transpose();
+      if (handle < s.P.size())
+        c.head(dim) = posed.row(s.P(handle)).transpose();
+      else if (bone)
+        c.head(dim) = posed.row(s.BE(handle - s.P.size(), 0)).transpose();
+      else if (handle < first_cage + cage.size())
+        c.head(dim) = posed.row(cage(handle - first_cage)).transpose();
+      else
+      {
+        const Eigen::MatrixXi& F = s.regions[static_cast<std::size_t>(handle - first_cage - cage.size())];
+        for (Eigen::Index k = 0; k < F.size(); ++k)
+          c.head(dim) += posed.row(F.data()[k]).transpose() / static_cast<double>(F.size());
+      }
+      const int joint = bone ? s.BE(handle - s.P.size(), 0) : 0;
       if (dim == 3 && bone)
       {
         Eigen::Vector3d d = Eigen::Vector3d::Zero();
@@ -179,7 +230,7 @@ vtkSmartPointer<vtkPoints> SkeletonMode::readPose(const Session& session, const 
   if (ext != "txt" && ext != "dmat")
     return this->Mode::readPose(session, path);
   const bary::Skeleton s =
-    vtkBaryConversion::ToSkeleton(session.controls(), session.modelDimension());
+    vtkBaryMixedHandles::ToHandles(session.controls(), session.modelDimension());
   const auto pose = vtkBaryDataIO::ReadPose(path.toStdString(), s.handle_count(), &s);
   return CopyPoints(PoseHandles(session.controls(), pose)->GetPoints());
 }

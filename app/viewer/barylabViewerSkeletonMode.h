@@ -1,7 +1,9 @@
 #pragma once
 /// @file barylabViewerSkeletonMode.h
-/// The skeleton mode: bounded biharmonic weights (bbw) of a .tgf skeleton. Weights components
-/// are the point handles, then the bones; the joints are dragged, the selected handle is
+/// The skeleton mode: bounded biharmonic weights (bbw) of a .tgf skeleton, or of mixed handles
+/// (a .vtp with a HandleType cell array: points, bones, cage faces, regions; vtkBaryMixedHandles).
+/// Weights components are the point handles, the bones, the cage vertices, then the regions;
+/// the joints are dragged, the selected handle is
 /// rotated and scaled about its centre (HandleTwist: keys ] [ + -, the panel's
 /// "Rotate/scale handle" row), and the model is skinned with one transform per handle
 /// (vtkBaryLinearBlendSkinning::PoseFromJoints, then the twist: Eq. 1 of the BBW paper).
@@ -19,12 +21,14 @@ class SkeletonMode : public Mode
 {
 public:
   ControlKind controlKind() const override { return ControlKind::Skeleton; }
-  /// bbw with controls that are a skeleton (lines and no polygons, or a .tgf file).
+  /// bbw with controls that are a skeleton (lines and no polygons, or a .tgf file) or mixed
+  /// handles (a HandleType cell array).
   bool serves(const std::string& method, const Session& session) const override;
-  /// The bones; the selected handle's bone (thick, red) or joint.
+  /// The bones, cage faces and region outlines; the selected handle's bone or region (thick,
+  /// red) or joint.
   void addControlActors(vtkRenderer* renderer, vtkPolyData* controls, vtkPoints* points,
     const SceneOptions& options, vtkPoints* selected) const override;
-  /// "point handle j (joint i)", then "bone b (joints a-c)".
+  /// "point handle j (joint i)", "bone b (joints a-c)", "cage vertex k (joint i)", "region r".
   QStringList controlLabels(const Session& session, int components) const override;
   bool componentsAreControlPoints() const override { return false; }
   bool twistsHandles() const override { return true; }

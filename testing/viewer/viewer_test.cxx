@@ -46,6 +46,9 @@
 #include "vtkCamera.h"
 #include "vtkCellLocator.h"
 #include "vtkCellArray.h"
+#include "vtkCellData.h"
+#include "vtkIntArray.h"
+#include "vtkPoints.h"
 #include "vtkDataArray.h"
 #include "vtkFieldData.h"
 #include "vtkGenericOpenGLRenderWindow.h"
@@ -55,6 +58,7 @@
 #include "vtkRenderWindowInteractor.h"
 #include "vtkTesting.h"
 
+#include <array>
 #include <cmath>
 #include <memory>
 #include <vector>
@@ -1043,6 +1047,79 @@ private slots:
     QVERIFY(max_difference(w->deformedModel(), rest) == 0.0);
     QVERIFY2(w->errors().isEmpty(), qPrintable(w->errors().join("; ")));
     qInfo("gingerbread bbw (fast): %.3f s", w->lastComputeSeconds());
+  }
+
+  void mixedHandlesInTheSkeletonMode()
+  {
+    // BBW's mixed handles (a point, a bone, an open cage, a region: a HandleType cell array) on
+    // a given triangle mesh: the skeleton mode serves them, labels every column, and a twist of
+    // the region rotates its vertices rigidly about its corners' centroid (Eq. 1, w = 1 there).
+    const int n = 17;
+    Eigen::MatrixXd V(n * n, 2);
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i)
+        V.row(j * n + i) << i / 16.0, j / 16.0;
+    Eigen::MatrixXi T(2 * (n - 1) * (n - 1), 3);
+    int t = 0;
+    for (int j = 0; j + 1 < n; ++j)
+      for (int i = 0; i + 1 < n; ++i)
+      {
+        const int a = j * n + i;
+        T.row(t++) << a, a + 1, a + n + 1;
+        T.row(t++) << a, a + n + 1, a + n;
+      }
+    vtkBaryDataIO::Write(vtkBaryConversion::SimplicesToGrid(V, T, 0.0), output("mixed_mesh.vtu").toStdString());
+    vtkNew<vtkPolyData> h;
+    vtkNew<vtkPoints> p;
+    for (const auto& x : std::vector<std::array<double, 2>>{ { 0.25, 0.75 }, { 0.5, 0.125 },
+           { 0.75, 0.125 }, { 1, 0.25 }, { 1, 0.5 }, { 1, 0.75 }, { 0.375, 0.375 },
+           { 0.625, 0.375 }, { 0.625, 0.625 }, { 0.375, 0.625 } })
+      p->InsertNextPoint(x[0], x[1], 0.0);
+    h->SetPoints(p);
+    vtkNew<vtkCellArray> lines, polys;
+    const vtkIdType bone[2] = { 1, 2 }, cage[3] = { 3, 4, 5 }, region[4] = { 6, 7, 8, 9 };
+    lines->InsertNextCell(2, bone);
+    lines->InsertNextCell(3, cage);
+    polys->InsertNextCell(4, region);
+    h->SetLines(lines);
+    h->SetPolys(polys);
+    vtkNew<vtkIntArray> kind;
+    kind->SetName("HandleType");
+    for (int k : { 1, 2, 3 })
+      kind->InsertNextValue(k);
+    h->GetCellData()->AddArray(kind);
+    vtkBaryDataIO::Write(h, output("mixed_handles.vtp").toStdString());
+
+    QVERIFY(w->openFiles({ output("mixed_handles.vtp"), output("mixed_mesh.vtu"), output("mixed_mesh.vtu") }));
+    w->setMethod("bbw"); // a .vtp does not switch the method as a .tgf does
+    QVERIFY(w->setParameter("bbw_fast", true));
+    w->compute();
+    QVERIFY(w->waitForComputation(60000));
+    QVERIFY2(w->hasWeights(), qPrintable(w->errors().join("; ")));
+    QCOMPARE(w->controlKind(), barylab::viewer::ControlKind::Skeleton);
+    QCOMPARE(w->componentCount(), 6);
+    auto* list = w->findChild<QListWidget*>("controls");
+    QVERIFY(list->item(0)->text().startsWith("point handle 0"));
+    QVERIFY(list->item(1)->text().startsWith("bone 0"));
+    QVERIFY(list->item(2)->text().startsWith("cage vertex 0 (joint 3)"));
+    QVERIFY(list->item(5)->text().startsWith("region 0"));
+    auto* rest = vtkPointSet::SafeDownCast(w->weighted());
+    QVERIFY(w->setHandleTwist(5, 30.0, 1.0));
+    vtkPointSet* moved = w->deformedModel();
+    const double a = 30.0 * 3.14159265358979323846 / 180.0, cx = 0.5, cy = 0.5;
+    double worst = 0.0;
+    for (int i = 6; i <= 10; ++i) // the region's vertices x, y in [0.375, 0.625]
+      for (int j = 6; j <= 10; ++j)
+      {
+        double x[3], y[3];
+        rest->GetPoint(j * n + i, x);
+        moved->GetPoint(j * n + i, y);
+        const double ex = cx + std::cos(a) * (x[0] - cx) - std::sin(a) * (x[1] - cy);
+        const double ey = cy + std::sin(a) * (x[0] - cx) + std::cos(a) * (x[1] - cy);
+        worst = std::max(worst, std::hypot(y[0] - ex, y[1] - ey));
+      }
+    QVERIFY2(worst < 1e-9, qPrintable(QString::number(worst)));
+    QVERIFY2(w->errors().isEmpty(), qPrintable(w->errors().join("; ")));
   }
 
   void handleRotateScale()
