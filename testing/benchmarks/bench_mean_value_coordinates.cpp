@@ -32,9 +32,16 @@
 /// libraries disagree by more than 1e-9 (NaN counts as disagreement), if one of these errors
 /// exceeds 1e-9, or if BaryLab did not classify every point as inside.
 ///
+/// Green coordinates against mean value coordinates (issue 14): the same evaluator loop for
+/// BaryLab's bary::GreenCoordinates (phi and psi, the paper's extension off) on the same 3D
+/// cages and points (green3d/<cage>/barylab_1t next to mvc3d/<cage>/barylab_1t), and on 2D
+/// regular polygons of 16, 64 and 256 vertices with points uniform in the disc of radius 0.9
+/// (mvc2d/<polygon>/barylab_1t, green2d/<polygon>/barylab_1t), one thread each: time per point.
+///
 /// How it was run and what it measured: docs/benchmarks.md.
 
 #include "core/common/cage.h"
+#include "core/coordinates/green_coordinates.h"
 #include "core/coordinates/mean_value_coordinates.h"
 
 #include <Eigen/Geometry>
@@ -436,6 +443,90 @@ void bm_barylab(benchmark::State& state, Case* c, int threads)
   finish(state, *c);
 }
 
+void bm_green(benchmark::State& state, Case* c, int threads)
+{
+  if (!setup(state, *c))
+    return;
+  bary::GreenOptions options;
+  options.threads = threads;
+  options.extend_outside = false;
+  const bary::GreenCoordinates green(c->cage, options);
+  for (auto _ : state)
+  {
+    bary::GreenResult result = green.evaluate(c->P);
+    benchmark::DoNotOptimize(result.W.data());
+    benchmark::DoNotOptimize(result.face_weights.data());
+    benchmark::ClobberMemory();
+  }
+  finish(state, *c);
+}
+
+/// 2D: a regular polygon of @p n vertices on the unit circle and points in the disc of radius
+/// 0.9 (inside: the polygon's inscribed radius cos(pi / n) >= 0.98 for n >= 16).
+struct Case2D
+{
+  std::string name;
+  bary::Cage cage;
+  bary::Points P;
+};
+
+Case2D polygon_case(int n, Index num_points, std::uint64_t seed)
+{
+  Case2D c;
+  c.name = "poly_" + std::to_string(n);
+  c.cage.V.resize(n, 2);
+  for (int i = 0; i < n; ++i)
+  {
+    const double a = 2.0 * 3.14159265358979323846 * i / n;
+    c.cage.V.row(i) << std::cos(a), std::sin(a);
+  }
+  std::mt19937_64 gen(seed);
+  c.P.resize(num_points, 2);
+  for (Index p = 0; p < num_points; ++p)
+  {
+    double x, y;
+    do
+    {
+      x = 1.8 * uniform01(gen) - 0.9;
+      y = 1.8 * uniform01(gen) - 0.9;
+    } while (x * x + y * y > 0.81);
+    c.P.row(p) << x, y;
+  }
+  return c;
+}
+
+void bm_mvc_2d(benchmark::State& state, const Case2D* c)
+{
+  bary::MeanValueOptions options;
+  options.threads = 1;
+  const bary::MeanValueCoordinates mvc(c->cage, options);
+  for (auto _ : state)
+  {
+    bary::MeanValueResult result = mvc.evaluate(c->P);
+    benchmark::DoNotOptimize(result.W.data());
+    benchmark::ClobberMemory();
+  }
+  state.SetItemsProcessed(state.iterations() * c->P.rows());
+  state.counters["cage_vertices"] = static_cast<double>(c->cage.V.rows());
+}
+
+void bm_green_2d(benchmark::State& state, const Case2D* c)
+{
+  bary::GreenOptions options;
+  options.threads = 1;
+  options.extend_outside = false;
+  const bary::GreenCoordinates green(c->cage, options);
+  for (auto _ : state)
+  {
+    bary::GreenResult result = green.evaluate(c->P);
+    benchmark::DoNotOptimize(result.W.data());
+    benchmark::DoNotOptimize(result.face_weights.data());
+    benchmark::ClobberMemory();
+  }
+  state.SetItemsProcessed(state.iterations() * c->P.rows());
+  state.counters["cage_vertices"] = static_cast<double>(c->cage.V.rows());
+}
+
 std::string load_average()
 {
   std::ifstream in("/proc/loadavg");
@@ -474,7 +565,8 @@ int main(int argc, char** argv)
            benchmark::RegisterBenchmark((prefix + "vtk_smp_2t").c_str(), bm_vtk_smp, c),
            benchmark::RegisterBenchmark((prefix + "vtk_omp_2t").c_str(), bm_vtk_omp, c, 2),
            benchmark::RegisterBenchmark((prefix + "barylab_1t").c_str(), bm_barylab, c, 1),
-           benchmark::RegisterBenchmark((prefix + "barylab_2t").c_str(), bm_barylab, c, 2) })
+           benchmark::RegisterBenchmark((prefix + "barylab_2t").c_str(), bm_barylab, c, 2),
+           benchmark::RegisterBenchmark(("green3d/" + c->name + "/barylab_1t").c_str(), bm_green, c, 1) })
       b->Unit(benchmark::kMillisecond)
         ->UseRealTime()
         // besides mean/median/stddev/cv: the fastest and slowest repetition (this machine is
@@ -485,6 +577,18 @@ int main(int argc, char** argv)
         ->ComputeStatistics("max",
           [](const std::vector<double>& v) { return *std::max_element(v.begin(), v.end()); });
   }
+
+  static std::vector<Case2D> cases2d;
+  for (const int n : { 16, 64, 256 })
+    cases2d.push_back(polygon_case(n, num_points, kSeed + 10 + n));
+  for (const Case2D& c : cases2d)
+    for (benchmark::internal::Benchmark* b : {
+           benchmark::RegisterBenchmark(("mvc2d/" + c.name + "/barylab_1t").c_str(), bm_mvc_2d, &c),
+           benchmark::RegisterBenchmark(("green2d/" + c.name + "/barylab_1t").c_str(), bm_green_2d, &c) })
+      b->Unit(benchmark::kMillisecond)
+        ->UseRealTime()
+        ->ComputeStatistics("min",
+          [](const std::vector<double>& v) { return *std::min_element(v.begin(), v.end()); });
 
   benchmark::Initialize(&argc, argv);
   if (benchmark::ReportUnrecognizedArguments(argc, argv))
