@@ -913,6 +913,42 @@ private slots:
     QVERIFY(w->errors().isEmpty());
   }
 
+  void greenCoordinatesInTheCageMode()
+  {
+    // Green coordinates in the cage mode: computed with their face coefficients, and the
+    // deformation uses them: moving every control point by delta moves every point by delta
+    // (phi alone would not even reproduce the rest pose, sum phi_i c_i != x).
+    loadAndWait("gingerbread-mvc");
+    w->setMethod("green");
+    w->compute();
+    QVERIFY(w->waitForComputation(60000));
+    QVERIFY2(w->hasWeights(), qPrintable(w->errors().join("; ")));
+    QCOMPARE(QString::fromStdString(barylab::MethodName(w->parameters())), QString("green"));
+    auto* rest = vtkPointSet::SafeDownCast(w->weighted());
+    QVERIFY(rest->GetPointData()->GetArray("FaceWeights"));
+    const double delta[3] = { 0.1, -0.05, 0.0 };
+    const vtkIdType n = w->posedControls()->GetNumberOfPoints();
+    for (vtkIdType c = 0; c < n; ++c)
+    {
+      double p[3];
+      w->posedControls()->GetPoint(c, p);
+      w->setControlPosition(static_cast<int>(c), p[0] + delta[0], p[1] + delta[1], p[2]);
+    }
+    vtkPointSet* deformed = w->deformedModel();
+    QVERIFY(deformed && deformed != rest);
+    double worst = 0.0;
+    for (vtkIdType i = 0; i < rest->GetNumberOfPoints(); ++i)
+    {
+      double x[3], y[3];
+      rest->GetPoint(i, x);
+      deformed->GetPoint(i, y);
+      for (int k = 0; k < 2; ++k)
+        worst = std::max(worst, std::abs(y[k] - x[k] - delta[k]));
+    }
+    QVERIFY2(worst < 1e-9, qPrintable(QString::number(worst)));
+    QVERIFY(w->errors().isEmpty());
+  }
+
   void movingControlDeformsModel()
   {
     loadAndWait("gingerbread-mvc");
