@@ -15,7 +15,9 @@
 
 #include "core/deformation/skeleton.h"
 
+#include "vtkDataArray.h"
 #include "vtkDataSet.h"
+#include "vtkPointData.h"
 #include "vtkPointSet.h"
 #include "vtkPolyData.h"
 #include "vtkRenderWindow.h"
@@ -104,6 +106,26 @@ TEST(RenderImages, Deformation2D)
   ExpectMatchesBaseline(
     barylab::DeformationWindow(e.weighted, e.cage, deformed, vtkPointSet::SafeDownCast(e.posed), options),
     "deformation_2d");
+}
+
+TEST(RenderImages, GreenDeformation2D)
+{
+  // The same cage, model and pose as Deformation2D (mean value coordinates, deformation_2d.png),
+  // deformed with Green coordinates: the shape-preserving (conformal) deformation beside it.
+  barylab::WeightsParameters p;
+  p.method = bary::MethodId::Green;
+  auto cage = vtkBaryDataIO::ReadPolyData(data("cage2d.obj"));
+  vtkSmartPointer<vtkDataSet> posed_data = vtkBaryDataIO::Read(data("cage2d_posed.obj"));
+  vtkPointSet* posed = vtkPointSet::SafeDownCast(posed_data);
+  auto weighted = barylab::ComputeWeights(vtkBaryDataIO::Read(data("model2d.obj")), cage, p);
+  ASSERT_NE(weighted->GetPointData()->GetArray("FaceWeights"), nullptr);
+  auto deformed = barylab::Deform(vtkPointSet::SafeDownCast(weighted), cage, posed, p);
+  barylab::RenderOptions options;
+  options.component = 14;
+  options.width = 1000;
+  options.height = 500;
+  ExpectMatchesBaseline(barylab::DeformationWindow(weighted, cage, deformed, posed, options),
+    "green_deformation_2d");
 }
 
 TEST(RenderImages, Deformation3D)
