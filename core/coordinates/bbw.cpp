@@ -48,10 +48,8 @@ void validate_options(const BBWOptions& o)
   if (o.threads < 0)
     fail("BBWOptions::threads must be >= 0 (0 = OpenMP's default), got " +
       std::to_string(o.threads));
-  if (o.mass_lumping != BBWMassLumping::Barycentric)
-    fail("BBWOptions::mass_lumping: Voronoi lumping is not available yet");
-  if (!o.bounded)
-    fail("BBWOptions::bounded: unbounded biharmonic weights are not available yet");
+  if (o.mass_lumping != BBWMassLumping::Barycentric && o.mass_lumping != BBWMassLumping::Voronoi)
+    fail("BBWOptions::mass_lumping is not a BBWMassLumping value");
 }
 
 /// The bound-constrained QP options of a BBW solve.
@@ -770,6 +768,57 @@ CoupledOutcome solve_coupled(const BoxConstrainedQP& qp, const BBWBoundaryCondit
 
 } // namespace
 
+namespace
+{
+
+/// The unbounded biharmonic weights (BBWOptions::bounded = false): X0, the minimizer of Eq. 8
+/// subject to Eq. 3-4 only, is the answer in both modes (see BBWOptions::bounded); @p result
+/// gets it, its stationarity residual and the partition / bound measures.
+BBWResult unbounded_result(BBWResult& result, const Eigen::MatrixXd& X0,
+  const BBWBoundaryConditions& bc, const Eigen::SparseMatrix<double>& Q, const BBWOptions& o,
+  Index cells, Clock::time_point start)
+{
+  const Index n = X0.rows(), m = X0.cols();
+  Eigen::MatrixXd W = X0;
+  result.iterations.assign(static_cast<std::size_t>(m), 0);
+  result.factorizations.assign(static_cast<std::size_t>(m), 1);
+  result.modifications.assign(static_cast<std::size_t>(m), 0);
+  // Relative stationarity residual max |(Q W)_ij| over the unknown rows / max_i sum_j |Q_ij|.
+  Eigen::MatrixXd R = Q * W;
+  for (Index k = 0; k < bc.vertices.size(); ++k)
+    R.row(bc.vertices(k)).setZero();
+  double scale = 0.0;
+  for (Index i = 0; i < Q.outerSize(); ++i)
+  {
+    double row = 0.0;
+    for (Eigen::SparseMatrix<double>::InnerIterator it(Q, i); it; ++it)
+      row += std::abs(it.value());
+    scale = std::max(scale, row);
+  }
+  const double kkt = R.size() > 0 ? R.cwiseAbs().maxCoeff() / (scale > 0.0 ? scale : 1.0) : 0.0;
+  result.kkt_residual.assign(static_cast<std::size_t>(m), kkt);
+  result.max_kkt_residual = kkt;
+  result.coupled_kkt_residual = o.mode == BBWMode::Coupled ? kkt : 0.0;
+  result.converged = true;
+  const Eigen::VectorXd sums = W.rowwise().sum();
+  result.partition_error_before_normalization = (sums.array() - 1.0).abs().maxCoeff();
+  if (o.normalize)
+  {
+    // The sums are 1 up to rounding (Q 1 = 0); dividing keeps the fixed rows as they are.
+    W = sums.cwiseInverse().asDiagonal() * W;
+    for (Index k = 0; k < bc.vertices.size(); ++k)
+      W.row(bc.vertices(k)) = bc.values.row(k);
+  }
+  result.partition_error = (W.rowwise().sum().array() - 1.0).abs().maxCoeff();
+  result.max_bound_violation = std::max({ 0.0, -W.minCoeff(), W.maxCoeff() - 1.0 });
+  result.W = W;
+  result.seconds = seconds_since(start);
+  fill_statistics(result, n, cells, m);
+  return result;
+}
+
+} // namespace
+
 BBWBoundaryConditions bbw_boundary_conditions(const BBWHandles& handles, Index vertex_count)
 {
   if (handles.extra_handles < 0)
@@ -968,7 +1017,9 @@ BoundedBiharmonicWeights::BoundedBiharmonicWeights(
   const auto start = Clock::now();
   validate_options(options_);
   const SparseMatrix K = stiffness_matrix(V, T); // validates the mesh
-  const SparseMatrix M = mass_matrix(V, T, MassMatrixType::Barycentric);
+  const SparseMatrix M = mass_matrix(V, T,
+    options_.mass_lumping == BBWMassLumping::Voronoi ? MassMatrixType::Voronoi
+                                                      : MassMatrixType::Barycentric);
   const Index n = V.rows();
   Eigen::VectorXd inverse_mass(n);
   for (Index i = 0; i < n; ++i)
@@ -1051,6 +1102,8 @@ BBWResult BoundedBiharmonicWeights::compute(
   result.unconstrained_seconds = seconds_since(phase_start);
   if (!setup_reporter.step())
     setup_reporter.throw_if_cancelled("bounded biharmonic weights");
+  if (!o.bounded)
+    return unbounded_result(result, X0, bc, Q_, o, cell_count_, start);
 
   // 2. Each handle's bound-constrained QP.
   phase_start = Clock::now();

@@ -8,10 +8,12 @@
 ///
 /// Discretization (§3.4, Eq. 8): linear FEM, energy 1/2 sum_j w_j^T Q w_j with
 /// Q = K M^-1 K, K the stiffness matrix (fem_operators.h: minus the cotangent Laplacian) and M
-/// the lumped mass matrix. M is the barycentric lumping (1/3 or 1/4 of the incident element
-/// volumes) in 2D and 3D; the paper and libigl use Voronoi lumping for triangles (libigl:
-/// barycentric for tetrahedra), so 3D weights match libigl's and 2D weights differ from
-/// libigl's slightly (both converge to the same continuous weights). Q is sparse (two-ring
+/// the lumped mass matrix (BBWOptions::mass_lumping): by default the Voronoi area / volume of
+/// each vertex, as §3.4 specifies (MassMatrixType::Voronoi: Meyer et al.'s mixed area for
+/// triangles, as libigl; the nearest-corner part of each tetrahedron), or the barycentric
+/// lumping (1/3 or 1/4 of the incident element volumes), which libigl's MATLAB reference used
+/// for tetrahedra (the knight: 1.3e-6 from it with barycentric lumping, 0.11 with Voronoi;
+/// both converge to the same continuous weights). Q is sparse (two-ring
 /// stencil) and symmetric positive semidefinite; positive definite once every connected
 /// component has a fixed vertex. The optional shape-preservation term (§3.3, Eq. 7/9) adds
 /// G^T diag(rho_t vol_t) G = the integral of rho |grad w|^2 for a per-element brush rho.
@@ -27,10 +29,13 @@
 /// exactly (Eq. 6); partition of unity exact after normalization (fast mode) or to the solver
 /// tolerance (coupled mode) and exact after its normalization; smooth (C1 at point handles);
 /// local; no linear precision. Local maxima (Table 1 claims none, "only experimental
-/// confirmation"): on the paper's Fig. 16 setup (random point handles in a square) no w_j has a
-/// local maximum away from its handle inside the domain, but near the boundary, behind a handle
-/// close to it, w_j rises again to a small bump (prominence 0.001-0.08, up to w = 1 in a corner),
-/// in both modes, always where handle j dominates (bbw_test, Fig16).
+/// confirmation"): on the paper's Fig. 16 setup (random point handles in a square) w_j has no
+/// local maximum away from its handle except small bumps near the boundary behind a handle close
+/// to it (prominence up to ~0.03, up to w = 1 in a corner) and, rarely, a shallow bump a few
+/// vertices from such a handle, in both modes, always where handle j dominates (bbw_test,
+/// Fig16; the study in docs/bounded-biharmonic-weights.md counts them on unstructured meshes).
+/// Without the bounds (BBWOptions::bounded = false) the weights go negative and have many
+/// local extrema (Figs. 4, 16 left).
 ///
 /// Measured (Release, this 2-core machine shared with other jobs, so CPU time = user + sys is
 /// the reliable figure; best of 3): libigl's hand (7,234 vertices, 20 bones), fast mode 5.8 s
@@ -211,10 +216,18 @@ struct BBWOptions
   /// (both scale as 1/length^2 relative to each other: a brush of ~1/h^2, h the edge length,
   /// is strong). Empty (default): no term.
   Eigen::VectorXd shape_preservation;
-  /// The lumped mass matrix of the Laplacian. Default Barycentric.
-  BBWMassLumping mass_lumping = BBWMassLumping::Barycentric;
-  /// false: drop the bounds 0 <= w <= 1 (Eq. 6): unbounded biharmonic weights (Figs. 4, 16), a
-  /// comparison that shows what the bounds buy. Default true.
+  /// The lumped mass matrix M of the Laplacian M^-1 K (fem_operators.h, MassMatrixType).
+  /// Default Voronoi, as §3.4 specifies (2D and 3D).
+  BBWMassLumping mass_lumping = BBWMassLumping::Voronoi;
+  /// false: drop the bounds 0 <= w <= 1 (Eq. 6): unbounded biharmonic weights (Botsch & Kobbelt
+  /// 2004; the paper's Figs. 4 and 16 left), a comparison that shows what the bounds buy. The
+  /// weights are then the minimizer of Eq. 8 subject to Eq. 3-4, one sparse Cholesky
+  /// factorization of Q on the unknowns for all handles (MinQuadWithFixed). Both modes give
+  /// them: with Eq. 5 added, the KKT conditions Q w_j + mu = 0, sum_j w_j = 1 are solved by
+  /// mu = 0, because the fixed rows sum to 1 and Q annihilates constants, so the per-handle
+  /// solutions already sum to 1 (to rounding; normalize divides by those sums). They are smooth
+  /// and sum to 1, but go negative and have local extrema away from the handles.
+  /// max_bound_violation reports how far they leave [0, 1]. Default true.
   bool bounded = true;
 };
 
@@ -246,6 +259,7 @@ struct BBWResult : WeightsResult
   // Both.
   double max_kkt_residual = 0;       ///< max over the QPs of the mode (fast: per handle)
   double max_bound_violation = 0;    ///< max over entries of max(-w, w - 1, 0): exactly 0
+                                     ///< (bounded), how far unbounded weights leave [0, 1]
   double partition_error = 0;        ///< max_i |sum_j W(i,j) - 1| of W as returned
   double partition_error_before_normalization = 0; ///< the same before normalizing
   Index fixed_vertices = 0;          ///< #known rows

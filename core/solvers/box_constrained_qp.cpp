@@ -241,6 +241,7 @@ BoxQPResult BoxConstrainedQP::solve(const Eigen::VectorXd& b, const Eigen::Vecto
   Index best_violators = std::numeric_limits<Index>::max();
   int attempts_left = options.block_attempts;
   bool settled = false;
+  int polishes_left = 3; // see "Polish" below
   while (result.iterations < options.max_iterations)
   {
     if (options.keep_going && !options.keep_going())
@@ -335,6 +336,51 @@ BoxQPResult BoxConstrainedQP::solve(const Eigen::VectorXd& b, const Eigen::Vecto
       {
         factor.force_refactor();
         continue;
+      }
+    }
+    if (violators.empty() && polishes_left > 0)
+    {
+      // Polish: free variables just outside their bounds (within the primal threshold) are
+      // clamped for the certificate below, which moves the gradient of their neighbours; where
+      // A has large entries (e.g. a Voronoi-lumped bi-Laplacian with small vertex masses) that
+      // can push a multiplier past the tolerance. If the clamped point would not certify, put
+      // those variables on their bounds and solve once more (at most max_polishes times).
+      std::vector<Index> outside;
+      for (const int i : free)
+        if (x(i) < l(i) || x(i) > u(i))
+          outside.push_back(i);
+      if (!outside.empty())
+      {
+        const Eigen::VectorXd unclamped = x;
+        for (const Index i : outside)
+          x(i) = std::min(u(i), std::max(l(i), x(i)));
+        const double sy_clamped = gradient_and_scale();
+        double worst = 0.0;
+        for (Index i = 0; i < n; ++i)
+        {
+          if (state(i) == BoxQPState::Fixed)
+            continue;
+          if (x(i) == l(i))
+            worst = std::max(worst, -y(i) / sy_clamped);
+          else if (x(i) == u(i))
+            worst = std::max(worst, y(i) / sy_clamped);
+          else
+            worst = std::max(worst, std::abs(y(i)) / sy_clamped);
+        }
+        x = unclamped;
+        gradient_and_scale();
+        if (worst > options.tolerance)
+        {
+          for (const Index i : outside)
+            state(i) = x(i) < l(i) ? BoxQPState::Lower : BoxQPState::Upper;
+          if (visited.count(state_hash(state)) == 0)
+          {
+            --polishes_left;
+            continue;
+          }
+          for (const Index i : outside)
+            state(i) = BoxQPState::Free;
+        }
       }
     }
     if (violators.empty())

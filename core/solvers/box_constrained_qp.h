@@ -63,7 +63,11 @@
 ///    last active-set iteration found no violator.
 /// Bounds hold exactly: free variables that the last solve left outside their bounds by less
 /// than the primal threshold (tolerance/2 * s_x) are clamped onto them, and the KKT measures
-/// are evaluated after the clamp, so "converged" certifies the clamped point.
+/// are evaluated after the clamp, so "converged" certifies the clamped point. When an iteration
+/// finds no violator but the clamped point would not certify (the clamp moved the gradient of
+/// neighbouring variables past the tolerance, as on a Voronoi-lumped bi-Laplacian with small
+/// vertex masses), those clamped variables are put on their bounds and the active set is solved
+/// again ("polish", at most 3 times per solve).
 ///
 /// Cost: per iteration one update of the factorization of A restricted to the free set (for BBW,
 /// the support of the weight: 3,000-5,000 of the hand's 7,234 vertices), one solve and one pass

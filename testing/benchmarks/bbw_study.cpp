@@ -1,0 +1,396 @@
+// Two studies of bounded biharmonic weights against the paper (Jacobson et al. 2011), printed
+// as Markdown tables for docs/bounded-biharmonic-weights.md and docs/benchmarks.md:
+//
+//   bbw_study lumping   Voronoi (§3.4) against barycentric mass lumping on the bundled cages
+//                       (data/cage2d.obj, data/cage3d.obj: cage-vertex handles) and libigl's
+//                       knight (7 bones; its MATLAB active-set weights as the reference):
+//                       max / mean |W_voronoi - W_barycentric|, the Laplacian energy, the
+//                       support, the solve time, the distance to the MATLAB weights.
+//   bbw_study maxima [--handles N] [--seed S] [--levels A,B,...] [--3d] [--tolerance T]
+//                       Fig. 16: N random point handles (default 50, seed 2011) in the unit
+//                       square meshed by CGAL (mesh_polygon, handles inserted as Steiner
+//                       points) at each target triangle count (default 1000,4000,16000);
+//                       bounded (fast and coupled) and unbounded weights; for every handle's
+//                       weight the strict local maxima (value above every 1-ring neighbour
+//                       by more than T, default 1e-8, and above T; the handle's own vertex
+//                       excluded) and minima (below every neighbour by more than T), split
+//                       into interior and boundary vertices, with the largest prominence of a
+//                       maximum. --3d adds the unit cube (TetGen, 20,000 / 60,000 tetrahedra
+//                       requested, fast bounded and unbounded).
+#include "core/coordinates/bbw.h"
+#include "core/meshing/domain_mesh.h"
+#include "core/solvers/fem_operators.h"
+
+#include "cage_catalogue.h"
+#include "igl_formats.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <queue>
+#include <random>
+#include <set>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace
+{
+using namespace bary;
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point t)
+{
+  return std::chrono::duration<double>(Clock::now() - t).count();
+}
+
+std::vector<std::set<int>> one_rings(Index n, const Eigen::MatrixXi& T)
+{
+  std::vector<std::set<int>> ring(static_cast<std::size_t>(n));
+  for (Index t = 0; t < T.rows(); ++t)
+    for (Index a = 0; a < T.cols(); ++a)
+      for (Index b = 0; b < T.cols(); ++b)
+        if (a != b)
+          ring[static_cast<std::size_t>(T(t, a))].insert(T(t, b));
+  return ring;
+}
+
+/// Prominence of the local maximum of w at v: w(v) minus the highest level at which a path
+/// from v reaches a larger value (w(v) + 1 when none: the global maximum).
+double prominence(const Eigen::VectorXd& w, const std::vector<std::set<int>>& ring, int v)
+{
+  std::vector<double> best(static_cast<std::size_t>(w.size()), -1e300);
+  std::priority_queue<std::pair<double, int>> queue;
+  best[static_cast<std::size_t>(v)] = w(v);
+  queue.push({ w(v), v });
+  while (!queue.empty())
+  {
+    const auto [level, a] = queue.top();
+    queue.pop();
+    if (level < best[static_cast<std::size_t>(a)])
+      continue;
+    if (w(a) > w(v))
+      return w(v) - level;
+    for (const int c : ring[static_cast<std::size_t>(a)])
+    {
+      const double through = std::min(level, w(c));
+      if (through > best[static_cast<std::size_t>(c)])
+      {
+        best[static_cast<std::size_t>(c)] = through;
+        queue.push({ through, c });
+      }
+    }
+  }
+  return w(v) + 1.0;
+}
+
+struct ExtremaCount
+{
+  int max_interior = 0, max_boundary = 0, min_interior = 0, min_boundary = 0;
+  int handles_with_max = 0;   ///< handles whose weight has at least one spurious maximum
+  double largest_prominence = 0, largest_value = 0;
+};
+
+ExtremaCount count_extrema(const DenseWeights& W, const std::vector<std::set<int>>& ring,
+  const std::vector<char>& boundary, const Eigen::VectorXi& handle_vertex, double tol)
+{
+  ExtremaCount c;
+  for (Index j = 0; j < W.cols(); ++j)
+  {
+    const Eigen::VectorXd w = W.col(j);
+    bool any = false;
+    for (Index v = 0; v < w.size(); ++v)
+    {
+      if (j < handle_vertex.size() && v == handle_vertex(j))
+        continue;
+      bool is_max = w(v) > tol, is_min = true;
+      for (const int u : ring[static_cast<std::size_t>(v)])
+      {
+        is_max = is_max && w(v) > w(u) + tol;
+        is_min = is_min && w(v) < w(u) - tol;
+      }
+      const bool b = boundary[static_cast<std::size_t>(v)] != 0;
+      if (is_max)
+      {
+        any = true;
+        (b ? c.max_boundary : c.max_interior)++;
+        const double p = prominence(w, ring, static_cast<int>(v));
+        c.largest_prominence = std::max(c.largest_prominence, p > 1.0 ? w(v) : p);
+        c.largest_value = std::max(c.largest_value, w(v));
+      }
+      if (is_min)
+        (b ? c.min_boundary : c.min_interior)++;
+    }
+    c.handles_with_max += any;
+  }
+  return c;
+}
+
+std::vector<int> parse_list(const std::string& s)
+{
+  std::vector<int> out;
+  std::stringstream in(s);
+  std::string item;
+  while (std::getline(in, item, ','))
+    out.push_back(std::stoi(item));
+  return out;
+}
+
+void print_extrema_row(const std::string& domain, Index vertices, Index cells, const char* method,
+  const BBWResult& r, const ExtremaCount& c, double seconds)
+{
+  std::printf("| %s | %lld | %lld | %s | %d + %d | %d | %.3g | %.3g | %d + %d | %.3g | %.3g | %.1f |\n",
+    domain.c_str(), static_cast<long long>(vertices), static_cast<long long>(cells), method,
+    c.max_interior, c.max_boundary, c.handles_with_max, c.largest_value, c.largest_prominence,
+    c.min_interior, c.min_boundary, Eigen::MatrixXd(r.W).minCoeff(), Eigen::MatrixXd(r.W).maxCoeff(),
+    seconds);
+  std::fflush(stdout);
+}
+
+void run_methods(const std::string& domain, const Eigen::MatrixXd& V, const Eigen::MatrixXi& T,
+  const std::vector<int>& boundary_list, const Eigen::VectorXi& handle_vertex, double tol,
+  bool coupled)
+{
+  BBWHandles h;
+  h.point_vertex = handle_vertex;
+  std::vector<char> boundary(static_cast<std::size_t>(V.rows()), 0);
+  for (const int v : boundary_list)
+    boundary[static_cast<std::size_t>(v)] = 1;
+  const auto ring = one_rings(V.rows(), T);
+  struct Method
+  {
+    const char* name;
+    BBWMode mode;
+    bool bounded;
+  };
+  std::vector<Method> methods = { { "bounded, fast", BBWMode::Fast, true } };
+  if (coupled)
+    methods.push_back({ "bounded, coupled", BBWMode::Coupled, true });
+  methods.push_back({ "unbounded", BBWMode::Fast, false });
+  for (const Method& m : methods)
+  {
+    BBWOptions o; // Voronoi lumping (the default), tolerances 1e-10
+    o.mode = m.mode;
+    o.bounded = m.bounded;
+    const auto start = Clock::now();
+    const BBWResult r = bounded_biharmonic_weights(V, T, h, o);
+    const double seconds = seconds_since(start);
+    print_extrema_row(domain, V.rows(), T.rows(), m.name, r,
+      count_extrema(r.W, ring, boundary, handle_vertex, tol), seconds);
+  }
+}
+
+int maxima(int argc, char** argv)
+{
+  int handles = 50;
+  unsigned seed = 2011;
+  double tol = 1e-8;
+  bool three_d = false;
+  std::vector<int> levels = { 1000, 4000, 16000 };
+  for (int a = 2; a < argc; ++a)
+  {
+    const std::string arg = argv[a];
+    if (arg == "--handles" && a + 1 < argc)
+      handles = std::stoi(argv[++a]);
+    else if (arg == "--seed" && a + 1 < argc)
+      seed = static_cast<unsigned>(std::stoul(argv[++a]));
+    else if (arg == "--levels" && a + 1 < argc)
+      levels = parse_list(argv[++a]);
+    else if (arg == "--tolerance" && a + 1 < argc)
+      tol = std::stod(argv[++a]);
+    else if (arg == "--3d")
+      three_d = true;
+    else
+    {
+      std::cerr << "unknown argument " << arg << "\n";
+      return 2;
+    }
+  }
+  std::printf("%d random point handles (std::mt19937 seed %u, uniform in the open unit "
+              "square/cube), Voronoi lumping, tolerance %g\n\n",
+    handles, seed, tol);
+  std::printf("| domain | vertices | cells | weights | spurious maxima (interior + boundary) | "
+              "handles with one | largest such max | largest prominence | strict minima "
+              "(interior + boundary) | min w | max w | seconds |\n");
+  std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+  for (const int level : levels)
+  {
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    PolygonMeshOptions o;
+    o.target_cells = level;
+    o.steiner_points.resize(handles, 2);
+    for (int k = 0; k < handles; ++k)
+    {
+      const double x = u(rng), y = u(rng);
+      o.steiner_points.row(k) << x, y;
+    }
+    const DomainMesh mesh = mesh_polygon(test::unit_square(), o);
+    std::set<int> distinct(mesh.steiner_vertex.data(), mesh.steiner_vertex.data() + handles);
+    if (distinct.count(-1) || static_cast<int>(distinct.size()) != handles)
+    {
+      std::cerr << "a handle point was skipped or merged at level " << level << "\n";
+      return 1;
+    }
+    run_methods("square", mesh.V, mesh.T, mesh.boundary_vertices, mesh.steiner_vertex, tol, true);
+  }
+  if (three_d)
+    for (const int level : { 20000, 60000 })
+    {
+      std::mt19937 rng(seed);
+      std::uniform_real_distribution<double> u(0.0, 1.0);
+      SurfaceMeshOptions o;
+      o.target_cells = level;
+      o.steiner_points.resize(handles, 3);
+      for (int k = 0; k < handles; ++k)
+      {
+        const double x = u(rng), y = u(rng), z = u(rng);
+        o.steiner_points.row(k) << x, y, z;
+      }
+      Cage cube = test::unit_cube();
+      cube.V = (cube.V.array() - cube.V.minCoeff()) / (cube.V.maxCoeff() - cube.V.minCoeff());
+      const DomainMesh mesh = mesh_closed_surface(cube, o);
+      std::set<int> distinct(mesh.steiner_vertex.data(), mesh.steiner_vertex.data() + handles);
+      if (distinct.count(-1) || static_cast<int>(distinct.size()) != handles)
+      {
+        std::cerr << "a handle point was skipped or merged in 3D\n";
+        return 1;
+      }
+      run_methods("cube", mesh.V, mesh.T, mesh.boundary_vertices, mesh.steiner_vertex, tol, false);
+    }
+  return 0;
+}
+
+// --- lumping ----------------------------------------------------------------------------------
+
+struct Problem
+{
+  std::string name;
+  Eigen::MatrixXd V;
+  Eigen::MatrixXi T;
+  BBWHandles handles;
+  Eigen::MatrixXd reference; ///< MATLAB weights (before normalization) or empty
+};
+
+Problem cage_problem(const std::string& name, const DomainMesh& mesh, Index controls)
+{
+  Problem p;
+  p.name = name;
+  p.V = mesh.V;
+  p.T = mesh.T;
+  p.handles.extra_handles = controls;
+  p.handles.fixed_vertices = Eigen::Map<const Eigen::VectorXi>(
+    mesh.boundary_vertices.data(), static_cast<Index>(mesh.boundary_vertices.size()));
+  p.handles.fixed_values = DenseWeights(mesh.boundary_weights);
+  return p;
+}
+
+int lumping()
+{
+  std::vector<Problem> problems;
+  {
+    const Cage c = test::read_polygon_obj(std::string(BARYLAB_DATA_DIR) + "/cage2d.obj");
+    problems.push_back(cage_problem("data/cage2d.obj (gingerbread, 3000 triangles requested)",
+      mesh_polygon(c), c.num_controls()));
+  }
+  {
+    const test::ObjMesh obj = test::read_obj(std::string(BARYLAB_DATA_DIR) + "/cage3d.obj");
+    Cage c;
+    c.V = obj.V;
+    c.F = obj.F;
+    SurfaceMeshOptions o;
+    o.target_cells = 5000;
+    problems.push_back(cage_problem(
+      "data/cage3d.obj (5,000 tetrahedra requested)", mesh_closed_surface(c, o), c.num_controls()));
+  }
+  const std::string dir = std::string(BARYLAB_SHARED_DIR) + "/igl/";
+  if (std::filesystem::exists(dir + "decimated-knight-matlab-active-set.dmat"))
+  {
+    const test::MeditMesh mesh = test::read_medit_mesh(dir + "decimated-knight.mesh");
+    const test::TgfSkeleton skeleton = test::read_tgf(dir + "decimated-knight.tgf");
+    Problem p;
+    p.name = "libigl decimated-knight (7 bones)";
+    p.V = mesh.V;
+    p.T = mesh.T;
+    p.handles =
+      handles_from_skeleton(mesh.V, skeleton.C, Eigen::VectorXi(), skeleton.E, std::sqrt(1e-7));
+    p.reference = test::read_dmat(dir + "decimated-knight-matlab-active-set.dmat");
+    problems.push_back(std::move(p));
+  }
+  std::printf("| problem | vertices | cells | lumping | seconds (best of 2) | energy 1/2 sum w^T Q w | "
+              "support (entries > 1e-6) | max / mean abs difference to the other lumping | "
+              "max / mean abs difference to MATLAB |\n|---|---|---|---|---|---|---|---|---|\n");
+  for (const Problem& p : problems)
+  {
+    DenseWeights W[2];
+    double seconds[2] = { 1e300, 1e300 }, energy[2] = { 0, 0 }, support[2] = { 0, 0 };
+    for (int k = 0; k < 2; ++k)
+    {
+      BBWOptions o;
+      o.mass_lumping = k == 0 ? BBWMassLumping::Barycentric : BBWMassLumping::Voronoi;
+      o.normalize = p.reference.size() == 0; // the MATLAB weights are before normalization
+      o.require_convergence = false;
+      for (int repeat = 0; repeat < 2; ++repeat)
+      {
+        const auto start = Clock::now();
+        const BoundedBiharmonicWeights bbw(p.V, p.T, o);
+        const BBWResult r = bbw.compute(p.handles);
+        seconds[k] = std::min(seconds[k], seconds_since(start));
+        W[k] = r.W;
+        energy[k] = 0.0;
+        for (Index j = 0; j < r.W.cols(); ++j)
+          energy[k] += 0.5 * r.W.col(j).dot(bbw.energy_matrix() * r.W.col(j));
+      }
+      support[k] = double((W[k].array() > 1e-6).count()) / double(W[k].size());
+    }
+    {
+      const Eigen::VectorXd mb = mass_matrix(p.V, p.T, MassMatrixType::Barycentric).diagonal();
+      const Eigen::VectorXd mv = mass_matrix(p.V, p.T, MassMatrixType::Voronoi).diagonal();
+      const Eigen::VectorXd ratio = mv.cwiseQuotient(mb);
+      std::fprintf(stderr, "%s: Voronoi / barycentric vertex mass in [%.3g, %.3g]\n",
+        p.name.c_str(), ratio.minCoeff(), ratio.maxCoeff());
+    }
+    for (int k = 0; k < 2; ++k)
+    {
+      const DenseWeights d = (W[k] - W[1 - k]).cwiseAbs();
+      std::string to_matlab = "-";
+      if (p.reference.size() > 0)
+      {
+        const Eigen::MatrixXd e = (Eigen::MatrixXd(W[k]) - p.reference).cwiseAbs();
+        char buffer[64];
+        std::snprintf(buffer, sizeof buffer, "%.3g / %.3g", e.maxCoeff(), e.mean());
+        to_matlab = buffer;
+      }
+      std::printf("| %s | %lld | %lld | %s | %.3f | %.6g | %.2f%% | %.3g / %.3g | %s |\n",
+        p.name.c_str(), static_cast<long long>(p.V.rows()), static_cast<long long>(p.T.rows()),
+        k == 0 ? "barycentric" : "Voronoi", seconds[k], energy[k], 100.0 * support[k],
+        d.maxCoeff(), d.mean(), to_matlab.c_str());
+      std::fflush(stdout);
+    }
+  }
+  return 0;
+}
+
+} // namespace
+
+int main(int argc, char** argv)
+{
+  const std::string what = argc > 1 ? argv[1] : "";
+  try
+  {
+    if (what == "lumping")
+      return lumping();
+    if (what == "maxima")
+      return maxima(argc, argv);
+  }
+  catch (const std::exception& e)
+  {
+    std::cerr << "bbw_study: " << e.what() << "\n";
+    return 1;
+  }
+  std::cerr << "usage: bbw_study lumping | maxima [--handles N] [--seed S] [--levels A,B,...] "
+               "[--3d] [--tolerance T]\n";
+  return 2;
+}
