@@ -182,6 +182,7 @@ struct SessionFile
   SceneOptions view;
   vtkSmartPointer<vtkPoints> pose;   ///< null: the rest pose
   std::vector<HandleTwist> twists;   ///< filled by the modes' readSession
+  std::vector<double> shape_brush;   ///< BBW's brush per domain vertex (SkeletonMode)
 };
 
 /// The JSON document of @p file (without the modes' parts).

@@ -12,12 +12,28 @@
 #include "core/common/error.h"
 
 #include <QBoxLayout>
+#include <QCheckBox>
+#include <QLabel>
 #include <QDoubleSpinBox>
 #include <QFileInfo>
 #include <QMenu>
 #include <QPushButton>
 
+#include "vtkActor.h"
+#include "vtkCallbackCommand.h"
+#include "vtkCamera.h"
 #include "vtkCellArray.h"
+#include "vtkCellPicker.h"
+#include "vtkDoubleArray.h"
+#include "vtkInteractorObserver.h"
+#include "vtkPointData.h"
+#include "vtkPolyDataMapper.h"
+#include "vtkProperty.h"
+#include "vtkRenderWindow.h"
+#include "vtkRenderWindowInteractor.h"
+#include "vtkRenderer.h"
+#include "vtkUnsignedCharArray.h"
+#include <QVTKOpenGLNativeWidget.h>
 #include "vtkCellData.h"
 #include "vtkNew.h"
 #include "vtkPoints.h"
@@ -26,12 +42,218 @@
 
 #include <Eigen/Geometry>
 
+#include <algorithm>
+#include <cmath>
 #include <fstream>
+#include <map>
 
 namespace barylab
 {
 namespace viewer
 {
+namespace
+{
+const char* const BrushArray = "ShapePreservation";
+
+/// The size of a domain: its bounding box diagonal.
+double domain_size(vtkDataSet* domain)
+{
+  double b[6];
+  domain->GetBounds(b);
+  return std::max(1e-12, std::sqrt((b[1] - b[0]) * (b[1] - b[0]) +
+                           (b[3] - b[2]) * (b[3] - b[2]) + (b[5] - b[4]) * (b[5] - b[4])));
+}
+
+/// The windows whose brush overlay a renderer draws (one entry per brush panel).
+std::map<vtkRenderer*, const ViewerWindow*>& brush_windows()
+{
+  static std::map<vtkRenderer*, const ViewerWindow*> windows;
+  return windows;
+}
+
+/// The "Shape brush" row's state and its mouse observer on the window's main view: while
+/// "Paint" is checked, the left button paints (or erases) on the domain instead of picking
+/// joints or turning the camera; releasing it recomputes the weights with the brush.
+class ShapeBrushTool : public QObject
+{
+public:
+  ShapeBrushTool(ViewerWindow& window, QCheckBox* paint, QDoubleSpinBox* radius,
+    QDoubleSpinBox* strength, QCheckBox* erase, QObject* parent)
+    : QObject(parent)
+    , Window(window)
+    , Paint(paint)
+    , Radius(radius)
+    , Strength(strength)
+    , Erase(erase)
+  {
+    this->Callback = vtkSmartPointer<vtkCallbackCommand>::New();
+    this->Callback->SetCallback(&ShapeBrushTool::OnEvent);
+    this->Callback->SetClientData(this);
+    this->Interactor = window.view() ? window.view()->interactor() : nullptr;
+    if (this->Interactor)
+      for (unsigned long e : { vtkCommand::LeftButtonPressEvent, vtkCommand::MouseMoveEvent,
+             vtkCommand::LeftButtonReleaseEvent })
+        this->Interactor->AddObserver(e, this->Callback, 20.0f); // before the views' (10)
+    this->Renderer = window.renderer();
+    brush_windows()[this->Renderer] = &window;
+  }
+  ~ShapeBrushTool() override
+  {
+    if (this->Interactor)
+      this->Interactor->RemoveObserver(this->Callback);
+    brush_windows().erase(this->Renderer);
+  }
+
+private:
+  /// One dab at the display position (x, y): the world point on the domain's plane (2D) or
+  /// on the picked surface (3D). False when there is nothing to paint on.
+  bool dab(int x, int y)
+  {
+    vtkDataSet* domain = this->Window.session().domain();
+    if (!SkeletonMode::CanPaint(domain) || !this->Renderer)
+      return false;
+    const double size = domain_size(domain);
+    double world[4] = { 0, 0, 0, 1 };
+    double b[6];
+    domain->GetBounds(b);
+    if (b[5] - b[4] <= 1e-9 * size)
+    {
+      // the view ray through (x, y) meets the domain's plane z = b[4]
+      double near_point[4], far_point[4];
+      vtkInteractorObserver::ComputeDisplayToWorld(this->Renderer, x, y, 0.0, near_point);
+      vtkInteractorObserver::ComputeDisplayToWorld(this->Renderer, x, y, 1.0, far_point);
+      const double dz = far_point[2] - near_point[2];
+      if (std::abs(dz) > 0.0)
+      {
+        const double t = (b[4] - near_point[2]) / dz;
+        for (int k = 0; k < 3; ++k)
+          world[k] = near_point[k] + t * (far_point[k] - near_point[k]);
+      }
+    }
+    else
+    {
+      vtkNew<vtkCellPicker> picker;
+      picker->SetTolerance(0.002);
+      if (!picker->Pick(x, y, 0.0, this->Renderer))
+        return false;
+      picker->GetPickPosition(world);
+    }
+    const double value = this->Strength->value() / (size * size);
+    SkeletonMode::PaintShapeBrush(
+      domain, world, this->Radius->value() / 100.0 * size, value, this->Erase->isChecked());
+    this->Painted = true;
+    return true;
+  }
+
+  static void OnEvent(vtkObject*, unsigned long event, void* client, void*)
+  {
+    auto* self = static_cast<ShapeBrushTool*>(client);
+    if (!self->Paint->isChecked())
+      return;
+    int pos[2];
+    self->Interactor->GetEventPosition(pos);
+    if (event == vtkCommand::LeftButtonPressEvent)
+    {
+      self->Stroking = self->dab(pos[0], pos[1]);
+      if (self->Stroking)
+        self->Callback->AbortFlagOn();
+    }
+    else if (event == vtkCommand::MouseMoveEvent && self->Stroking)
+    {
+      self->Callback->AbortFlagOn();
+      self->dab(pos[0], pos[1]);
+      self->Window.renderer()->GetRenderWindow()->Render();
+    }
+    else if (event == vtkCommand::LeftButtonReleaseEvent && self->Stroking)
+    {
+      self->Callback->AbortFlagOn();
+      self->Stroking = false;
+      if (self->Painted && self->Window.hasWeights())
+        self->Window.compute(); // the weights with the brush (the scene shows the mask)
+      self->Painted = false;
+    }
+  }
+
+  ViewerWindow& Window;
+  QCheckBox* Paint;
+  QDoubleSpinBox* Radius;
+  QDoubleSpinBox* Strength;
+  QCheckBox* Erase;
+  vtkSmartPointer<vtkCallbackCommand> Callback;
+  vtkRenderWindowInteractor* Interactor = nullptr;
+  vtkRenderer* Renderer = nullptr;
+  bool Stroking = false;
+  bool Painted = false;
+};
+} // namespace
+
+bool SkeletonMode::CanPaint(vtkDataSet* domain)
+{
+  if (!domain || domain->GetNumberOfPoints() == 0 || domain->GetNumberOfCells() == 0)
+    return false;
+  for (vtkIdType c = 0; c < domain->GetNumberOfCells(); ++c)
+    if (domain->GetCellType(c) != VTK_TRIANGLE && domain->GetCellType(c) != VTK_TETRA)
+      return false;
+  return true;
+}
+
+int SkeletonMode::PaintShapeBrush(
+  vtkDataSet* domain, const double center[3], double radius, double value, bool erase)
+{
+  if (!CanPaint(domain) || !(radius > 0.0))
+    return 0;
+  auto* rho = vtkDoubleArray::SafeDownCast(domain->GetPointData()->GetArray(BrushArray));
+  if (!rho || rho->GetNumberOfTuples() != domain->GetNumberOfPoints() ||
+    rho->GetNumberOfComponents() != 1)
+  {
+    vtkNew<vtkDoubleArray> fresh;
+    fresh->SetName(BrushArray);
+    fresh->SetNumberOfTuples(domain->GetNumberOfPoints());
+    fresh->Fill(0.0);
+    domain->GetPointData()->AddArray(fresh);
+    rho = fresh;
+  }
+  int touched = 0;
+  for (vtkIdType i = 0; i < domain->GetNumberOfPoints(); ++i)
+  {
+    double x[3];
+    domain->GetPoint(i, x);
+    const double d = std::sqrt((x[0] - center[0]) * (x[0] - center[0]) +
+      (x[1] - center[1]) * (x[1] - center[1]) + (x[2] - center[2]) * (x[2] - center[2]));
+    if (d >= radius)
+      continue;
+    const double q = 1.0 - (d / radius) * (d / radius), f = q * q;
+    const double old = rho->GetValue(i);
+    rho->SetValue(i, erase ? old * (1.0 - f) : std::max(old, value * f));
+    ++touched;
+  }
+  rho->Modified();
+  domain->Modified();
+  return touched;
+}
+
+void SkeletonMode::SetShapeBrush(vtkDataSet* domain, const std::vector<double>& values)
+{
+  if (!domain)
+    return;
+  if (values.empty())
+  {
+    domain->GetPointData()->RemoveArray(BrushArray);
+    domain->Modified();
+    return;
+  }
+  if (static_cast<vtkIdType>(values.size()) != domain->GetNumberOfPoints())
+    throw bary::Error(bary::ErrorCode::SizeMismatch,
+      "the session's shape brush has " + std::to_string(values.size()) +
+        " values but the domain has " + std::to_string(domain->GetNumberOfPoints()) + " vertices");
+  vtkNew<vtkDoubleArray> rho;
+  rho->SetName(BrushArray);
+  rho->SetNumberOfTuples(static_cast<vtkIdType>(values.size()));
+  for (std::size_t i = 0; i < values.size(); ++i)
+    rho->SetValue(static_cast<vtkIdType>(i), values[i]);
+  domain->GetPointData()->AddArray(rho);
+  domain->Modified();
+}
 
 bool SkeletonMode::serves(const std::string& method, const Session& session) const
 {
@@ -92,6 +314,50 @@ void SkeletonMode::addControlActors(vtkRenderer* renderer, vtkPolyData* controls
     AddLines(renderer, points, chosen, 7.0, red);
   if (options.component >= 0 && options.component < skeleton.P.size())
     selected->InsertNextPoint(points->GetPoint(skeleton.P(options.component)));
+  // the painted shape-preservation brush: the domain's painted vertices as orange dots, more
+  // opaque where rho is larger (at the rest pose: the brush lives on the undeformed domain)
+  const auto found = brush_windows().find(renderer);
+  vtkDataSet* domain = found != brush_windows().end() ? found->second->session().domain() : nullptr;
+  vtkDataArray* rho = domain ? domain->GetPointData()->GetArray(BrushArray) : nullptr;
+  if (rho && rho->GetNumberOfTuples() == domain->GetNumberOfPoints())
+  {
+    double top = 0.0;
+    for (vtkIdType i = 0; i < rho->GetNumberOfTuples(); ++i)
+      top = std::max(top, rho->GetComponent(i, 0));
+    vtkNew<vtkPoints> dots;
+    vtkNew<vtkCellArray> verts;
+    vtkNew<vtkUnsignedCharArray> colors;
+    colors->SetNumberOfComponents(4);
+    colors->SetName("BrushColors");
+    for (vtkIdType i = 0; top > 0.0 && i < rho->GetNumberOfTuples(); ++i)
+    {
+      const double v = rho->GetComponent(i, 0) / top;
+      if (!(v > 1e-3))
+        continue;
+      double x[3];
+      domain->GetPoint(i, x);
+      const vtkIdType id = dots->InsertNextPoint(x);
+      verts->InsertNextCell(1, &id);
+      const unsigned char c[4] = { 255, 140, 0, static_cast<unsigned char>(60 + 195 * v) };
+      colors->InsertNextTypedTuple(c);
+    }
+    if (dots->GetNumberOfPoints() > 0)
+    {
+      vtkNew<vtkPolyData> mask;
+      mask->SetPoints(dots);
+      mask->SetVerts(verts);
+      mask->GetPointData()->SetScalars(colors);
+      vtkNew<vtkPolyDataMapper> mapper;
+      mapper->SetInputData(mask);
+      mapper->SetColorModeToDirectScalars();
+      vtkNew<vtkActor> actor;
+      actor->SetMapper(mapper);
+      actor->GetProperty()->SetPointSize(6.0);
+      actor->GetProperty()->SetRenderPointsAsSpheres(true);
+      actor->SetPickable(false);
+      renderer->AddActor(actor);
+    }
+  }
 }
 
 QStringList SkeletonMode::controlLabels(const Session& session, int components) const
@@ -158,6 +424,45 @@ void SkeletonMode::addPanelWidgets(QBoxLayout* deformation, ViewerWindow& window
   ViewerWindow* w = &window;
   QObject::connect(apply, &QPushButton::clicked, w, [w, angle, scale]() {
     w->setHandleTwist(w->selectedControl(), angle->value(), scale->value());
+  });
+
+  // The shape-preservation brush (§3.3, Fig. 5) on a given domain mesh.
+  auto* brush = new QHBoxLayout;
+  auto* paint = new QCheckBox("Shape brush");
+  paint->setObjectName("shape_brush");
+  paint->setToolTip("BBW: paint the shape-preservation brush (rho, paper Eq. 7) on the domain "
+                    "mesh with the left mouse button; the weights are recomputed when a stroke "
+                    "ends. Needs a triangle / tetrahedral domain mesh.");
+  auto* radius = new QDoubleSpinBox;
+  radius->setObjectName("shape_brush_radius");
+  radius->setRange(0.1, 100.0);
+  radius->setValue(5.0);
+  radius->setSuffix(" %");
+  radius->setToolTip("brush radius, in % of the domain's size (soft falloff to 0 at the radius)");
+  auto* strength = new QDoubleSpinBox;
+  strength->setObjectName("shape_brush_strength");
+  strength->setRange(0.0, 1e9);
+  strength->setDecimals(0);
+  strength->setValue(1e4);
+  strength->setToolTip("brush strength s: rho = s / size^2 at the centre (1e4: nearly rigid)");
+  auto* erase = new QCheckBox("Erase");
+  erase->setObjectName("shape_brush_erase");
+  auto* clear = new QPushButton("Clear");
+  clear->setObjectName("shape_brush_clear");
+  brush->addWidget(paint);
+  brush->addWidget(radius);
+  brush->addWidget(strength);
+  brush->addWidget(erase);
+  brush->addWidget(clear);
+  deformation->addLayout(brush);
+  new ShapeBrushTool(window, paint, radius, strength, erase, paint);
+  QObject::connect(clear, &QPushButton::clicked, w, [w]() {
+    vtkDataSet* domain = w->session().domain();
+    if (!domain || !domain->GetPointData()->GetArray(BrushArray))
+      return;
+    SetShapeBrush(domain, {});
+    if (w->hasWeights())
+      w->compute();
   });
 }
 
@@ -269,6 +574,14 @@ void SkeletonMode::writeSession(const Session& session, nlohmann::json& document
   for (const HandleTwist& t : session.twists())
     twists.push_back({ t.angle_degrees, t.scale });
   document["handle_twists"] = twists;
+  vtkDataSet* domain = session.domain();
+  if (vtkDataArray* rho = domain ? domain->GetPointData()->GetArray(BrushArray) : nullptr)
+  {
+    nlohmann::json values = nlohmann::json::array();
+    for (vtkIdType i = 0; i < rho->GetNumberOfTuples(); ++i)
+      values.push_back(rho->GetComponent(i, 0));
+    document["shape_brush"] = values;
+  }
 }
 
 void SkeletonMode::readSession(const nlohmann::json& document, SessionFile& file) const
@@ -276,6 +589,15 @@ void SkeletonMode::readSession(const nlohmann::json& document, SessionFile& file
   if (document.contains("handle_twists") && document["handle_twists"].is_array())
     for (const nlohmann::json& t : document["handle_twists"])
       file.twists.push_back({ t.at(0).get<double>(), t.at(1).get<double>() });
+  if (document.contains("shape_brush") && document["shape_brush"].is_array())
+    for (const nlohmann::json& v : document["shape_brush"])
+    {
+      const double rho = v.get<double>();
+      if (!std::isfinite(rho) || rho < 0.0)
+        throw bary::Error(bary::ErrorCode::InvalidArgument,
+          "the session's shape brush holds a value that is not finite and >= 0");
+      file.shape_brush.push_back(rho);
+    }
 }
 
 QStringList SkeletonMode::commandLineInputs(const Inputs& inputs) const

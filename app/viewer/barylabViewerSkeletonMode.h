@@ -12,6 +12,8 @@
 
 #include <Eigen/Core>
 
+class vtkDataSet;
+
 namespace barylab
 {
 namespace viewer
@@ -34,7 +36,9 @@ public:
   bool twistsHandles() const override { return true; }
   /// Rotate the selected handle by +-15 degrees (] [), scale it by 1.1 (+ -).
   void addActions(QMenu* edit, ViewerWindow& window) const override;
-  /// The selected handle's angle and scale, and "Rotate/scale handle".
+  /// The selected handle's angle and scale, and "Rotate/scale handle"; the "Shape brush" row:
+  /// paint with the left mouse button on the domain mesh (radius in % of the domain's size, a
+  /// strength s giving rho = s / size^2, erase, clear); a stroke's release recomputes.
   void addPanelWidgets(QBoxLayout* deformation, ViewerWindow& window) const override;
   /// barylab::Skin with transforms().
   vtkSmartPointer<vtkPointSet> deform(const Session& session, vtkDataSet* weighted,
@@ -43,7 +47,8 @@ public:
   vtkSmartPointer<vtkPoints> readPose(const Session& session, const QString& path) const override;
   /// With weights, a .txt file gets the per-handle transforms; other files posed joints.
   void writePose(const Session& session, const QString& path) const override;
-  /// "handle_twists": [[angle_degrees, scale], ...] per handle.
+  /// "handle_twists": [[angle_degrees, scale], ...] per handle; "shape_brush": rho per domain
+  /// vertex when painted.
   void writeSession(const Session& session, nlohmann::json& document) const override;
   void readSession(const nlohmann::json& document, SessionFile& file) const override;
   /// `--handles SKELETON --mesh DOMAIN`.
@@ -51,6 +56,20 @@ public:
 
   /// The per-handle 3 x 4 transforms at @p session's pose: from the joints, then the twists.
   static std::vector<Eigen::MatrixXd> Transforms(const Session& session);
+
+  /// The shape-preservation brush (BBW paper §3.3, Fig. 5) lives on a given simplicial domain
+  /// mesh (triangles or tetrahedra) as its point array "ShapePreservation", rho per vertex,
+  /// which the weights computation reads (vtkBaryMixedHandles). True when @p domain is one.
+  static bool CanPaint(vtkDataSet* domain);
+  /// One dab of the brush at @p center (world coordinates): every domain vertex at distance
+  /// d < @p radius gets max(rho, value f(d)) (paint) or rho (1 - f(d)) (erase), with the soft
+  /// falloff f(d) = (1 - (d / radius)^2)^2. Creates the array (zeros) on the first dab.
+  /// Returns the number of vertices within the radius.
+  static int PaintShapeBrush(
+    vtkDataSet* domain, const double center[3], double radius, double value, bool erase);
+  /// Sets the domain's brush to @p values (one per vertex; empty: no brush).
+  /// @throws bary::Error(SizeMismatch) for another count than the domain's vertices.
+  static void SetShapeBrush(vtkDataSet* domain, const std::vector<double>& values);
 };
 
 } // namespace viewer

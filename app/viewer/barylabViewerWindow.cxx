@@ -1,4 +1,5 @@
 #include "barylabViewerWindow.h"
+#include "barylabViewerSkeletonMode.h"
 
 #include "barylabViewerExamples.h"
 #include "barylabViewerFreePointsMode.h"
@@ -849,6 +850,10 @@ bool ViewerWindow::loadSession(const QString& path)
   this->CompareMethod = file.compare_method;
   this->compareView()->setVisible(!this->CompareMethod.isEmpty());
   if (!this->openInputs(file.inputs))
+    return false;
+  // BBW's shape-preservation brush, painted on the domain mesh (SkeletonMode)
+  if (!file.shape_brush.empty() &&
+    !this->reporting([&]() { SkeletonMode::SetShapeBrush(this->State.domain(), file.shape_brush); }))
     return false;
   const SceneOptions& v = file.view;
   this->Options.field = v.field == SceneOptions::Field::Image && !this->State.picture()

@@ -16,6 +16,8 @@
 #include "core/deformation/skeleton.h"
 
 #include <QAction>
+#include <QDoubleSpinBox>
+#include <QCheckBox>
 #include <QApplication>
 #include <QDir>
 #include <QElapsedTimer>
@@ -46,6 +48,7 @@
 #include "vtkCamera.h"
 #include "vtkCellLocator.h"
 #include "vtkCellArray.h"
+#include "vtkCommand.h"
 #include "vtkCellData.h"
 #include "vtkIntArray.h"
 #include "vtkPoints.h"
@@ -1155,6 +1158,135 @@ private slots:
         worst = std::max(worst, std::hypot(y[0] - ex, y[1] - ey));
       }
     QVERIFY2(worst < 1e-9, qPrintable(QString::number(worst)));
+    QVERIFY2(w->errors().isEmpty(), qPrintable(w->errors().join("; ")));
+  }
+
+  void shapeBrushPaintsRecomputesAndIsSaved()
+  {
+    // The shape-preservation brush (BBW paper Fig. 5) painted with the mouse on a given domain
+    // mesh: a stroke at a known screen point paints the vertices within the radius with the
+    // soft falloff, its release recomputes the weights (nearly constant under the brush), the
+    // eraser removes it, and the session file keeps it.
+    const int n = 21;
+    Eigen::MatrixXd V(n * n, 2);
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i)
+        V.row(j * n + i) << i / 20.0, j / 20.0;
+    Eigen::MatrixXi T(2 * (n - 1) * (n - 1), 3);
+    int t = 0;
+    for (int j = 0; j + 1 < n; ++j)
+      for (int i = 0; i + 1 < n; ++i)
+      {
+        const int a = j * n + i;
+        T.row(t++) << a, a + 1, a + n + 1;
+        T.row(t++) << a, a + n + 1, a + n;
+      }
+    vtkBaryDataIO::Write(vtkBaryConversion::SimplicesToGrid(V, T, 0.0), output("brush_mesh.vtu").toStdString());
+    vtkNew<vtkPolyData> h;
+    vtkNew<vtkPoints> p;
+    p->InsertNextPoint(0.1, 0.5, 0.0);
+    p->InsertNextPoint(0.9, 0.5, 0.0);
+    p->InsertNextPoint(0.5, 0.1, 0.0);
+    h->SetPoints(p);
+    vtkNew<vtkCellArray> verts;
+    vtkNew<vtkIntArray> kind;
+    kind->SetName("HandleType");
+    for (vtkIdType i = 0; i < 3; ++i)
+    {
+      verts->InsertNextCell(1, &i);
+      kind->InsertNextValue(0);
+    }
+    h->SetVerts(verts);
+    h->GetCellData()->AddArray(kind);
+    vtkBaryDataIO::Write(h, output("brush_handles.vtp").toStdString());
+    QVERIFY(w->openFiles({ output("brush_handles.vtp"), output("brush_mesh.vtu"), output("brush_mesh.vtu") }));
+    w->setMethod("bbw");
+    QVERIFY(w->setParameter("bbw_fast", true));
+    w->compute();
+    QVERIFY(w->waitForComputation(60000));
+    QVERIFY2(w->hasWeights(), qPrintable(w->errors().join("; ")));
+    const auto range_near = [&](double radius) {
+      vtkDataArray* W = w->weighted()->GetPointData()->GetArray("Weights");
+      double worst = 0.0;
+      for (int j = 0; j < W->GetNumberOfComponents(); ++j)
+      {
+        double lo = 1.0, hi = 0.0;
+        for (int i = 0; i < n * n; ++i)
+          if ((V.row(i) - Eigen::RowVector2d(0.5, 0.55)).norm() < radius)
+          {
+            lo = std::min(lo, W->GetComponent(i, j));
+            hi = std::max(hi, W->GetComponent(i, j));
+          }
+        worst = std::max(worst, hi - lo);
+      }
+      return worst;
+    };
+    const double before = range_near(0.1);
+
+    // a stroke at (0.5, 0.55) on screen, the camera reset onto the domain
+    w->resetCamera();
+    w->renderer()->GetRenderWindow()->Render();
+    w->findChild<QCheckBox*>("shape_brush")->setChecked(true);
+    w->findChild<QDoubleSpinBox*>("shape_brush_radius")->setValue(15.0);
+    w->findChild<QDoubleSpinBox*>("shape_brush_strength")->setValue(1e4);
+    const auto stroke = [&]() {
+      vtkRenderer* ren = w->renderer();
+      ren->SetWorldPoint(0.5, 0.55, 0.0, 1.0);
+      ren->WorldToDisplay();
+      const double* d = ren->GetDisplayPoint();
+      vtkRenderWindowInteractor* interactor = w->view()->interactor();
+      interactor->SetEventInformation(static_cast<int>(std::lround(d[0])), static_cast<int>(std::lround(d[1])));
+      interactor->InvokeEvent(vtkCommand::LeftButtonPressEvent);
+      interactor->InvokeEvent(vtkCommand::LeftButtonReleaseEvent);
+    };
+    stroke();
+    QVERIFY(w->waitForComputation(60000));
+    QVERIFY2(w->errors().isEmpty(), qPrintable(w->errors().join("; ")));
+    vtkDataArray* rho = w->session().domain()->GetPointData()->GetArray("ShapePreservation");
+    QVERIFY(rho);
+    const double size = std::sqrt(2.0), radius = 0.15 * size, top = 1e4 / (size * size);
+    const double pixel = 0.01; // a screen pixel is ~0.002 here: the stroke's centre within it
+    int painted = 0;
+    for (int i = 0; i < n * n; ++i)
+    {
+      const double d = (V.row(i) - Eigen::RowVector2d(0.5, 0.55)).norm();
+      const double q = 1.0 - (d / radius) * (d / radius);
+      if (d > radius + pixel)
+        QCOMPARE(rho->GetComponent(i, 0), 0.0);
+      else if (d < radius - pixel)
+      {
+        QVERIFY(rho->GetComponent(i, 0) > 0.0);
+        QVERIFY2(std::abs(rho->GetComponent(i, 0) - top * q * q) < 0.05 * top,
+          qPrintable(QString("vertex %1: %2 vs %3").arg(i).arg(rho->GetComponent(i, 0)).arg(top * q * q)));
+        ++painted;
+      }
+    }
+    QVERIFY(painted > 40);
+    const double after = range_near(0.1);
+    qInfo("largest weight range within 0.1 of the stroke: %.3g -> %.3g", before, after);
+    QVERIFY(after < 0.2 * before);
+
+    // the session keeps the brush; a new window loading it computes with it
+    QVERIFY(w->saveSession(output("brush_session.json")));
+    std::vector<double> saved(static_cast<std::size_t>(n * n));
+    for (int i = 0; i < n * n; ++i)
+      saved[static_cast<std::size_t>(i)] = rho->GetComponent(i, 0);
+    // the eraser at the same point clears the centre
+    w->findChild<QCheckBox*>("shape_brush_erase")->setChecked(true);
+    stroke();
+    QVERIFY(w->waitForComputation(60000));
+    rho = w->session().domain()->GetPointData()->GetArray("ShapePreservation");
+    QVERIFY(rho->GetComponent(11 * n + 10, 0) < 1e-3 * top);
+    w.reset(this->makeWindow());
+    QVERIFY(w->loadSession(output("brush_session.json")));
+    QVERIFY(w->waitForComputation(60000));
+    rho = w->session().domain()->GetPointData()->GetArray("ShapePreservation");
+    QVERIFY(rho);
+    double diff = 0.0;
+    for (int i = 0; i < n * n; ++i)
+      diff = std::max(diff, std::abs(rho->GetComponent(i, 0) - saved[static_cast<std::size_t>(i)]));
+    QCOMPARE(diff, 0.0);
+    QVERIFY(range_near(0.1) < 0.2 * before);
     QVERIFY2(w->errors().isEmpty(), qPrintable(w->errors().join("; ")));
   }
 
