@@ -216,8 +216,13 @@ void print_summary(const json& s)
     std::cerr << "; " << h["dimension"] << "D" << (h.value("shape_preservation", false) ? ", shape brush" : "") << ")";
   }
   else if (s["cage"].contains("free_points"))
+  {
     std::cerr << s["cage"]["control_points"] << " free control points (" << s["cage"]["dimension"]
-              << "D)";
+              << "D";
+    if (s.contains("added_control_points")) // celestial hull points, the last weight columns
+      std::cerr << ", " << s["added_control_points"].size() << " hull points added";
+    std::cerr << ")";
+  }
   else
     std::cerr << s["cage"]["control_points"] << " control points (" << s["cage"]["dimension"]
               << "D cage)";

@@ -939,6 +939,7 @@ TEST_F(CLI, CelestialHullPointsInWeightsAndDeform)
   const CommandResult w = run("weights " + base + " --hull-points auto --output " + out("w.vtp") +
     " --json " + out("w.json"));
   ASSERT_EQ(w.code, 0) << w.output;
+  EXPECT_NE(w.output.find("5 free control points (3D, 8 hull points added)"), std::string::npos) << w.output;
   const WeightCheck c = CheckWeights(out("w.vtp"));
   EXPECT_EQ(c.components, 5 + 8);
   EXPECT_LE(c.partition, 1e-12);
@@ -2057,6 +2058,8 @@ TEST_F(CLI, GreenWeightsAndDeformRoundTrip)
   const nlohmann::json summary = nlohmann::json::parse(json_file);
   EXPECT_LT(summary["statistics"]["reproduction"]["max_error"].get<double>(), 1e-12);
   EXPECT_LT(summary["statistics"]["partition_of_unity"]["max_error"].get<double>(), 1e-12);
+  EXPECT_EQ(summary["statistics"]["reproduction"]["face_coefficients"].get<long long>(),
+    cage->GetNumberOfPoints());
 
   // a similarity of the cage, written as a file
   const double c = 1.3 * std::cos(0.8), s = 1.3 * std::sin(0.8);
