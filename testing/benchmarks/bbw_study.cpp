@@ -6,7 +6,7 @@
 //                       knight (7 bones; its MATLAB active-set weights as the reference):
 //                       max / mean |W_voronoi - W_barycentric|, the Laplacian energy, the
 //                       support, the solve time, the distance to the MATLAB weights.
-//   bbw_study maxima [--handles N] [--seed S] [--levels A,B,...] [--3d] [--tolerance T]
+//   bbw_study maxima [--handles N] [--seed S] [--levels A,B,...] [--tolerance T]
 //                       Fig. 16: N random point handles (default 50, seed 2011) in the unit
 //                       square meshed by CGAL (mesh_polygon, handles inserted as Steiner
 //                       points) at each target triangle count (default 1000,4000,16000);
@@ -15,8 +15,7 @@
 //                       by more than T, default 1e-8, and above T; the handle's own vertex
 //                       excluded) and minima (below every neighbour by more than T), split
 //                       into interior and boundary vertices, with the largest prominence of a
-//                       maximum. --3d adds the unit cube (TetGen, 20,000 / 60,000 tetrahedra
-//                       requested, fast bounded and unbounded).
+//                       maximum.
 #include "core/coordinates/bbw.h"
 #include "core/meshing/domain_mesh.h"
 #include "core/solvers/fem_operators.h"
@@ -187,7 +186,6 @@ int maxima(int argc, char** argv)
   int handles = 50;
   unsigned seed = 2011;
   double tol = 1e-8;
-  bool three_d = false;
   std::vector<int> levels = { 1000, 4000, 16000 };
   for (int a = 2; a < argc; ++a)
   {
@@ -200,8 +198,6 @@ int maxima(int argc, char** argv)
       levels = parse_list(argv[++a]);
     else if (arg == "--tolerance" && a + 1 < argc)
       tol = std::stod(argv[++a]);
-    else if (arg == "--3d")
-      three_d = true;
     else
     {
       std::cerr << "unknown argument " << arg << "\n";
@@ -209,7 +205,7 @@ int maxima(int argc, char** argv)
     }
   }
   std::printf("%d random point handles (std::mt19937 seed %u, uniform in the open unit "
-              "square/cube), Voronoi lumping, tolerance %g\n\n",
+              "square), Voronoi lumping, tolerance %g\n\n",
     handles, seed, tol);
   std::printf("| domain | vertices | cells | weights | spurious maxima (interior + boundary) | "
               "handles with one | largest such max | largest prominence | strict minima "
@@ -236,30 +232,6 @@ int maxima(int argc, char** argv)
     }
     run_methods("square", mesh.V, mesh.T, mesh.boundary_vertices, mesh.steiner_vertex, tol, true);
   }
-  if (three_d)
-    for (const int level : { 20000, 60000 })
-    {
-      std::mt19937 rng(seed);
-      std::uniform_real_distribution<double> u(0.0, 1.0);
-      SurfaceMeshOptions o;
-      o.target_cells = level;
-      o.steiner_points.resize(handles, 3);
-      for (int k = 0; k < handles; ++k)
-      {
-        const double x = u(rng), y = u(rng), z = u(rng);
-        o.steiner_points.row(k) << x, y, z;
-      }
-      Cage cube = test::unit_cube();
-      cube.V = (cube.V.array() - cube.V.minCoeff()) / (cube.V.maxCoeff() - cube.V.minCoeff());
-      const DomainMesh mesh = mesh_closed_surface(cube, o);
-      std::set<int> distinct(mesh.steiner_vertex.data(), mesh.steiner_vertex.data() + handles);
-      if (distinct.count(-1) || static_cast<int>(distinct.size()) != handles)
-      {
-        std::cerr << "a handle point was skipped or merged in 3D\n";
-        return 1;
-      }
-      run_methods("cube", mesh.V, mesh.T, mesh.boundary_vertices, mesh.steiner_vertex, tol, false);
-    }
   return 0;
 }
 
@@ -391,6 +363,6 @@ int main(int argc, char** argv)
     return 1;
   }
   std::cerr << "usage: bbw_study lumping | maxima [--handles N] [--seed S] [--levels A,B,...] "
-               "[--3d] [--tolerance T]\n";
+               "[--tolerance T]\n";
   return 2;
 }
