@@ -153,7 +153,12 @@ int run_stats(const StatsArgs& a)
             << ", mean " << s["partition_of_unity"]["mean_error"] << "\n";
   if (s.contains("reproduction"))
     std::cout << "reproduction error         max " << s["reproduction"]["max_error"] << ", mean "
-              << s["reproduction"]["mean_error"] << " (relative to the cage diagonal)\n";
+              << s["reproduction"]["mean_error"] << " (relative to the cage diagonal"
+              << (s["reproduction"].contains("face_coefficients")
+                     ? "; with the " + s["reproduction"]["face_coefficients"].dump() +
+                       " face coefficients' normal terms (Green coordinates)"
+                     : std::string())
+              << ")\n";
   std::cout << "weights > " << s["significant"]["threshold"] << " per point: mean "
             << s["significant"]["mean_per_point"] << ", max " << s["significant"]["max_per_point"]
             << "\n";

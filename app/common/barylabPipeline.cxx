@@ -499,6 +499,9 @@ nlohmann::json WeightStatisticsJson(vtkDataSet* data, const std::string& array_n
     j["reproduction"] = { { "max_error", value("max_reproduction_error") },
       { "mean_error", value("mean_reproduction_error") },
       { "relative_to", "cage bounding-box diagonal" } };
+  // Green coordinates: reproduction of x by sum w_i c_i + sum psi_j n_j (the FaceWeights array)
+  if (j.contains("reproduction") && figures->GetColumnByName("face_coefficients"))
+    j["reproduction"]["face_coefficients"] = count("face_coefficients");
   // histogram of the number of significant weights per point: count -> number of points
   vtkTable* histogram = filter->GetOutput(1);
   std::vector<long long> points_with(static_cast<std::size_t>(histogram->GetNumberOfRows()));

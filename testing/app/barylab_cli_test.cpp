@@ -2058,6 +2058,8 @@ TEST_F(CLI, GreenWeightsAndDeformRoundTrip)
   const nlohmann::json summary = nlohmann::json::parse(json_file);
   EXPECT_LT(summary["statistics"]["reproduction"]["max_error"].get<double>(), 1e-12);
   EXPECT_LT(summary["statistics"]["partition_of_unity"]["max_error"].get<double>(), 1e-12);
+  EXPECT_EQ(summary["statistics"]["reproduction"]["face_coefficients"].get<long long>(),
+    cage->GetNumberOfPoints());
 
   // a similarity of the cage, written as a file
   const double c = 1.3 * std::cos(0.8), s = 1.3 * std::sin(0.8);
