@@ -21,8 +21,8 @@
 /// the edge vectors of t_j and t'_j): conformal in 2D, quasi-conformal in 3D, and exact under
 /// similarities of the cage (bary::deform_points_green, core/deformation/cage_deformation.h).
 ///
-/// Closed forms (derived in green_coordinates.cpp, equal to the paper's Algorithm 1 and the
-/// appendix's GCTriInt up to how they are arranged for accuracy):
+/// Closed forms (derived in green_coordinates.cpp; the same integrals as the paper's Algorithm 1
+/// and its appendix's GCTriInt, arranged for accuracy; checked against a quadrature in the tests):
 /// - 2D, per edge: the angle the edge subtends at x, a log of the distance ratio of its ends
 ///   and their product with the edge's geometry (no arctangent of a ratio that overflows near
 ///   the edge's line);
