@@ -58,7 +58,7 @@ inline double cross2(double ax, double ay, double bx, double by)
 //    edge (s the coordinate along it from p's foot, R0^2 = d^2 + h^2):
 //      d integral (r - |h|) / (d^2 + s^2) ds = d J_l - |h| [atan(s d (r - |h|) / (d^2 r + |h| s^2))]
 //    (the difference of atan(s / d) and atan(|h| s / (d r)) in one arctangent: no 0/0 when p
-//    lies on the edge's line).
+//    lies on the edge's line; the bracket's two ends are then one atan2).
 // ---------------------------------------------------------------------------------------------
 
 /// integral over the segment [A, B] (relative to x) of 1 / r, from asinh(s_B / R0) -
@@ -84,7 +84,7 @@ struct TriangleTerms
 };
 
 TriangleTerms triangle_terms(const Eigen::Vector3d v[3], const double* n, double twice_area,
-  const double* edge_normals, bool with_phi)
+  const double* edge_normals, const double* edge_tangents, bool with_phi)
 {
   TriangleTerms out;
   const Eigen::Vector3d N(n[0], n[1], n[2]);
@@ -96,9 +96,7 @@ TriangleTerms triangle_terms(const Eigen::Vector3d v[3], const double* n, double
   {
     const Eigen::Vector3d& A = v[l];
     const Eigen::Vector3d& B = v[(l + 1) % 3];
-    const Eigen::Vector3d e = B - A;
-    const double L = e.norm();
-    const Eigen::Vector3d t = e / L;
+    const Eigen::Vector3d t(edge_tangents[3 * l], edge_tangents[3 * l + 1], edge_tangents[3 * l + 2]);
     const Eigen::Vector3d m(edge_normals[3 * l], edge_normals[3 * l + 1], edge_normals[3 * l + 2]);
     const double sA = A.dot(t), sB = B.dot(t), rA = r[l], rB = r[(l + 1) % 3];
     const double d = A.dot(m);
@@ -110,12 +108,12 @@ TriangleTerms triangle_terms(const Eigen::Vector3d v[3], const double* n, double
     w -= m * J;
     if (d != 0.0)
     {
-      auto arc = [&](double s, double rs) {
-        const double r_minus_h = (d * d + s * s) / (rs + ah); // r - |h| without cancellation
-        const double den = d * d * rs + ah * s * s;
-        return den > 0.0 ? std::atan(s * d * r_minus_h / den) : 0.0;
-      };
-      out.single_layer += d * J - ah * (arc(sB, rB) - arc(sA, rA));
+      // atan(pB / qB) - atan(pA / qA) with q > 0 (d != 0, r > 0) in one atan2: both arctangents
+      // lie in (-pi/2, pi/2), so their difference is the angle of (qA, pA)^* (qB, pB)
+      const double pA = sA * d * (d * d + sA * sA) / (rA + ah); // s d (r - |h|), no cancellation
+      const double pB = sB * d * (d * d + sB * sB) / (rB + ah);
+      const double qA = d * d * rA + ah * sA * sA, qB = d * d * rB + ah * sB * sB;
+      out.single_layer += d * J - ah * std::atan2(pB * qA - pA * qB, qA * qB + pA * pB);
     }
   }
   if (!with_phi)
@@ -165,6 +163,7 @@ GreenCoordinates::GreenCoordinates(Cage cage, const GreenOptions& options)
     normal_.resize(static_cast<std::size_t>(3 * nf));
     twice_area_.resize(static_cast<std::size_t>(nf));
     edge_normal_.resize(static_cast<std::size_t>(9 * nf));
+    edge_tangent_.resize(static_cast<std::size_t>(9 * nf));
     for (Index f = 0; f < nf; ++f)
     {
       Eigen::Vector3d V[3];
@@ -180,9 +179,13 @@ GreenCoordinates::GreenCoordinates(Cage cage, const GreenOptions& options)
         normal_[static_cast<std::size_t>(3 * f + i)] = n(i);
       for (int l = 0; l < 3; ++l)
       {
-        const Eigen::Vector3d m = (V[(l + 1) % 3] - V[l]).cross(n).normalized();
+        const Eigen::Vector3d t = (V[(l + 1) % 3] - V[l]).normalized();
+        const Eigen::Vector3d m = t.cross(n).normalized();
         for (int i = 0; i < 3; ++i)
+        {
           edge_normal_[static_cast<std::size_t>(9 * f + 3 * l + i)] = m(i);
+          edge_tangent_[static_cast<std::size_t>(9 * f + 3 * l + i)] = t(i);
+        }
       }
     }
   }
@@ -389,14 +392,15 @@ PointLocation GreenCoordinates::evaluate_3d(const double* x, double* phi, double
       {
         incident.emplace_back(f, l);
         psi[f] = triangle_terms(v, normal_.data() + 3 * f, twice_area_[static_cast<std::size_t>(f)],
-                   edge_normal_.data() + 9 * f, false)
+                   edge_normal_.data() + 9 * f, edge_tangent_.data() + 9 * f, false)
                    .single_layer *
           inv4pi;
         continue;
       }
     }
     const TriangleTerms t = triangle_terms(v, normal_.data() + 3 * f,
-      twice_area_[static_cast<std::size_t>(f)], edge_normal_.data() + 9 * f, true);
+      twice_area_[static_cast<std::size_t>(f)], edge_normal_.data() + 9 * f,
+      edge_tangent_.data() + 9 * f, true);
     psi[f] = t.single_layer * inv4pi;
     omega_sum += t.omega;
     for (int k = 0; k < 3; ++k)

@@ -131,8 +131,9 @@ private:
   GreenOptions options_;
   double tolerance_ = 0.0; // absolute boundary tolerance
   double sigma_ = 1.0;     // +1 for a counter-clockwise polygon / outward faces, -1 otherwise
-  // 3D, per face: unit normal (3), twice the area, and per edge the in-plane outward normal (9)
-  std::vector<double> normal_, twice_area_, edge_normal_;
+  // 3D, per face: unit normal (3), twice the area, and per edge the in-plane outward normal
+  // and the unit tangent (9 each)
+  std::vector<double> normal_, twice_area_, edge_normal_, edge_tangent_;
 };
 
 /// One-call form: Green coordinates (phi in W, psi in face_weights) of the rows of @p P.
