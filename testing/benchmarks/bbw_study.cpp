@@ -6,7 +6,7 @@
 //                       knight (7 bones; its MATLAB active-set weights as the reference):
 //                       max / mean |W_voronoi - W_barycentric|, the Laplacian energy, the
 //                       support, the solve time, the distance to the MATLAB weights.
-//   bbw_study maxima [--handles N] [--seed S] [--levels A,B,...] [--tolerance T]
+//   bbw_study maxima [--handles N] [--seed S] [--levels A,B,...] [--tolerance T] [--3d]
 //                       Fig. 16: N random point handles (default 50, seed 2011) in the unit
 //                       square meshed by CGAL (mesh_polygon, handles inserted as Steiner
 //                       points) at each target triangle count (default 1000,4000,16000);
@@ -15,7 +15,11 @@
 //                       by more than T, default 1e-8, and above T; the handle's own vertex
 //                       excluded) and minima (below every neighbour by more than T), split
 //                       into interior and boundary vertices, with the largest prominence of a
-//                       maximum.
+//                       maximum. --3d: the same in the unit cube instead (TetGen at 5,000
+//                       and 20,000 tetrahedra requested unless --levels; bounded fast and
+//                       unbounded).
+//                       --barycentric: barycentric lumping instead of Voronoi; --raw: the
+//                       fast mode's weights before normalization.
 #include "core/coordinates/bbw.h"
 #include "core/meshing/domain_mesh.h"
 #include "core/solvers/fem_operators.h"
@@ -148,6 +152,11 @@ void print_extrema_row(const std::string& domain, Index vertices, Index cells, c
   std::fflush(stdout);
 }
 
+/// Study variants (command-line switches): the lumping, and the fast weights before
+/// normalization (--raw: each handle's QP solution as it is).
+BBWMassLumping study_lumping = BBWMassLumping::Voronoi;
+bool study_raw = false;
+
 void run_methods(const std::string& domain, const Eigen::MatrixXd& V, const Eigen::MatrixXi& T,
   const std::vector<int>& boundary_list, const Eigen::VectorXi& handle_vertex, double tol,
   bool coupled)
@@ -170,9 +179,11 @@ void run_methods(const std::string& domain, const Eigen::MatrixXd& V, const Eige
   methods.push_back({ "unbounded", BBWMode::Fast, false });
   for (const Method& m : methods)
   {
-    BBWOptions o; // Voronoi lumping (the default), tolerances 1e-10
+    BBWOptions o; // tolerances 1e-10
     o.mode = m.mode;
     o.bounded = m.bounded;
+    o.mass_lumping = study_lumping;
+    o.normalize = !(study_raw && m.mode == BBWMode::Fast);
     const auto start = Clock::now();
     const BBWResult r = bounded_biharmonic_weights(V, T, h, o);
     const double seconds = seconds_since(start);
@@ -186,6 +197,7 @@ int maxima(int argc, char** argv)
   int handles = 50;
   unsigned seed = 2011;
   double tol = 1e-8;
+  bool three_d = false, levels_given = false;
   std::vector<int> levels = { 1000, 4000, 16000 };
   for (int a = 2; a < argc; ++a)
   {
@@ -195,9 +207,18 @@ int maxima(int argc, char** argv)
     else if (arg == "--seed" && a + 1 < argc)
       seed = static_cast<unsigned>(std::stoul(argv[++a]));
     else if (arg == "--levels" && a + 1 < argc)
+    {
       levels = parse_list(argv[++a]);
+      levels_given = true;
+    }
     else if (arg == "--tolerance" && a + 1 < argc)
       tol = std::stod(argv[++a]);
+    else if (arg == "--3d")
+      three_d = true;
+    else if (arg == "--barycentric")
+      study_lumping = BBWMassLumping::Barycentric;
+    else if (arg == "--raw")
+      study_raw = true;
     else
     {
       std::cerr << "unknown argument " << arg << "\n";
@@ -205,12 +226,41 @@ int maxima(int argc, char** argv)
     }
   }
   std::printf("%d random point handles (std::mt19937 seed %u, uniform in the open unit "
-              "square), Voronoi lumping, tolerance %g\n\n",
-    handles, seed, tol);
+              "square or cube), %s lumping%s, tolerance %g\n\n",
+    handles, seed, study_lumping == BBWMassLumping::Voronoi ? "Voronoi" : "barycentric",
+    study_raw ? ", fast weights before normalization" : "", tol);
   std::printf("| domain | vertices | cells | weights | spurious maxima (interior + boundary) | "
               "handles with one | largest such max | largest prominence | strict minima "
               "(interior + boundary) | min w | max w | seconds |\n");
   std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+  if (three_d)
+  {
+    for (const int level : levels_given ? levels : std::vector<int>{ 5000, 20000 })
+    {
+      std::mt19937 rng(seed);
+      std::uniform_real_distribution<double> u(0.0, 1.0);
+      SurfaceMeshOptions o;
+      o.target_cells = level;
+      o.steiner_points.resize(handles, 3);
+      for (int k = 0; k < handles; ++k)
+      {
+        const double x = u(rng), y = u(rng), z = u(rng);
+        o.steiner_points.row(k) << x, y, z;
+      }
+      Cage cube = test::unit_cube(); // [0, 1]^3 or [-1, 1]^3: mapped onto [0, 1]^3
+      const double lo = cube.V.minCoeff(), hi = cube.V.maxCoeff();
+      cube.V = (cube.V.array() - lo) / (hi - lo);
+      const DomainMesh mesh = mesh_closed_surface(cube, o);
+      std::set<int> distinct(mesh.steiner_vertex.data(), mesh.steiner_vertex.data() + handles);
+      if (distinct.count(-1) || static_cast<int>(distinct.size()) != handles)
+      {
+        std::cerr << "a handle point was skipped or merged in the cube at level " << level << "\n";
+        return 1;
+      }
+      run_methods("cube", mesh.V, mesh.T, mesh.boundary_vertices, mesh.steiner_vertex, tol, false);
+    }
+    return 0;
+  }
   for (const int level : levels)
   {
     std::mt19937 rng(seed);
@@ -363,6 +413,6 @@ int main(int argc, char** argv)
     return 1;
   }
   std::cerr << "usage: bbw_study lumping | maxima [--handles N] [--seed S] [--levels A,B,...] "
-               "[--tolerance T]\n";
+               "[--tolerance T] [--3d] [--barycentric] [--raw]\n";
   return 2;
 }
