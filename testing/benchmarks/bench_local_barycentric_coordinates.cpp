@@ -17,8 +17,11 @@
 #include <benchmark/benchmark.h>
 
 #include <cmath>
+#include <cstdlib>
 #include <ctime>
+#include <cstdio>
 #include <fstream>
+#include <functional>
 #include <map>
 #include <random>
 #include <sstream>
@@ -79,6 +82,9 @@ void LBCReference(benchmark::State& state)
   bary::LBCOptions o;
   o.threads = 1;
   o.distance_normalization = bary::DistanceNormalization::Global; // as the authors' code
+  // 0: the paper's rule, 1: the authors' tolerances (paper's rule), 2: the default (converged)
+  if (state.range(1) != 2)
+    o.stopping = bary::LBCStopping::Paper;
   if (state.range(1) == 1)
   {
     o.primal_tolerance = 1e-7;
@@ -123,10 +129,13 @@ void LBCReference(benchmark::State& state)
   state.counters["support_max"] = s.max_support;
   state.counters["ref_support_mean"] = sr.mean_support;
   state.counters["ref_support_max"] = sr.max_support;
-  state.SetLabel(std::string(kReferences[which]) + (state.range(1) ? " authors' tolerances" : " paper's rule"));
+  state.SetLabel(std::string(kReferences[which]) +
+    (state.range(1) == 2 ? " converged (default)"
+        : state.range(1)  ? " authors' tolerances"
+                          : " paper's rule"));
 }
 BENCHMARK(LBCReference)
-  ->ArgsProduct({ { 0, 1, 2, 3 }, { 0, 1 } })
+  ->ArgsProduct({ { 0, 1, 2, 3 }, { 0, 1, 2 } })
   ->Unit(benchmark::kMillisecond)
   ->Iterations(1);
 
@@ -148,6 +157,7 @@ void LBC2DMeshSize(benchmark::State& state)
   bary::LBCOptions o;
   o.threads = 1;
   o.require_convergence = false;
+  o.stopping = bary::LBCStopping::Paper; // the table in the docs is the paper's rule
   if (state.range(1) == 1)
     o.scaling = bary::ConstraintScaling::Paper;
   bary::LBCResult r;
@@ -235,7 +245,7 @@ bary::Cage icosphere42()
 }
 
 /// Arguments: cage (0 cube, 1 octahedron, 2 icosphere with 42 vertices), target tetrahedra,
-/// tolerances (0: the paper's rule, 1: 100 times tighter).
+/// rule (0: the paper's, 1: its tolerances 100 times tighter, 2: the default, converged).
 void LBC3D(benchmark::State& state)
 {
   const int which = static_cast<int>(state.range(0));
@@ -246,6 +256,8 @@ void LBC3D(benchmark::State& state)
   bary::LBCOptions o;
   o.threads = 1;
   o.require_convergence = false;
+  if (state.range(2) != 2)
+    o.stopping = bary::LBCStopping::Paper;
   if (state.range(2) == 1)
   {
     o.primal_tolerance = 1e-8;
@@ -294,11 +306,14 @@ void LBC3D(benchmark::State& state)
   state.counters["bbw_cpu_s"] = bbw_cpu;
   state.counters["harmonic_cpu_s"] = hc_cpu;
   state.SetLabel(std::string(which == 0 ? "cube" : which == 1 ? "octahedron" : "icosphere42") +
-    (state.range(2) ? ", tolerances / 100" : ", paper's rule"));
+    (state.range(2) == 2 ? ", converged (default)"
+        : state.range(2)  ? ", tolerances / 100"
+                          : ", paper's rule"));
 }
 BENCHMARK(LBC3D)
   ->ArgsProduct({ { 0, 1, 2 }, { 1000, 5000, 20000 }, { 0 } })
   ->ArgsProduct({ { 0, 1, 2 }, { 1000, 5000 }, { 1 } })
+  ->ArgsProduct({ { 0, 1, 2 }, { 1000, 5000 }, { 2 } })
   ->Unit(benchmark::kMillisecond)
   ->Iterations(1);
 
@@ -434,7 +449,8 @@ const Table2Case& table2_case(int which)
 }
 
 /// Arguments: the case (kTable2Names), tolerances (0: the paper's rule, with BBW fast and
-/// coupled on the same mesh; 1: 1e-7 / 1e-6, LBC only). One thread, CPU time (std::clock).
+/// coupled on the same mesh; 1: 1e-7 / 1e-6, LBC only; 2: the default converged rule, LBC only). One
+/// thread, CPU time (std::clock).
 void LBCTable2(benchmark::State& state)
 {
   const int which = static_cast<int>(state.range(0));
@@ -452,6 +468,8 @@ void LBCTable2(benchmark::State& state)
   if (which < 4)
     o.distance_normalization = bary::DistanceNormalization::Global; // as LBCReference
   // (BaryLab's default, per-control-point normalisation for the meshes made here)
+  if (state.range(1) != 2)
+    o.stopping = bary::LBCStopping::Paper; // 2: the default, converged
   if (tight)
   {
     o.primal_tolerance = 1e-7;
@@ -479,8 +497,8 @@ void LBCTable2(benchmark::State& state)
   state.counters["lbc_support_mean"] = sl.mean_support;
   state.counters["lbc_support_max"] = sl.max_support;
   std::string label = std::string(kTable2Names[which]) +
-    (tight ? ", LBC at 1e-7 / 1e-6" : ", paper's rule");
-  if (!tight)
+    (tight ? ", LBC at 1e-7 / 1e-6" : state.range(1) == 2 ? ", converged (default)" : ", paper's rule");
+  if (state.range(1) == 0)
   {
     // BBW with the cage as handles: the cage's hat values fixed on the boundary
     bary::BBWHandles handles;
@@ -513,6 +531,154 @@ void LBCTable2(benchmark::State& state)
 BENCHMARK(LBCTable2)
   ->ArgsProduct({ { 0, 1, 2, 3, 4, 9, 10, 11, 12, 5, 6, 7, 8 }, { 0 } })
   ->ArgsProduct({ { 5, 6, 7, 8 }, { 1 } })
+  ->ArgsProduct({ { 0, 1, 2, 3, 4, 5, 6, 7, 8 }, { 2 } })
+  ->Unit(benchmark::kMillisecond)
+  ->Iterations(1);
+
+// --- stopping rules: a convergence study ------------------------------------------------------
+
+// Cases: 0-3 the authors' cages on their triangulations (Global normalisation), 4 the bundled
+// kidney cage at 600 target tetrahedra, 5 at 3,000, 6 cube (1,000), 7 icosphere42 (1,000),
+// 8 icosphere42 (5,000).
+const char* kStudyNames[] = { "Gil_Gecko", "LBClogo", "cactus", "woody", "kidney/600",
+  "kidney/3000", "cube/1000", "icosphere42/1000", "icosphere42/5000" };
+
+const Table2Case& study_case(int which)
+{
+  static std::map<int, Table2Case> cache;
+  auto it = cache.find(which);
+  if (it != cache.end())
+    return it->second;
+  Table2Case& c = cache[which];
+  if (which < 4)
+  {
+    Reference ref = load_reference(kReferences[which]);
+    c.ok = ref.ok;
+    c.error = ref.error;
+    c.mesh = std::move(ref.mesh);
+  }
+  else
+  {
+    const bary::Cage cage = which <= 5 ? bundled_cage(true) : which == 6 ? cube() : icosphere42();
+    bary::SurfaceMeshOptions so;
+    so.target_cells = which == 4 ? 600 : which == 5 ? 3000 : which == 8 ? 5000 : 1000;
+    c.mesh = bary::mesh_closed_surface(cage, so);
+    c.ok = true;
+  }
+  c.n = static_cast<int>(c.mesh.control_vertex.size());
+  return c;
+}
+
+/// The rules compared: each is evaluated on the residual and support histories of one long run
+/// (the iterates do not depend on the rule, so a rule's stop is the first check where it holds),
+/// then the run is repeated up to that iteration to get its weights.
+struct StudyRule
+{
+  std::string name;
+  std::function<bool(std::size_t check)> holds; // at check index c (iteration (c+1) interval)
+};
+
+/// Argument: the case (kStudyNames). Ground truth: tolerances 1e-10 / 1e-9 (at most
+/// BARYLAB_LBC_TRUTH_ITERATIONS iterations, default 60,000). Prints one row per rule:
+/// iterations, CPU seconds, max |W - W_truth|, mean / max support against the truth's.
+void LBCStoppingStudy(benchmark::State& state)
+{
+  const int which = static_cast<int>(state.range(0));
+  const Table2Case& c = study_case(which);
+  if (!c.ok)
+  {
+    state.SkipWithError(c.error.c_str());
+    return;
+  }
+  bary::LBCOptions o;
+  o.threads = 1;
+  o.require_convergence = false;
+  if (which < 4)
+    o.distance_normalization = bary::DistanceNormalization::Global;
+  bary::LBCOptions truth_o = o;
+  truth_o.stopping = bary::LBCStopping::Paper;
+  truth_o.primal_tolerance = 1e-10;
+  truth_o.dual_tolerance = 1e-9;
+  const char* cap = std::getenv("BARYLAB_LBC_TRUTH_ITERATIONS");
+  truth_o.max_iterations = cap ? std::atoi(cap) : 60000;
+  bary::LBCResult truth;
+  double truth_cpu = 0.0;
+  for (auto _ : state)
+  {
+    const double c0 = cpu_seconds();
+    truth = bary::local_barycentric_coordinates(c.mesh, truth_o);
+    truth_cpu = cpu_seconds() - c0;
+  }
+  const Eigen::VectorXd measure = bary::vertex_measures(c.mesh.V, c.mesh.T);
+  const bary::LocalityStatistics st = bary::locality_statistics(truth.W, -1, measure);
+  const double np = truth.primal_threshold / truth_o.primal_tolerance;
+  const double nd = truth.dual_threshold / truth_o.dual_tolerance;
+  const auto& hp = truth.primal_history;
+  const auto& hd = truth.dual_history;
+  const auto& hs = truth.support_history;
+  std::vector<StudyRule> rules;
+  for (double f : { 1.0, 0.1, 0.01 })
+    rules.push_back({ f == 1.0 ? "paper (N 1e-6, N 1e-5)" : "paper x " + std::to_string(f),
+      [=, &hp, &hd](std::size_t k) { return hp[k] <= f * np * 1e-6 && hd[k] <= f * nd * 1e-5; } });
+  for (double e : { 1e-5, 3e-6, 1e-6 })
+    rules.push_back({ "sqrt(N) " + std::to_string(e),
+      [=, &hp, &hd](std::size_t k) { return hp[k] <= std::sqrt(np) * e && hd[k] <= std::sqrt(nd) * 10 * e; } });
+  for (double d : { 0.02, 0.01, 0.005 })
+    rules.push_back({ "paper + support within " + std::to_string(d),
+      [=, &hp, &hd, &hs](std::size_t k) {
+        if (!(hp[k] <= np * 1e-6 && hd[k] <= nd * 1e-5) || k < 1)
+          return false;
+        const double now = hs[k], then = hs[(k + 1) / 2 - 1];
+        return std::abs(now - then) <= d * now;
+      } });
+  // BARYLAB_LBC_SHORT_STUDY: the paper's rule and the converged rule only
+  if (std::getenv("BARYLAB_LBC_SHORT_STUDY"))
+    rules.resize(1);
+  rules.push_back({ "converged (BaryLab)", {} });
+  std::printf("\n%s: n %d, |V| %d, |T| %d; truth %d iterations (converged %d), %.1f s, support "
+              "%.2f / %.0f\n",
+    kStudyNames[which], c.n, static_cast<int>(c.mesh.V.rows()), static_cast<int>(c.mesh.T.rows()),
+    truth.iterations, truth.converged ? 1 : 0, truth_cpu, st.mean_support, st.max_support);
+  std::printf("history (iteration primal/sqrtN dual/sqrtN support):");
+  for (std::size_t k = 0; k < hp.size(); k = k < 8 ? k + 1 : k * 5 / 4)
+    std::printf(" [%zu %.2e %.2e %.2f]", (k + 1) * static_cast<std::size_t>(o.check_interval),
+      hp[k] / std::sqrt(np), hd[k] / std::sqrt(nd), hs[k]);
+  std::printf("\n");
+  for (const StudyRule& rule : rules)
+  {
+    bary::LBCOptions ro = o;
+    if (rule.holds)
+    {
+      std::size_t k = 0;
+      while (k < hp.size() && !rule.holds(k))
+        ++k;
+      if (k == hp.size())
+      {
+        std::printf("  %-34s not reached in the truth's run\n", rule.name.c_str());
+        continue;
+      }
+      ro.max_iterations = static_cast<int>(k + 1) * o.check_interval;
+      ro.primal_tolerance = 1e-15;
+      ro.dual_tolerance = 1e-15;
+    }
+    else
+      ro.stopping = bary::LBCStopping::Converged;
+    if (rule.holds)
+      ro.stopping = bary::LBCStopping::Paper; // capped at the rule's stop
+    const double c0 = cpu_seconds();
+    const bary::LBCResult r = bary::local_barycentric_coordinates(c.mesh, ro);
+    const double cpu = cpu_seconds() - c0;
+    const bary::LocalityStatistics s = bary::locality_statistics(r.W, -1, measure);
+    std::printf("  %-34s %6d iterations %8.2f s  max err %.2e  support %.2f / %.0f  (truth %.2f / "
+                "%.0f)  objective %+.3e rel\n",
+      rule.name.c_str(), r.iterations, cpu, (r.W - truth.W).cwiseAbs().maxCoeff(),
+      s.mean_support, s.max_support, st.mean_support, st.max_support,
+      (r.objective - truth.objective) / truth.objective);
+    std::fflush(stdout);
+  }
+}
+BENCHMARK(LBCStoppingStudy)
+  ->DenseRange(0, 8)
   ->Unit(benchmark::kMillisecond)
   ->Iterations(1);
 

@@ -52,7 +52,8 @@ public:
       // the core's advice names LBCOptions' fields; name the settings
       throw Error(ErrorCode::NotConverged, e.message(),
         settings_advice({ { "raise", { "lbc_max_iterations" } },
-          { "loosen", { "lbc_primal_tolerance", "lbc_dual_tolerance" } } }));
+          { "loosen", { "lbc_primal_tolerance", "lbc_dual_tolerance" } },
+          { "choose paper for", { "lbc_stopping" } } }));
     }
     WeightsResult result;
     detail::interpolate_on_mesh(mesh.V, mesh.T, solved.W, *input.points, settings, progress, result);
