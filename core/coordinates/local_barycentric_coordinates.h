@@ -109,7 +109,7 @@ enum class LBCStopping
   /// weight counts as significant), either both RMS residuals <= e, or both <= 10 e and the
   /// support (weights above 10^-3 / #C per vertex) within 1% of its value at half the
   /// iterations. Chosen by a convergence study against tight solves (the LBC page): on 3D cages
-  /// the paper's rule stops with 1.5-3 times the converged support, this rule within 5% of
+  /// the paper's rule stops with 1.5-3 times the converged support, this rule within 6% of
   /// it. Not yet the default: in 3D it costs 10-30 times the paper's iterations (the kidney
   /// cage's coarse meshes need more than 3,000), too slow for the tests and the viewer until
   /// the 3D iteration is faster.
