@@ -682,6 +682,58 @@ BENCHMARK(LBCStoppingStudy)
   ->Unit(benchmark::kMillisecond)
   ->Iterations(1);
 
+/// BBW (fast and coupled, one thread) and harmonic coordinates on a study case's mesh, for the
+/// locality comparison with the converged LBC of LBCStoppingStudy on the same mesh. The cage's
+/// hat values are fixed on the boundary, clamped to [0, 1] (the mesher's barycentric boundary
+/// weights can be -1e-16, which BBW's bounds refuse).
+void LBCStudyMeshOthers(benchmark::State& state)
+{
+  const int which = static_cast<int>(state.range(0));
+  const Table2Case& c = study_case(which);
+  if (!c.ok)
+  {
+    state.SkipWithError(c.error.c_str());
+    return;
+  }
+  const bary::DomainMesh& mesh = c.mesh;
+  bary::BBWHandles handles;
+  handles.extra_handles = c.n;
+  handles.fixed_vertices = Eigen::Map<const Eigen::VectorXi>(
+    mesh.boundary_vertices.data(), static_cast<Index>(mesh.boundary_vertices.size()));
+  handles.fixed_values =
+    bary::DenseWeights(Eigen::MatrixXd(mesh.boundary_weights).cwiseMax(0.0).cwiseMin(1.0));
+  bary::BBWOptions bo;
+  bo.threads = 1;
+  bo.require_convergence = false;
+  bary::BBWResult fast, coupled;
+  double fast_cpu = 0.0;
+  for (auto _ : state)
+  {
+    const double c0 = cpu_seconds();
+    fast = bary::bounded_biharmonic_weights(mesh.V, mesh.T, handles, bo);
+    fast_cpu = cpu_seconds() - c0;
+  }
+  bo.mode = bary::BBWMode::Coupled;
+  double c0 = cpu_seconds();
+  coupled = bary::bounded_biharmonic_weights(mesh.V, mesh.T, handles, bo);
+  const double coupled_cpu = cpu_seconds() - c0;
+  const Eigen::VectorXd measure = bary::vertex_measures(mesh.V, mesh.T);
+  const bary::LocalityStatistics sf = bary::locality_statistics(fast.W, -1, measure),
+                                 sc = bary::locality_statistics(coupled.W, -1, measure);
+  state.counters["n"] = c.n;
+  state.counters["V"] = static_cast<double>(mesh.V.rows());
+  state.counters["bbw_fast_support"] = sf.mean_support;
+  state.counters["bbw_fast_support_max"] = sf.max_support;
+  state.counters["bbw_fast_cpu_s"] = fast_cpu;
+  state.counters["bbw_fast_converged"] = fast.converged;
+  state.counters["bbw_coupled_support"] = sc.mean_support;
+  state.counters["bbw_coupled_support_max"] = sc.max_support;
+  state.counters["bbw_coupled_cpu_s"] = coupled_cpu;
+  state.counters["bbw_coupled_converged"] = coupled.converged;
+  state.SetLabel(kStudyNames[which]);
+}
+BENCHMARK(LBCStudyMeshOthers)->DenseRange(4, 8)->Unit(benchmark::kMillisecond)->Iterations(1);
+
 } // namespace
 
 BENCHMARK_MAIN();
