@@ -58,6 +58,11 @@ DenseWeights cage_boundary_values(const Cage& cage, const Eigen::MatrixXd& V,
       throw Error(ErrorCode::InvalidArgument,
         "mesh boundary vertex " + std::to_string(v) + " does not lie on the cage (farther than " +
           std::to_string(tolerance) + " x the cage diameter); the mesh must fill the cage exactly");
+    // Hat functions lie in [0, 1] and sum to 1; rounding (a vertex a hair off its edge or face)
+    // gives entries like -2e-16, which bounded methods (BBW's Eq. 6) would refuse as data.
+    auto row = values.row(static_cast<Index>(k));
+    row = row.cwiseMax(0.0).cwiseMin(1.0);
+    row /= row.sum();
   }
   return values;
 }

@@ -96,7 +96,8 @@ private:
 
 /// Dirichlet values of the cage's hat functions at mesh boundary vertices: row k holds the
 /// linear (2D edge) / barycentric (3D face) interpolant of the cage vertices at
-/// V.row(boundary[k]). Shared by every method with cage boundary conditions (harmonic, BBW with
+/// V.row(boundary[k]), clamped to [0, 1] and scaled to sum to 1 (rounding off an edge or face
+/// would otherwise leave entries like -2e-16). Shared by every method with cage boundary conditions (harmonic, BBW with
 /// cage handles, LBC). @throws Error(InvalidArgument) naming a vertex that is not on the cage.
 DenseWeights cage_boundary_values(const Cage& cage, const Eigen::MatrixXd& V,
   const std::vector<int>& boundary, double tolerance = 1e-9);
