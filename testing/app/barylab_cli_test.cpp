@@ -1094,6 +1094,29 @@ TEST_F(CLI, LBCWeightsOnTheBundledCage)
   EXPECT_EQ(result->GetNumberOfPoints(), vtkBaryDataIO::Read(data("model2d.obj"))->GetNumberOfPoints());
 }
 
+// --stopping: both rules run through the command line; the converged rule stops no earlier than
+// the paper's (the default) and reaches the paper's thresholds too; a bad value is named.
+TEST_F(CLI, LBCStoppingRules)
+{
+  const std::string base =
+    "weights --method lbc --cage " + data("cage2d.obj") + " --cells 400 --threads 1";
+  const CommandResult paper =
+    run(base + " --stopping paper --output " + out("p.vtu") + " --json " + out("p.json"));
+  ASSERT_EQ(paper.code, 0) << paper.output;
+  const CommandResult converged =
+    run(base + " --stopping converged --output " + out("c.vtu") + " --json " + out("c.json"));
+  ASSERT_EQ(converged.code, 0) << converged.output;
+  const nlohmann::json p = read_json(out("p.json"))["solver"], c = read_json(out("c.json"))["solver"];
+  EXPECT_EQ(p["converged"].get<double>(), 1.0);
+  EXPECT_EQ(c["converged"].get<double>(), 1.0);
+  EXPECT_GE(c["iterations"].get<double>(), p["iterations"].get<double>());
+  EXPECT_LE(c["primal_residual"].get<double>(), c["primal_threshold"].get<double>());
+  EXPECT_LE(c["dual_residual"].get<double>(), c["dual_threshold"].get<double>());
+  const CommandResult bad = run(base + " --stopping soon --output " + out("b.vtu"));
+  EXPECT_NE(bad.code, 0);
+  EXPECT_NE(bad.output.find("--stopping"), std::string::npos) << bad.output;
+}
+
 TEST_F(CLI, LBCWithoutPointsWritesTheDomainMeshWithItsWeights)
 {
   const CommandResult r = run("weights --method lbc --cage " + data("cage2d.obj") +
