@@ -91,7 +91,11 @@ case "$cmd" in
     install_deps
     configure_and_build "$ROOT/build"
     log "running the test suite (Release)"
-    with_display ctest --test-dir "$ROOT/build" --output-on-failure -j "$JOBS" --timeout 600
+    # A failing test runs once more (until-pass:2): once in a fresh clone's 1,195 tests a render
+    # test could not open the private Xvfb ("bad X server connection") and passed when rerun. A
+    # test that really fails fails both times and is reported.
+    with_display ctest --test-dir "$ROOT/build" --output-on-failure -j "$JOBS" --timeout 600 \
+      --repeat until-pass:2
     if [ "${BARYLAB_SKIP_ASAN:-0}" != "1" ]; then
       SANITIZER_SLOW='^(MeanValueCoordinates3D\.MatchesQuadrature(OfTheDefiningIntegral|Outside)|vtkBaryCoordinatesLBC\.BarycentricPropertiesOnTheBundled3DCage|LBC\.MatchesAnIndependentPrimalDualSolver|LBC\.ConvergedRuleIsCloserToATightSolveThanThePapers|Backends/SparseCholeskyBackend\.BiLaplacianWithLargeSupernodes/.*|MixedHandles\.PointBoneOpenCageAndRegionInOneCoupledSolve|Catalogue/SurfaceMeshProperties\.(QualityMeshWithVolumeBound|SteinerPointsInsideAreInsertedExactly)/icosphere320.*|Meshes/LocatorProperties\.AgreesWithBruteForceOverAllElements/.*|vtkBaryCoordinatesLBC\.ResultsDoNotDependOnTheThreadCount)$'
       log "AddressSanitizer + UndefinedBehaviorSanitizer build of core and filter tests"

@@ -7,6 +7,7 @@
 #include "core/coordinates/weight_method.h"
 #include "core/solvers/fem_operators.h"
 #include "error_matchers.h"
+#include "grid_meshes.h"
 
 #include <gtest/gtest.h>
 
@@ -18,43 +19,10 @@ namespace
 using namespace bary;
 using bary::test::throws_error;
 
-/// The unit square as an n x n grid of vertices (vertex (i, j) at (i, j) / (n - 1), index
-/// j n + i), cells split along alternating diagonals.
-struct Square
-{
-  Eigen::MatrixXd V;
-  Eigen::MatrixXi T;
-  int n = 0;
-  int id(int i, int j) const { return j * n + i; }
-  double h() const { return 1.0 / (n - 1); }
-};
-
+using Square = bary::test::SquareGrid;
 Square square(int n)
 {
-  Square g;
-  g.n = n;
-  g.V.resize(n * n, 2);
-  for (int j = 0; j < n; ++j)
-    for (int i = 0; i < n; ++i)
-      g.V.row(g.id(i, j)) << double(i) / (n - 1), double(j) / (n - 1);
-  g.T.resize(2 * (n - 1) * (n - 1), 3);
-  int t = 0;
-  for (int j = 0; j + 1 < n; ++j)
-    for (int i = 0; i + 1 < n; ++i)
-    {
-      const int a = g.id(i, j), b = g.id(i + 1, j), c = g.id(i + 1, j + 1), d = g.id(i, j + 1);
-      if ((i + j) % 2 == 0)
-      {
-        g.T.row(t++) << a, b, c;
-        g.T.row(t++) << a, c, d;
-      }
-      else
-      {
-        g.T.row(t++) << a, b, d;
-        g.T.row(t++) << b, c, d;
-      }
-    }
-  return g;
+  return bary::test::unit_square_grid(n);
 }
 
 WeightsResult solve_mixed(const Square& g, const Skeleton& s, bool coupled,

@@ -50,10 +50,14 @@ public:
       if (e.code() != ErrorCode::NotConverged)
         throw;
       // the core's advice names LBCOptions' fields; name the settings
-      throw Error(ErrorCode::NotConverged, e.message(),
-        settings_advice({ { "raise", { "lbc_max_iterations" } },
-          { "loosen", { "lbc_primal_tolerance", "lbc_dual_tolerance" } },
-          { "choose paper for", { "lbc_stopping" } } }));
+      // the paper's rule is the looser one: suggest it only when the converged rule was asked
+      std::vector<std::pair<std::string, std::vector<std::string>>> advice = {
+        { "raise", { "lbc_max_iterations" } },
+        { "loosen", { "lbc_primal_tolerance", "lbc_dual_tolerance" } }
+      };
+      if (settings.lbc_stopping == LBCStopping::Converged)
+        advice.push_back({ "choose paper for", { "lbc_stopping" } });
+      throw Error(ErrorCode::NotConverged, e.message(), settings_advice(advice));
     }
     WeightsResult result;
     detail::interpolate_on_mesh(mesh.V, mesh.T, solved.W, *input.points, settings, progress, result);
