@@ -97,7 +97,7 @@ case "$cmd" in
     with_display ctest --test-dir "$ROOT/build" --output-on-failure -j "$JOBS" --timeout 600 \
       --repeat until-pass:2
     if [ "${BARYLAB_SKIP_ASAN:-0}" != "1" ]; then
-      SANITIZER_SLOW='^(MeanValueCoordinates3D\.MatchesQuadrature(OfTheDefiningIntegral|Outside)|vtkBaryCoordinatesLBC\.BarycentricPropertiesOnTheBundled3DCage|LBC\.MatchesAnIndependentPrimalDualSolver|LBC\.ConvergedRuleIsCloserToATightSolveThanThePapers|Backends/SparseCholeskyBackend\.BiLaplacianWithLargeSupernodes/.*|MixedHandles\.PointBoneOpenCageAndRegionInOneCoupledSolve|Catalogue/SurfaceMeshProperties\.(QualityMeshWithVolumeBound|SteinerPointsInsideAreInsertedExactly)/icosphere320.*|Meshes/LocatorProperties\.AgreesWithBruteForceOverAllElements/.*|vtkBaryCoordinatesLBC\.ResultsDoNotDependOnTheThreadCount)$'
+      SANITIZER_SLOW='^(MeanValueCoordinates3D\.MatchesQuadrature(OfTheDefiningIntegral|Outside)|vtkBaryCoordinatesLBC\.BarycentricPropertiesOnTheBundled3DCage|LBC\.MatchesAnIndependentPrimalDualSolver|LBC\.ConvergedRuleIsCloserToATightSolveThanThePapers|Backends/SparseCholeskyBackend\.BiLaplacianWithLargeSupernodes/.*|MixedHandles\.PointBoneOpenCageAndRegionInOneCoupledSolve|Catalogue/SurfaceMeshProperties\.(QualityMeshWithVolumeBound|SteinerPointsInsideAreInsertedExactly)/icosphere320.*|Meshes/LocatorProperties\.AgreesWithBruteForceOverAllElements/.*|vtkBaryCoordinatesLBC\.ResultsDoNotDependOnTheThreadCount|BBWOracle\.FastModeMatchesLibiglsMatlabActiveSetOnTheKnight|GreenCoordinates\.MatchQuadratureOfTheBoundaryIntegrals3D)$'
       log "AddressSanitizer + UndefinedBehaviorSanitizer build of core and filter tests"
       # -O1 -g1 (line tables): the sanitizers' stack traces keep file:line and the tree builds in
       # about 7.5 min instead of 10 on 2 cores; the test code itself is compiled with -O0 there
@@ -109,7 +109,9 @@ case "$cmd" in
       # 34 s) run in the Release pass only (SANITIZER_SLOW): smaller tests exercise the same code
       # paths here. So do TetGen's quality meshes of the 320-face icosphere (27 s), the point
       # locator against brute force over every element (30 s) and LBC's thread-count check (11 s):
-      # the same code runs here on the smaller catalogue entries and meshes.
+      # the same code runs here on the smaller catalogue entries and meshes. The knight against
+      # libigl's MATLAB reference (both lumpings, 28 s) and Green coordinates' 3D quadrature
+      # (18 s) too: the other BBW oracle and Green tests run here.
       configure_and_build "$ROOT/build-asan" -DBARYLAB_SANITIZE=ON -DBARYLAB_BUILD_APP=OFF \
         -DBARYLAB_BUILD_BENCHMARKS=OFF -DCMAKE_BUILD_TYPE=RelWithDebInfo \
         "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -g1 -DNDEBUG"
