@@ -111,7 +111,7 @@ case "$cmd" in
       # locator against brute force over every element (30 s) and LBC's thread-count check (11 s):
       # the same code runs here on the smaller catalogue entries and meshes. The knight against
       # libigl's MATLAB reference (both lumpings, 28 s) and Green coordinates' 3D quadrature
-      # (18 s) too: the other BBW oracle and Green tests run here.
+      # (18 s) too: the other BBW and Green tests run here.
       configure_and_build "$ROOT/build-asan" -DBARYLAB_SANITIZE=ON -DBARYLAB_BUILD_APP=OFF \
         -DBARYLAB_BUILD_BENCHMARKS=OFF -DCMAKE_BUILD_TYPE=RelWithDebInfo \
         "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -g1 -DNDEBUG"
