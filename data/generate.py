@@ -42,6 +42,19 @@ POSE3D_SQUEEZE = 0.18       # middle squeezed by 18% across the long axis
 POSE3D_BEND_DEG = 30.0      # +x end bent further (about z) by up to 30 degrees
 POSE3D_TWIST_DEG = 20.0     # -x end twisted about the long axis by up to 20 degrees
 
+# 3D starfish: a cage of ~100 controls around a model with five limbs (LBC's 3D experiments at
+# the paper's scale: locality matters where parts lie far apart along the interior) ------------
+STAR_ARMS = 5
+STAR_ARMPIT_RADIUS = 0.34   # footprint vertices between the arms
+STAR_STATIONS = ((0.55, 0.20, 0.27), (0.85, 0.16, 0.21), (1.15, 0.12, 0.16))
+                            # per arm: (distance from the centre, half-width, spine half-height)
+STAR_TIP = 1.42             # arm tips (one vertex each, z = 0)
+STAR_CENTRE_HEIGHT = 0.34   # half-height at the centre
+STAR_SIDE_HEIGHT = 0.7      # half-height of the side and armpit vertices / the spine's
+STAR_MODEL_THETA = 80       # model: lat-long sphere, 80 longitudes x 10 latitudes + 2 poles
+STAR_MODEL_LAT = 10
+STAR_MIN_CLEARANCE = 0.02   # asserted minimum distance model vertex -> cage face
+
 DECIMALS = 6
 
 
@@ -895,6 +908,151 @@ def check_cage_encloses(model, cage_V, cage_F):
 
 
 # ---------------------------------------------------------------------------
+# 3D starfish: cage and model
+# ---------------------------------------------------------------------------
+
+def starfish_cage():
+    """A 2.5D cage: a planar triangulation of a five-armed star (the centre, one vertex between
+    each two arms, per arm three stations of right / spine / left vertices and a tip), lifted
+    to a top cap z = +h and a bottom cap z = -h over the same triangles, joined by vertical
+    side walls; the tips (h = 0) belong to both caps. Each cap is the graph of a positive
+    function over a valid triangulation (every footprint triangle counter-clockwise, total area
+    = the outline's area) and the walls stand on the outline, so the surface is embedded."""
+    n = STAR_ARMS
+    P, H = [], []
+
+    def vertex(p, h):
+        P.append(p)
+        H.append(h)
+        return len(P) - 1
+    c = vertex((0.0, 0.0), STAR_CENTRE_HEIGHT)
+    pits = []
+    for k in range(n):
+        a = 2.0 * math.pi * (k + 0.5) / n
+        pits.append(vertex((STAR_ARMPIT_RADIUS * math.cos(a), STAR_ARMPIT_RADIUS * math.sin(a)),
+                           STAR_SIDE_HEIGHT * STAR_CENTRE_HEIGHT))
+    arms = []
+    for k in range(n):
+        a = 2.0 * math.pi * k / n
+        u, v = (math.cos(a), math.sin(a)), (-math.sin(a), math.cos(a))
+        stations = []
+        for d, w, h in STAR_STATIONS:
+            right = vertex((d * u[0] - w * v[0], d * u[1] - w * v[1]), STAR_SIDE_HEIGHT * h)
+            spine = vertex((d * u[0], d * u[1]), h)
+            left = vertex((d * u[0] + w * v[0], d * u[1] + w * v[1]), STAR_SIDE_HEIGHT * h)
+            stations.append((right, spine, left))
+        arms.append((stations, vertex((STAR_TIP * u[0], STAR_TIP * u[1]), 0.0)))
+    tris = []
+    for k in range(n):
+        stations, tip = arms[k]
+        before, after = pits[k - 1], pits[k]
+        tris.append((c, before, after))
+        r1, s1, l1 = stations[0]
+        tris += [(before, r1, s1), (before, s1, after), (after, s1, l1)]
+        for (r0, s0, l0), (r1, s1, l1) in zip(stations, stations[1:]):
+            tris += [(r0, r1, s1), (r0, s1, s0), (s0, s1, l1), (s0, l1, l0)]
+        r, s, l = stations[-1]
+        tris += [(r, tip, s), (s, tip, l)]
+    for t in tris:
+        assert cross2(*(P[i] for i in t)) > 1e-6, "starfish_cage: footprint triangle %s" % (t,)
+    outline = []
+    for k in range(n):
+        stations, tip = arms[k]
+        outline += [pits[k - 1]] + [st[0] for st in stations] + [tip] + \
+            [st[2] for st in reversed(stations)]
+    area = sum(0.5 * cross2(*(P[i] for i in t)) for t in tris)
+    bad = polygon_self_intersections([P[i] for i in outline])
+    assert not bad, "starfish_cage: self-intersecting footprint outline %s" % (bad,)
+    assert abs(area - polygon_area([P[i] for i in outline])) < 1e-9, \
+        "starfish_cage: footprint triangles do not tile the outline"
+    V, top, bottom = [], {}, {}
+    for i, (p, h) in enumerate(zip(P, H)):
+        top[i] = len(V)
+        V.append((p[0], p[1], h))
+        if h > 0:
+            bottom[i] = len(V)
+            V.append((p[0], p[1], -h))
+        else:
+            bottom[i] = top[i]
+    F = [tuple(top[i] for i in t) for t in tris]
+    F += [(bottom[a], bottom[c2], bottom[b]) for a, b, c2 in tris]
+    for q in range(len(outline)):
+        a, b = outline[q], outline[(q + 1) % len(outline)]
+        if H[b] == 0:
+            F.append((bottom[a], top[b], top[a]))
+        elif H[a] == 0:
+            F.append((top[a], bottom[b], top[b]))
+        else:
+            F += [(bottom[a], bottom[b], top[b]), (bottom[a], top[b], top[a])]
+    return [tuple(rnd(x) for x in p) for p in V], F
+
+
+def starfish_radius(theta):
+    """The model's outline in the plane z = 0: five arms at theta = 2 pi k / 5."""
+    return 0.24 + ((0.5 + 0.5 * math.cos(STAR_ARMS * theta)) ** 3)
+
+
+def starfish_model():
+    """A lat-long unit sphere mapped by (rho, theta, z) -> (rho R(theta), theta, z h(rho
+    R(theta))) (cylindrical coordinates, R and h positive): for fixed theta, rho -> rho R is
+    increasing and z is scaled by a positive factor, so the map is injective."""
+    nt, nl = STAR_MODEL_THETA, STAR_MODEL_LAT
+    S = [(0.0, 0.0, -1.0)]
+    for i in range(1, nl + 1):
+        psi = -math.pi / 2.0 + math.pi * i / (nl + 1)
+        for j in range(nt):
+            th = 2.0 * math.pi * j / nt
+            S.append((math.cos(psi) * math.cos(th), math.cos(psi) * math.sin(th), math.sin(psi)))
+    S.append((0.0, 0.0, 1.0))
+    last = len(S) - 1
+
+    def ring(i, j):
+        return 1 + (i - 1) * nt + j % nt
+    F = [(0, ring(1, j + 1), ring(1, j)) for j in range(nt)]
+    for i in range(1, nl):
+        for j in range(nt):
+            F += [(ring(i, j), ring(i, j + 1), ring(i + 1, j + 1)),
+                  (ring(i, j), ring(i + 1, j + 1), ring(i + 1, j))]
+    F += [(last, ring(nl, j), ring(nl, j + 1)) for j in range(nt)]
+    V = []
+    for x, y, z in S:
+        th = math.atan2(y, x)
+        r = math.hypot(x, y) * starfish_radius(th)
+        h = 0.22 - 0.12 * min(r, 1.24) / 1.24
+        V.append((r * math.cos(th), r * math.sin(th), z * h))
+    return [tuple(rnd(x) for x in p) for p in V], F
+
+
+def check_starfish_encloses(model_V, model_F, cage_V, cage_F):
+    """Every model vertex inside the cage (winding number 1, at least STAR_MIN_CLEARANCE from
+    every cage face) and no model face meets a cage face: the model surface is inside."""
+    min_d = float("inf")
+    for i, p in enumerate(model_V):
+        w = winding_number(p, cage_V, cage_F)
+        assert abs(w - 1.0) < 1e-6, "starfish: model vertex %d has winding number %g" % (i, w)
+        d = min(dist_point_triangle(p, *(cage_V[v] for v in f)) for f in cage_F)
+        assert d >= STAR_MIN_CLEARANCE, "starfish: model vertex %d only %g inside" % (i, d)
+        min_d = min(min_d, d)
+    V = list(cage_V) + list(model_V)
+    offset = len(cage_V)
+
+    def box(f):
+        pts = [V[i] for i in f]
+        return [min(p[k] for p in pts) for k in range(3)], [max(p[k] for p in pts) for k in range(3)]
+    cage_boxes = [(f, box(f)) for f in cage_F]
+    tested = 0
+    for g in model_F:
+        g = tuple(i + offset for i in g)
+        lo, hi = box(g)
+        for f, (flo, fhi) in cage_boxes:
+            if any(flo[k] > hi[k] or fhi[k] < lo[k] for k in range(3)):
+                continue
+            tested += 1
+            assert not triangles_intersect(V, f, g), "starfish: model face meets cage face %s" % (f,)
+    return min_d, tested
+
+
+# ---------------------------------------------------------------------------
 # Intentionally broken inputs
 # ---------------------------------------------------------------------------
 
@@ -1438,6 +1596,23 @@ def main(argv):
                    "%d face pairs tested" % (len(cage_V), len(cage_F), cvol, clearance, tested_c))
     summary.append("cage3d_posed: %d vertices, %d triangles, volume %.4f, %d face pairs tested"
                    % (len(posed_V), len(posed_F), pvol, tested_p))
+
+    # Starfish (3D, ~100 controls) -------------------------------------------------------
+    star_cV, star_cF = starfish_cage()
+    assert 90 <= len(star_cV) <= 120
+    star_cvol = check_closed_surface(star_cV, star_cF, "starfish_cage")
+    tested_sc = check_no_self_intersections(star_cV, star_cF, "starfish_cage")
+    star_V, star_F = starfish_model()
+    star_vol = check_closed_surface(star_V, star_F, "starfish")
+    tested_s = check_no_self_intersections(star_V, star_F, "starfish")
+    star_clearance, tested_sm = check_starfish_encloses(star_V, star_F, star_cV, star_cF)
+    files["starfish_cage.obj"] = obj_mesh3d_text(star_cV, star_cF)
+    files["starfish.off"] = off_text(star_V, star_F)
+    summary.append("starfish: %d vertices, %d triangles, volume %.4f, %d face pairs tested"
+                   % (len(star_V), len(star_F), star_vol, tested_s))
+    summary.append("starfish_cage: %d vertices, %d triangles, volume %.4f, %d face pairs tested; "
+                   "min clearance to the model %.4f, %d model-cage face pairs tested"
+                   % (len(star_cV), len(star_cF), star_cvol, tested_sc, star_clearance, tested_sm))
 
     # Organ for celestial coordinates ---------------------------------------------
     heart_V, heart_F = heart_model()
