@@ -2,7 +2,10 @@
 // vtkBaryOFFReader / vtkBaryOFFWriter on hand-written files.
 #include "filters_test_utils.h"
 
+#include "vtkBaryConversion.h"
 #include "vtkBaryDataIO.h"
+#include "vtkBaryFileReader.h"
+#include "vtkBaryFileWriter.h"
 #include "vtkBaryOFFReader.h"
 #include "vtkBaryOFFWriter.h"
 
@@ -992,6 +995,83 @@ TEST(vtkBaryDataIO, NumberListsAndPseudoEdgesAreReadStrictly)
       EXPECT_NE(std::string(e.what()).find("line 1"), std::string::npos) << e.what();
     }
   }
+}
+
+// ---------------------------------------------------------------------------------------------
+// vtkBaryFileReader / vtkBaryFileWriter: vtkBaryDataIO as pipeline algorithms (errors as VTK
+// error events: what VTK's Python wrapping can report)
+// ---------------------------------------------------------------------------------------------
+
+TEST(vtkBaryFileReader, OutputIsWhatDataIOReadsOfTheFilesType)
+{
+  const fs::path dir = Scratch("file_reader");
+  const std::string vtu = (dir / "mesh.vtu").string();
+  const std::string off = (dir / "mesh.off").string();
+  vtkBaryDataIO::Write(ToGrid(SmallMesh()), vtu);
+  vtkBaryDataIO::Write(SmallMesh(), off);
+  vtkNew<vtkBaryFileReader> reader;
+  vtkNew<ErrorObserver> observer;
+  observer->Attach(reader);
+  for (const std::string& path : { vtu, off, vtu })
+  {
+    reader->SetFileName(path.c_str());
+    ASSERT_EQ(RunPipeline(reader), 1) << observer->AllErrors();
+    vtkDataObject* output = reader->GetOutputDataObject(0);
+    const vtkSmartPointer<vtkDataSet> expected = vtkBaryDataIO::Read(path);
+    ASSERT_NE(output, nullptr);
+    EXPECT_STREQ(output->GetClassName(), expected->GetClassName()) << path;
+    auto* data = vtkDataSet::SafeDownCast(output);
+    ASSERT_NE(data, nullptr);
+    EXPECT_EQ(data->GetNumberOfCells(), 8);
+    EXPECT_EQ(MaxCornerDifference(expected, data), 0.0) << path;
+    EXPECT_EQ(GetWeights(data) != nullptr, path == vtu) << "point data as the file holds it";
+  }
+  EXPECT_TRUE(vtkBaryFileReader::CanReadFile("x.MESH"));
+  EXPECT_FALSE(vtkBaryFileReader::CanReadFile("x.xyz"));
+  EXPECT_FALSE(vtkBaryFileReader::CanReadFile(nullptr));
+}
+
+TEST(vtkBaryFileReader, UnreadableFilesAreErrorEventsNamingTheFile)
+{
+  const fs::path dir = Scratch("file_reader_errors");
+  const std::string missing = (dir / "missing.obj").string();
+  const std::string garbage = WriteText(dir / "broken.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n");
+  const std::string unknown = WriteText(dir / "points.xyz", "0 0 0\n");
+  for (const std::string& path : { missing, garbage, unknown })
+  {
+    vtkNew<vtkBaryFileReader> reader;
+    vtkNew<ErrorObserver> observer;
+    observer->Attach(reader);
+    reader->SetFileName(path.c_str());
+    EXPECT_EQ(RunPipeline(reader), 0) << path;
+    EXPECT_TRUE(observer->HasError(fs::path(path).filename().string())) << observer->AllErrors();
+    EXPECT_EQ(reader->GetErrorCode(), vtkBaryConversion::ToVTKErrorCode(bary::ErrorCode::Io))
+      << path;
+  }
+}
+
+TEST(vtkBaryFileWriter, WritesByExtensionAndReportsFailures)
+{
+  const fs::path dir = Scratch("file_writer");
+  const std::string path = (dir / "mesh.vtp").string();
+  vtkNew<vtkBaryFileWriter> writer;
+  vtkNew<ErrorObserver> observer;
+  writer->AddObserver(vtkCommand::ErrorEvent, observer);
+  writer->SetInputData(SmallMesh());
+  writer->SetFileName(path.c_str());
+  ASSERT_EQ(writer->Write(), 1) << observer->AllErrors();
+  const vtkSmartPointer<vtkDataSet> back = vtkBaryDataIO::Read(path);
+  EXPECT_EQ(MaxCornerDifference(SmallMesh(), back), 0.0);
+  ASSERT_NE(GetWeights(back), nullptr);
+  EXPECT_EQ(GetWeights(back)->GetComponent(5, 2), GetWeights(SmallMesh())->GetComponent(5, 2));
+
+  const fs::path target = dir / "no_such_folder" / "mesh.vtp";
+  writer->SetFileName(target.string().c_str());
+  EXPECT_EQ(writer->Write(), 0);
+  EXPECT_TRUE(observer->HasError("no_such_folder")) << observer->AllErrors();
+  EXPECT_FALSE(fs::exists(target));
+  EXPECT_TRUE(vtkBaryFileWriter::CanWriteFile("a.off"));
+  EXPECT_FALSE(vtkBaryFileWriter::CanWriteFile("a.mesh"));
 }
 
 TEST(BaryError, MessagesAreOnePrintableLine)

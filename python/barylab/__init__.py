@@ -1,0 +1,46 @@
+"""BaryLab: generalized barycentric coordinates and deformation weights, from Python.
+
+Two layers, on the same VTK filters as the ``barylab`` command line and viewer:
+
+* every BaryLab filter, reader and writer, wrapped by VTK's own Python wrapping
+  (``barylab.vtkBaryCoordinates``, ``barylab.vtkBaryCageDeformation``, ``barylab.vtkBaryFileReader``,
+  ...; also from their modules ``barylab.BaryLabFilters``, ``barylab.BaryLabIO``,
+  ``barylab.BaryLabSpline``, ``barylab.BaryLabSurface``): they connect to any VTK pipeline;
+* functions with numpy arrays in and out, one per command-line job: ``weights``, ``deform``,
+  ``skin``, ``statistics``, ``locality``, ``mesh``, ``read``, ``write`` (see docs/python.md).
+  Filter errors are raised as ``BaryLabError`` with the filter's message.
+"""
+
+from .BaryLabFilters import *  # noqa: F401,F403
+from .BaryLabIO import *  # noqa: F401,F403
+
+try:  # built in every tree that builds the Python package; tolerated if left out
+    from .BaryLabSpline import *  # noqa: F401,F403
+except ImportError:  # pragma: no cover
+    pass
+try:
+    from .BaryLabSurface import *  # noqa: F401,F403
+except ImportError:  # pragma: no cover
+    pass
+
+from ._pipeline import (  # noqa: F401
+    BaryLabError,
+    BaryLabWarning,
+    compute_weights,
+    configure,
+    deform,
+    deform_data,
+    locality,
+    mesh,
+    method_names,
+    point_array,
+    points_of,
+    polydata,
+    polygon,
+    read,
+    run,
+    skin,
+    statistics,
+    weights,
+    write,
+)
