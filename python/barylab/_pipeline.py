@@ -310,11 +310,24 @@ def deform_data(model, rest_cage, posed_cage, method="mvc", weights=None, array_
     configure(filter_.GetWeightMethod(), method, **settings)
     filter_.SetWeightsArrayName(array_name)
     model = _as_dataset(model, "model")
+    rest = _as_polydata(rest_cage, "rest_cage")
+    posed = _as_dataset(posed_cage, "posed_cage")
     if weights is not None:
         model = _with_weights(model, weights, array_name)
+    elif (vtkBaryWeightMethod.IsPointBased(filter_.GetWeightMethod().GetMethod())
+          and model.GetPointData().GetArray(array_name) is None):
+        # Free control points (tcc, scc) may get hull points added to the controls (the field
+        # data "AddedControlPoints", vtkBaryCoordinates): as `barylab deform` does
+        # (barylab::Deform), weights first, and the added points stay where they are.
+        model = compute_weights(model, rest, method, array_name=array_name, **settings)
+        added = model.GetFieldData().GetArray("AddedControlPoints")
+        if added is not None and added.GetNumberOfTuples() > 0:
+            fixed = numpy_support.vtk_to_numpy(added).reshape(-1, 3)
+            rest = polydata(np.vstack([points_of(rest), fixed]))
+            posed = polydata(np.vstack([points_of(posed), fixed]))
     filter_.SetInputData(0, model)
-    filter_.SetRestCageData(_as_polydata(rest_cage, "rest_cage"))
-    filter_.SetDeformedCageData(_as_dataset(posed_cage, "posed_cage"))
+    filter_.SetRestCageData(rest)
+    filter_.SetDeformedCageData(posed)
     run(filter_)
     result = filter_.GetOutput().NewInstance()
     result.ShallowCopy(filter_.GetOutput())

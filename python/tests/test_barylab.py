@@ -150,6 +150,21 @@ def test_given_weights_deform_as_computed_ones():
         barylab.deform(P, cage, posed, "harmonic", target_cells=300), X, atol=1e-12)
 
 
+def test_free_control_points_keep_the_added_hull_points_fixed():
+    controls = SQUARE
+    P = np.array([[0.5, 0.5], [1.5, 0.5], [0.2, 0.7]])  # the second one outside the hull
+    data = barylab.compute_weights(P, controls, "scc")
+    W = barylab.point_array(data, "Weights")
+    added = np.array([data.GetFieldData().GetArray("AddedControlPoints").GetTuple3(i)
+                      for i in range(W.shape[1] - len(controls))])
+    assert len(added) == 4  # the corners of the enlarged bounding box (2D)
+    moved = controls + [[0.1, 0.0], [0.0, 0.2], [0.0, 0.0], [-0.1, 0.0]]
+    X = barylab.deform(P, controls, moved, "scc")
+    np.testing.assert_allclose(X[:, :2], W @ np.vstack([moved, added[:, :2]]), atol=1e-12)
+    np.testing.assert_allclose(barylab.deform(P, controls, controls, "scc")[:, :2], P,
+                               atol=1e-10)
+
+
 def test_skinning_with_translations_translates():
     P = inside_triangle(20)
     W = barycentric(TRIANGLE, P)
