@@ -7,7 +7,7 @@ Two layers, on the same VTK filters as the ``barylab`` command line and viewer:
   ...; also from their modules ``barylab.BaryLabFilters``, ``barylab.BaryLabIO``,
   ``barylab.BaryLabSpline``, ``barylab.BaryLabSurface``): they connect to any VTK pipeline;
 * functions with numpy arrays in and out, one per command-line job: ``weights``, ``deform``,
-  ``skin``, ``statistics``, ``locality``, ``mesh``, ``read``, ``write`` (see docs/python.md).
+  ``skin``, ``statistics``, ``locality``, ``reduce``, ``mesh``, ``read``, ``write`` (see docs/python.md).
   Filter errors are raised as ``BaryLabError`` with the filter's message.
 """
 
@@ -30,6 +30,7 @@ from ._pipeline import (  # noqa: F401
     configure,
     deform,
     deform_data,
+    dense,
     locality,
     mesh,
     method_names,
@@ -38,6 +39,7 @@ from ._pipeline import (  # noqa: F401
     polydata,
     polygon,
     read,
+    reduce,
     run,
     skin,
     statistics,

@@ -25,6 +25,7 @@ from .BaryLabFilters import (
     vtkBaryErrorObserver,
     vtkBaryLinearBlendSkinning,
     vtkBaryLocalityStatistics,
+    vtkBaryReduceWeights,
     vtkBaryWeightMethod,
     vtkBaryWeightStatistics,
 )
@@ -386,6 +387,54 @@ def statistics(data, weights=None, cage=None, threshold=-1.0, cage_dimension=0,
                for name, values in _table_columns(filter_.GetOutput(0)).items()}
     figures["histogram"] = _table_columns(filter_.GetOutput(1))["points"].astype(np.int64)
     return figures
+
+
+def reduce(data, weights=None, cage=None, threshold=-1.0, renormalization="rowsum",
+           array_name="Weights"):
+    """The ``barylab reduce`` job (vtkBaryReduceWeights): sparse weights, those above
+    ``threshold`` (negative: 1e-3 / n_controls), rows renormalised by ``renormalization``
+    ("rowsum", "affine": needs ``cage``, or "none"). Returns a dict with "indices"
+    (n_points, K) int array of the kept controls, padded with -1, "values" (n_points, K),
+    padded with 0, and the filter's figures "K", "threshold", "partition_error",
+    "reproduction_error" (NaN without a cage), "max_dropped", "nonzeros", "memory_fraction",
+    "csr_memory_fraction". ``deform(..., weights=dense(result, n_controls))`` deforms with them."""
+    data = _as_dataset(data) if weights is None else _with_weights(data, weights, array_name)
+    filter_ = vtkBaryReduceWeights()
+    filter_.SetInputData(data)
+    if cage is not None:
+        filter_.SetCageData(_as_polydata(cage, "cage"))
+    filter_.SetWeightsArrayName(array_name)
+    filter_.SetThreshold(float(threshold))
+    choices = {"none": filter_.SetRenormalizationToNone,
+               "rowsum": filter_.SetRenormalizationToRowSum,
+               "affine": filter_.SetRenormalizationToAffine}
+    if renormalization not in choices:
+        raise ValueError(f"unknown renormalization '{renormalization}' "
+                         f"(one of: {', '.join(choices)})")
+    choices[renormalization]()
+    run(filter_)
+    output = filter_.GetOutputDataObject(0)
+    return {
+        "indices": point_array(output, array_name + "Indices").astype(np.int64),
+        "values": point_array(output, array_name + "Values"),
+        "K": filter_.GetMaximumSupport(),
+        "threshold": filter_.GetThresholdUsed(),
+        "partition_error": filter_.GetPartitionError(),
+        "reproduction_error": filter_.GetReproductionError(),
+        "max_dropped": filter_.GetMaxDropped(),
+        "nonzeros": filter_.GetNumberOfNonzeros(),
+        "memory_fraction": filter_.GetMemoryFraction(),
+        "csr_memory_fraction": filter_.GetCSRMemoryFraction(),
+    }
+
+
+def dense(sparse, n_controls):
+    """The (n_points, n_controls) array of sparse weights from reduce() (a scatter, no algorithm)."""
+    indices, values = sparse["indices"], sparse["values"]
+    W = np.zeros((indices.shape[0], n_controls))
+    rows, cols = np.nonzero(indices >= 0)
+    W[rows, indices[rows, cols]] = values[rows, cols]
+    return W
 
 
 def locality(data, weights=None, threshold=-1.0, use_mesh_measure=True, array_name="Weights"):

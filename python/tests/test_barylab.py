@@ -199,6 +199,25 @@ def test_statistics_and_locality_match_numpy():
     assert np.all(np.diff(loc["P"]) >= 0) and 0 <= loc["P"].min() and loc["P"].max() <= 1
 
 
+def test_reduce_keeps_the_weights_above_the_threshold_renormalised():
+    P = inside_polygon_l(60)
+    W = barylab.weights(P, barylab.polygon(L_SHAPE), "harmonic", target_cells=400)
+    threshold = 0.05
+    sparse = barylab.reduce(P, W, threshold=threshold)
+    keep = W > threshold
+    expected = np.where(keep, W, 0.0)
+    expected /= expected.sum(axis=1, keepdims=True)
+    assert sparse["K"] == keep.sum(axis=1).max()
+    assert sparse["nonzeros"] == keep.sum()
+    np.testing.assert_allclose(barylab.dense(sparse, W.shape[1]), expected, atol=1e-15)
+    assert sparse["partition_error"] < 1e-14
+    for row, idx in zip(keep, sparse["indices"]):  # kept controls in increasing order, then -1
+        np.testing.assert_array_equal(idx[idx >= 0], np.flatnonzero(row))
+        assert np.all(idx[len(np.flatnonzero(row)):] == -1)
+    with pytest.raises(ValueError, match="renormalization"):
+        barylab.reduce(P, W, renormalization="sum")
+
+
 # --- numpy round trips and files -----------------------------------------------------------------------
 
 def test_points_and_weights_round_trip_through_vtk_and_a_file(tmp_path):
