@@ -230,7 +230,8 @@ def method_names():
 
 def configure(weight_method, method="mvc", **settings):
     """Sets ``method`` (a name from method_names() or a vtkBaryWeightMethod.Methods value) and
-    each setting by its table key on ``weight_method`` (a vtkBaryWeightMethod). An unknown
+    each setting by its table key on ``weight_method`` (a vtkBaryWeightMethod; ``user_weights``,
+    tcc's s_i, as a sequence: one per control point). An unknown
     method or key, a non-finite value, or a value outside the setting's range (which the filter
     would clamp) raises BaryLabError; nothing is clamped silently."""
     if isinstance(method, str):
@@ -242,6 +243,16 @@ def configure(weight_method, method="mvc", **settings):
             raise BaryLabError(f"unknown method id {method}")
         weight_method.SetMethod(int(method))
     for key, value in settings.items():
+        if np.ndim(value) > 0:
+            # the table's one list setting (user_weights, tcc's s_i): the method's UserWeights
+            # array, which the filter checks (one entry per control point, each >= 0)
+            if key != "user_weights":
+                raise BaryLabError(f"setting '{key}' takes one number, not a list")
+            array = numpy_support.numpy_to_vtk(np.asarray(value, dtype=np.float64).ravel(),
+                                               deep=True)
+            array.SetName("UserWeights")
+            weight_method.SetUserWeights(array)
+            continue
         errors = _ObjectErrors(weight_method)
         weight_method.SetSetting(key, float(value))
         errors.close()

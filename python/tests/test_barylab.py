@@ -291,6 +291,18 @@ def test_unreadable_files_raise_naming_the_file(tmp_path, capfd):
     assert capfd.readouterr().err == ""
 
 
+def test_user_weights_are_passed_to_the_filter_which_checks_them():
+    P = np.array([[0.3, 0.4], [0.6, 0.5]])
+    plain = barylab.weights(P, SQUARE, "tcc")
+    weighted = barylab.weights(P, SQUARE, "tcc", user_weights=[1, 2, 3, 4])
+    np.testing.assert_allclose(weighted.sum(axis=1), 1.0, atol=1e-12)
+    assert np.abs(weighted - plain).max() > 1e-3
+    with pytest.raises(barylab.BaryLabError, match="user_weights.*>= 0"):
+        barylab.weights(P, SQUARE, "tcc", user_weights=[1, -1, 1, 1])
+    with pytest.raises(barylab.BaryLabError, match="2 entries but there are 4 control points"):
+        barylab.weights(P, SQUARE, "tcc", user_weights=[1, 1])
+
+
 def test_bad_settings_raise_instead_of_clamping():
     cage = barylab.polygon(TRIANGLE)
     with pytest.raises(barylab.BaryLabError, match="unknown method 'nope'.*mvc"):
