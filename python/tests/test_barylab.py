@@ -153,15 +153,16 @@ def test_given_weights_deform_as_computed_ones():
 def test_free_control_points_keep_the_added_hull_points_fixed():
     controls = SQUARE
     P = np.array([[0.5, 0.5], [1.5, 0.5], [0.2, 0.7]])  # the second one outside the hull
-    data = barylab.compute_weights(P, controls, "scc")
+    auto = {"celestial_hull_points": barylab.vtkBaryWeightMethod.HULL_POINTS_AUTO}
+    data = barylab.compute_weights(P, controls, "scc", **auto)
     W = barylab.point_array(data, "Weights")
     added = np.array([data.GetFieldData().GetArray("AddedControlPoints").GetTuple3(i)
                       for i in range(W.shape[1] - len(controls))])
     assert len(added) == 4  # the corners of the enlarged bounding box (2D)
     moved = controls + [[0.1, 0.0], [0.0, 0.2], [0.0, 0.0], [-0.1, 0.0]]
-    X = barylab.deform(P, controls, moved, "scc")
+    X = barylab.deform(P, controls, moved, "scc", **auto)
     np.testing.assert_allclose(X[:, :2], W @ np.vstack([moved, added[:, :2]]), atol=1e-12)
-    np.testing.assert_allclose(barylab.deform(P, controls, controls, "scc")[:, :2], P,
+    np.testing.assert_allclose(barylab.deform(P, controls, controls, "scc", **auto)[:, :2], P,
                                atol=1e-10)
 
 
