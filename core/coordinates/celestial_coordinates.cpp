@@ -467,7 +467,7 @@ struct CelestialCoordinates::Impl
   std::vector<HullNode> nodes; // nodes[0] is the hull (empty when flat)
   std::vector<double> s;       // TCC user weights (empty: zero)
   /// The controls span no interior (fewer than dim + 1, on a line or a plane): allowed with
-  /// CelestialHullPoints::Auto only, which then always adds the hull points.
+  /// CelestialHullPoints::Auto or Always only, which then always add the hull points.
   bool flat = false;
 
   CelestialResult compute(const Points& X, const Eigen::MatrixXi& edges, const Points* initial,
@@ -728,12 +728,14 @@ void CelestialCoordinates::Impl::validate()
       throw Error(ErrorCode::NonFinite,
         "control point " + std::to_string(i) + " has a non-finite coordinate " + detail::format_row(V, i));
 
-  if (o.hull_points != CelestialHullPoints::None && o.hull_points != CelestialHullPoints::Auto)
-    bad("CelestialOptions::hull_points must be None or Auto");
-  if (!(o.hull_margin >= 0.0 && o.hull_margin <= 10.0))
-    bad("hull_margin must lie in [0, 10] (relative to the bounding-box diagonal), got " +
-      detail::format_number(o.hull_margin, 3));
-  const bool auto_hull = o.hull_points == CelestialHullPoints::Auto;
+  if (o.hull_points != CelestialHullPoints::None && o.hull_points != CelestialHullPoints::Auto &&
+    o.hull_points != CelestialHullPoints::Always)
+    bad("CelestialOptions::hull_points must be None, Auto or Always");
+  if (!(o.hull_margin >= 1e-6 && o.hull_margin <= 10.0))
+    bad("hull_margin must lie in [1e-6, 10] (relative to the diagonal of the box around the "
+        "points and the controls; > 0 so that every point is strictly inside the added hull "
+        "points), got " + detail::format_number(o.hull_margin, 3));
+  const bool auto_hull = o.hull_points != CelestialHullPoints::None;
   if (o.user_weights.size() != 0)
   {
     if (o.scheme != CelestialScheme::T)
@@ -1015,21 +1017,67 @@ Points CelestialCoordinates::hull_points_for(const Points& X) const
 
 Points CelestialCoordinates::Impl::hull_points_for(const Points& X) const
 {
-  // the bounding box of the points and the controls, enlarged by margin * diagonal per side
-  Eigen::RowVectorXd lo = V.colwise().minCoeff(), hi = V.colwise().maxCoeff();
+  // A frame from the points alone (the controls, then X), so that the corners rotate,
+  // translate and scale with them: see the header.
+  const Index nv = V.rows(), n = nv + X.rows();
+  const auto point = [&](Index i) -> Eigen::RowVectorXd { return i < nv ? V.row(i) : X.row(i - nv); };
+  Eigen::RowVectorXd c = V.colwise().sum();
   if (X.rows() > 0)
+    c += X.colwise().sum();
+  c /= static_cast<double>(n);
+  Eigen::MatrixXd P(n, dim); // centred
+  for (Index i = 0; i < n; ++i)
+    P.row(i) = point(i) - c;
+  // The lowest index whose squared residual is within a relative 1e-9 of the largest.
+  const auto farthest = [&](const Eigen::VectorXd& r2, double* largest) {
+    *largest = r2.maxCoeff();
+    Index i = 0;
+    while (r2[i] < (1.0 - 1e-9) * *largest)
+      ++i;
+    return i;
+  };
+  double r_max = 0.0;
+  const Index i1 = farthest(P.rowwise().squaredNorm(), &r_max);
+  if (!(r_max > 0.0))
+    throw Error(ErrorCode::InvalidArgument,
+      "the control points and the points all coincide at " + detail::format_row(V, 0) +
+        ": no hull points can be placed around them");
+  Eigen::MatrixXd E(dim, dim); // columns: the axes
+  E.col(0) = P.row(i1).transpose() / std::sqrt(r_max);
+  if (dim == 2)
+    E.col(1) << -E(1, 0), E(0, 0);
+  else
   {
-    lo = lo.cwiseMin(X.colwise().minCoeff());
-    hi = hi.cwiseMax(X.colwise().maxCoeff());
+    const Eigen::MatrixXd R = P - (P * E.col(0)) * E.col(0).transpose(); // off the line
+    double d_max = 0.0;
+    const Index i2 = farthest(R.rowwise().squaredNorm(), &d_max);
+    Eigen::Vector3d e2;
+    if (d_max > 1e-24 * r_max)
+      e2 = R.row(i2).transpose();
+    else
+    {
+      // all on one line: no direction off it to take from the points
+      Eigen::Index axis = 0;
+      E.col(0).cwiseAbs().minCoeff(&axis);
+      e2 = Eigen::Vector3d::Unit(axis) - E(axis, 0) * Eigen::Vector3d(E.col(0));
+    }
+    E.col(1) = e2.normalized();
+    E.col(2) = Eigen::Vector3d(E.col(0)).cross(Eigen::Vector3d(E.col(1)));
   }
+  const Eigen::MatrixXd T = P * E; // coordinates in the frame
+  Eigen::RowVectorXd lo = T.colwise().minCoeff(), hi = T.colwise().maxCoeff();
   const double pad = options.hull_margin * (hi - lo).norm();
   lo.array() -= pad;
   hi.array() += pad;
   const Index corners = Index(1) << dim;
   Points H(corners, dim);
   for (Index k = 0; k < corners; ++k)
+  {
+    Eigen::VectorXd t(dim);
     for (int j = 0; j < dim; ++j)
-      H(k, j) = (k >> j) & 1 ? hi[j] : lo[j];
+      t[j] = (k >> j) & 1 ? hi[j] : lo[j];
+    H.row(k) = c + (E * t).transpose();
+  }
   return H;
 }
 
@@ -1298,7 +1346,7 @@ CelestialResult CelestialCoordinates::Impl::compute(const Points& Xin,
     return r;
   };
   const bool auto_hull = opt.hull_points == CelestialHullPoints::Auto;
-  if (auto_hull && flat)
+  if ((auto_hull && flat) || opt.hull_points == CelestialHullPoints::Always)
     return with_hull_points();
 
   CelestialResult result;

@@ -78,11 +78,13 @@ enum class CelestialOutsidePolicy
 };
 
 /// Control points added so that the query points are strictly inside the controls' convex
-/// hull (§6: "which can always be ensured adding, if necessary, more control points").
+/// hull (§6: "which can always be ensured adding, if necessary, more control points"). The
+/// values are stable (the filters store them by value).
 enum class CelestialHullPoints
 {
-  None, ///< the controls as given
-  Auto  ///< hull points added when a query point is not strictly inside (margin: hull_margin)
+  None = 0,  ///< the controls as given
+  Auto = 1,  ///< hull points added only when needed: some query point is not strictly inside
+  Always = 2 ///< hull points always added (the same columns whatever the points)
 };
 
 /// Where a query point lies relative to the hull, finer than PointLocation (which maps Inside
@@ -131,23 +133,25 @@ struct CelestialOptions
   bool warm_start = true;
   /// Policy for points outside the convex hull.
   CelestialOutsidePolicy outside = CelestialOutsidePolicy::Error;
-  /// Hull points added automatically (§6: "which can always be ensured adding, if necessary,
-  /// more control points"; the paper's organs use "eight external points"). With Auto, when
-  /// some query point is outside the controls' hull or on it (within boundary_tolerance;
-  /// points at a control do not count), compute() adds the 2^dim corners of the query points'
-  /// and the controls' bounding box, enlarged by hull_margin times its diagonal on every side,
-  /// as controls #C .. #C + 2^dim - 1 (CelestialResult::added_controls, corner k has the
-  /// maximum in axis j iff bit j of k is set), and solves with all of them: every query point is
-  /// then strictly inside (hull_margin > 0) and gets positive weights. They stay where they
-  /// are when the user's controls move. With Auto the controls may also be fewer than dim + 1
-  /// or flat (a line, a plane): the corners are then always added. TCC gives them s_i = 0.
-  /// Default None (the controls as given; points outside are an error or NaN rows, see
-  /// outside): added columns change the weights' shape and the corners, being axis-aligned,
-  /// make the weights depend on the rotation of the scene, so users opt in.
+  /// Hull points (§6: "which can always be ensured adding, if necessary, more control
+  /// points"; the paper's organs use "eight external points"). With Auto, when some query point
+  /// is not strictly inside the controls' hull (outside it, or on it within boundary_tolerance;
+  /// points at a control do not count), compute() adds the 2^dim corners of an oriented box
+  /// around the query points and the controls (hull_points_for), enlarged by hull_margin times
+  /// its diagonal on every side, as controls #C .. #C + 2^dim - 1
+  /// (CelestialResult::added_controls), and solves with all of them: every query point is then
+  /// strictly inside and gets positive weights. When every point is strictly inside, nothing is
+  /// added and the result is bitwise that of None. Always adds the corners in any case. The box
+  /// is placed from the points alone (no coordinate axes), so the weights stay invariant under
+  /// rotations, translations and uniform scaling of the whole scene. The corners stay where
+  /// they are when the user's controls move. With Auto or Always the controls may also be fewer
+  /// than dim + 1 or flat (a line, a plane): the corners are then always added. TCC gives them
+  /// s_i = 0. Default None here (the paper's domain: points outside are an error or NaN rows,
+  /// see outside); the front ends' default is Auto (core/coordinates/weight_methods.h).
   CelestialHullPoints hull_points = CelestialHullPoints::None;
-  /// Margin of the added hull points, relative to the bounding-box diagonal of the query points
-  /// and the controls, in [0, 10]. Default 0.1. With 0 the extreme points lie on the added
-  /// hull's faces (face coordinates, some weights 0).
+  /// Margin of the added hull points, relative to the diagonal of the oriented box around the
+  /// query points and the controls (hull_points_for), in [1e-6, 10] (> 0, so that every point
+  /// is strictly inside the added corners' box). Default 0.1.
   double hull_margin = 0.1;
   /// If true, compute() throws Error(NotConverged) naming the points that did not converge and
   /// their residuals; if false they get NaN rows and are listed in CelestialResult::not_converged.
@@ -164,7 +168,7 @@ struct CelestialOptions
 };
 
 /// Result of compute(). WeightsResult's fields: W (#P by #C + #A, #A the added hull points
-/// of CelestialHullPoints::Auto in added_controls, their columns last; rows of outside and
+/// of CelestialHullPoints::Auto / Always in added_controls, their columns last; rows of outside and
 /// non-converged points are NaN), location (#P: hull_location as a PointLocation), undefined
 /// (outside and not_converged, merged, ascending), converged (not_converged is empty) and the
 /// statistics, in this order: hull_facets, newton_iterations (total_iterations),
@@ -243,11 +247,22 @@ public:
   const Points& controls() const noexcept;
   const CelestialOptions& options() const noexcept;
   /// Number of facets (distinct supporting planes) of the controls' convex hull (0 when the
-  /// controls span no interior, allowed with CelestialHullPoints::Auto only).
+  /// controls span no interior, allowed with CelestialHullPoints::Auto or Always only).
   Index num_hull_facets() const noexcept;
-  /// The hull points CelestialHullPoints::Auto adds for the query points @p X (the 2^dim
-  /// corners of the enlarged bounding box of X and the controls, see hull_points), whether or
-  /// not compute() needs them.
+  /// The hull points CelestialHullPoints::Auto / Always add for the query points @p X (#P by
+  /// dim), whether or not compute() needs them: the 2^dim corners of a box around the controls
+  /// and X, in a frame built from these points alone. With P the controls then X and c their
+  /// centroid: axis e1 points from c to the point farthest from c; in 3D e2 points to the point
+  /// farthest from the line (c, e1), made orthogonal to e1, and e3 = e1 x e2; in 2D e2 is e1
+  /// turned by +90 degrees. Ties (distances within a relative 1e-9 of the largest) go to the
+  /// lowest index, so that symmetric sets (a cube's corners) give the same frame after a
+  /// rotation. The box spans P's extent along each axis, enlarged on every side by hull_margin
+  /// times its diagonal; corner k lies at the maximum along e_j iff bit j of k is set. The
+  /// corners therefore rotate, translate and scale with the scene, and so the weights do not
+  /// change. Exception: 3D points all on one line get e2 from the coordinate axis least aligned
+  /// with e1 (any roll about the line encloses them).
+  /// @throws Error(SizeMismatch) for X not #P by dim, Error(NonFinite) for a non-finite
+  ///   coordinate, Error(InvalidArgument) when the controls and X all coincide (no box).
   Points hull_points_for(const Points& X) const;
 
 private:

@@ -56,7 +56,7 @@ WeightsResult compute_in_settings_words(
     const SettingField& hull_points = setting_field("celestial_hull_points");
     throw Error(e.code(), e.message(),
       hull ? "add control points around the model (the paper adds the corners of a box): set " +
-          hull_points.property + " (" + hull_points.primary_flag() + ") to auto to add them, or " +
+          hull_points.property + " (" + hull_points.primary_flag() + ") to auto (the default) to add them, or " +
           set + "nan to get NaN rows for them"
            : set + "nearest to clamp them to the mesh or nan to mark them");
   }

@@ -207,11 +207,14 @@ std::vector<SettingField> make_fields()
   }
   {
     SettingField f = choice_field(&WeightsSettings::celestial_hull_points,
-      { CelestialHullPoints::None, CelestialHullPoints::Auto }, { "none", "auto" });
+      { CelestialHullPoints::None, CelestialHullPoints::Auto, CelestialHullPoints::Always },
+      { "none", "auto", "always" });
     describe(f, "celestial_hull_points", "--hull-points", "CelestialHullPoints",
       "Hull points", celestial_group,
-      "control points added so that every point is strictly inside the controls' convex hull "
-      "(§6): none | auto",
+      "control points added around the model so that every point is strictly inside the "
+      "controls' convex hull (§6; the 4 / 8 corners of a box oriented by the points, so the "
+      "weights stay rotation invariant): auto (only when some point is not strictly inside) | "
+      "always | none",
       { MethodId::TCelestial, MethodId::SCelestial });
     fields.push_back(f);
   }
@@ -219,10 +222,10 @@ std::vector<SettingField> make_fields()
     SettingField f = number_field(&WeightsSettings::celestial_hull_margin);
     describe(f, "celestial_hull_margin", "--hull-margin", "CelestialHullMargin", "Hull margin",
       celestial_group,
-      "margin of the added hull points, relative to the bounding-box diagonal of the points and "
-      "the controls",
+      "margin of the added hull points, relative to the diagonal of the box around the points "
+      "and the controls (> 0)",
       { MethodId::TCelestial, MethodId::SCelestial });
-    fields.push_back(range(f, 0.0, 10.0));
+    fields.push_back(range(f, 1e-6, 10.0));
   }
   {
     SettingField f = choice_field(&WeightsSettings::lbc_locality,

@@ -103,7 +103,10 @@ struct WeightsSettings
   // celestial coordinates
   double lambda = 2.0;              ///< SCC wrapping-sphere parameter (CelestialOptions')
   std::vector<double> user_weights; ///< TCC s_i, one per control point; empty: none (Eq. 7)
-  CelestialHullPoints celestial_hull_points = CelestialOptions{}.hull_points;
+  // celestial hull points: the front ends' default is Auto (added only when some point is not
+  // strictly inside the controls' hull, so nothing changes for points inside), not
+  // CelestialOptions' None
+  CelestialHullPoints celestial_hull_points = CelestialHullPoints::Auto;
   double celestial_hull_margin = CelestialOptions{}.hull_margin;
   // local barycentric coordinates (LBCOptions' defaults: the paper's)
   LocalityFunction lbc_locality = LBCOptions{}.locality;

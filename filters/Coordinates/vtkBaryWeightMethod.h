@@ -94,8 +94,9 @@ public:
   /// Celestial coordinates: hull points added (§6), choices of "celestial_hull_points".
   enum CelestialHullPointsModes
   {
-    HULL_POINTS_NONE = 0, ///< the controls as given
-    HULL_POINTS_AUTO = 1  ///< added when a point is not strictly inside the controls' hull
+    HULL_POINTS_NONE = 0,  ///< the controls as given
+    HULL_POINTS_AUTO = 1,  ///< the default: added only when a point is not strictly inside the controls' hull
+    HULL_POINTS_ALWAYS = 2 ///< always added (the same components whatever the points)
   };
 
   /// LBC: the stopping rule, choices of "lbc_stopping".
@@ -176,6 +177,7 @@ public:
   }
   void SetCelestialHullPointsToNone() { this->SetCelestialHullPoints(HULL_POINTS_NONE); }
   void SetCelestialHullPointsToAuto() { this->SetCelestialHullPoints(HULL_POINTS_AUTO); }
+  void SetCelestialHullPointsToAlways() { this->SetCelestialHullPoints(HULL_POINTS_ALWAYS); }
   void SetCelestialHullMargin(double v) { this->SetSetting("celestial_hull_margin", v); }
   double GetCelestialHullMargin() const { return this->GetSetting("celestial_hull_margin"); }
   void SetLBCLocality(int v) { this->SetSetting("lbc_locality", v); }

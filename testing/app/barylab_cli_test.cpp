@@ -23,10 +23,12 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <regex>
 #include <sstream>
 #include <string>
 #include <sys/wait.h>
+#include <vector>
 
 namespace fs = std::filesystem;
 
@@ -602,8 +604,8 @@ TEST_F(CLI, HarmonicOutsidePolicies)
   EXPECT_EQ(refused.output.find("::"), std::string::npos) << refused.output;
   EXPECT_FALSE(fs::exists(out("h.vtp")));
   // celestial coordinates: outside the control points' hull (CelestialOutsidePolicy::Flag before)
-  const CommandResult hull = run("weights --method scc --control-points " + data("cage2d.obj") +
-    " --points " + data("cage2d_posed.obj") + " --output " + out("s.vtp"));
+  const CommandResult hull = run("weights --method scc --hull-points none --control-points " +
+    data("cage2d.obj") + " --points " + data("cage2d_posed.obj") + " --output " + out("s.vtp"));
   ExpectError(hull, "outside the convex hull");
   ExpectError(hull, "set OutsidePolicy (--outside) to nan");
   EXPECT_EQ(hull.output.find("::"), std::string::npos) << hull.output;
@@ -918,8 +920,11 @@ TEST_F(CLI, CelestialWeightsAndDeformationOfTheHeart)
   EXPECT_GT(MaxPointDifference(out("a.vtp"), data("heart.off")), 0.02) << "systole moves the heart";
 }
 
-// Hull points (--hull-points auto, the paper's §6): a heart far larger than a small control
-// set. The weights get the 8 corners' columns last and their positions in the field data;
+// Hull points (--hull-points auto, the default, the paper's §6): a heart far larger than a small
+// control set. With none it is an error naming the flag and nothing is written. The weights get
+// the 8 corners' columns last and their positions in the field data (the corners of a box holding
+// the heart and the controls 0.1 of its diagonal inside); `always` adds them for the controls'
+// own points too, `auto` does not;
 // `deform` moves the 5 given controls and keeps the corners: the rest pose reproduces the heart,
 // a translation of the controls by (d, 0, 0) moves every point by its controls' share of d,
 // strictly between 0 and d (the corners hold it), the same with weights computed or reused.
@@ -935,9 +940,10 @@ TEST_F(CLI, CelestialHullPointsInWeightsAndDeform)
     }
   }
   const std::string base = "--method scc --control-points " + out("small.obj") + " --points " + data("heart.off");
-  ExpectError(run("weights " + base + " --output " + out("none.vtp")), "(--hull-points) to auto");
-  const CommandResult w = run("weights " + base + " --hull-points auto --output " + out("w.vtp") +
-    " --json " + out("w.json"));
+  ExpectError(run("weights " + base + " --hull-points none --output " + out("none.vtp")),
+    "(--hull-points) to auto (the default)");
+  EXPECT_FALSE(fs::exists(out("none.vtp")));
+  const CommandResult w = run("weights " + base + " --output " + out("w.vtp") + " --json " + out("w.json"));
   ASSERT_EQ(w.code, 0) << w.output;
   EXPECT_NE(w.output.find("5 free control points (3D, 8 hull points added)"), std::string::npos) << w.output;
   const WeightCheck c = CheckWeights(out("w.vtp"));
@@ -953,20 +959,65 @@ TEST_F(CLI, CelestialHullPointsInWeightsAndDeform)
   EXPECT_EQ(s["solver"]["hull_points_added"].get<double>(), 8.0);
   ASSERT_EQ(s["added_control_points"].size(), 8u);
   EXPECT_EQ(s["added_control_points"][7][0].get<double>(), added->GetComponent(7, 0));
-  // the corners enclose the heart and the controls, 0.1 of the diagonal beyond their box
+  // the corners: a box (corner k = corner 0 + the edges of k's bits, orthogonal edges) holding
+  // every heart vertex and control at least pad inside each face, the nearest exactly pad, with
+  // pad = 0.1 times the diagonal of the box without it
   auto heart = vtkBaryDataIO::Read(data("heart.off"));
-  double b[6];
-  heart->GetBounds(b);
+  std::vector<std::array<double, 3>> inner;
+  for (vtkIdType p = 0; p < heart->GetNumberOfPoints(); ++p)
+  {
+    std::array<double, 3> x;
+    heart->GetPoint(p, x.data());
+    inner.push_back(x);
+  }
+  for (const auto& control : v)
+    inner.push_back({ control[0], control[1], control[2] });
+  double h[8][3], e[3][3], length[3], slack[3][2];
+  for (vtkIdType k = 0; k < 8; ++k)
+    added->GetTuple(k, h[k]);
+  for (int j = 0; j < 3; ++j)
+    for (int i = 0; i < 3; ++i)
+      e[j][i] = h[1 << j][i] - h[0][i];
+  double diag = 0.0; // of the corners' box
+  for (int i = 0; i < 3; ++i)
+    diag += std::pow(h[7][i] - h[0][i], 2);
+  diag = std::sqrt(diag);
+  for (int k = 0; k < 8; ++k)
+    for (int i = 0; i < 3; ++i)
+      EXPECT_NEAR(h[k][i], h[0][i] + ((k & 1) ? e[0][i] : 0) + ((k & 2) ? e[1][i] : 0) + ((k & 4) ? e[2][i] : 0),
+        1e-12 * diag);
+  for (int a = 0; a < 3; ++a)
+    for (int b = a + 1; b < 3; ++b)
+      EXPECT_NEAR(e[a][0] * e[b][0] + e[a][1] * e[b][1] + e[a][2] * e[b][2], 0.0, 1e-12 * diag * diag);
   for (int j = 0; j < 3; ++j)
   {
-    b[2 * j] = std::min(b[2 * j], 0.0);
-    b[2 * j + 1] = std::max(b[2 * j + 1], 0.2);
+    length[j] = std::sqrt(e[j][0] * e[j][0] + e[j][1] * e[j][1] + e[j][2] * e[j][2]);
+    slack[j][0] = slack[j][1] = std::numeric_limits<double>::infinity();
+    for (const auto& x : inner)
+    {
+      const double t =
+        ((x[0] - h[0][0]) * e[j][0] + (x[1] - h[0][1]) * e[j][1] + (x[2] - h[0][2]) * e[j][2]) / length[j];
+      slack[j][0] = std::min(slack[j][0], t);
+      slack[j][1] = std::min(slack[j][1], length[j] - t);
+    }
   }
-  const double diag = std::sqrt(std::pow(b[1] - b[0], 2) + std::pow(b[3] - b[2], 2) + std::pow(b[5] - b[4], 2));
-  for (vtkIdType k = 0; k < 8; ++k)
-    for (int j = 0; j < 3; ++j)
-      EXPECT_NEAR(std::abs(added->GetComponent(k, j) - 0.5 * (b[2 * j] + b[2 * j + 1])),
-        0.5 * (b[2 * j + 1] - b[2 * j]) + 0.1 * diag, 1e-9 * diag);
+  const double pad = 0.1 *
+    std::sqrt(std::pow(length[0] - 2 * slack[0][0], 2) + std::pow(length[1] - 2 * slack[0][0], 2) +
+      std::pow(length[2] - 2 * slack[0][0], 2));
+  for (int j = 0; j < 3; ++j)
+    for (int side = 0; side < 2; ++side)
+      EXPECT_NEAR(slack[j][side], pad, 1e-9 * diag) << "axis " << j << " side " << side;
+  // auto adds nothing for points strictly inside the controls' hull; always adds the corners
+  {
+    std::ofstream inside(out("inside.obj"));
+    inside << "v 0.05 0.05 0.05\nv 0.08 0.04 0.03\n";
+  }
+  const std::string small = "weights --method scc --control-points " + out("small.obj") + " --points " +
+    out("inside.obj") + " -q --output ";
+  ASSERT_EQ(run(small + out("auto.vtp")).code, 0);
+  EXPECT_EQ(CheckWeights(out("auto.vtp")).components, 5);
+  ASSERT_EQ(run(small + out("always.vtp") + " --hull-points always").code, 0);
+  EXPECT_EQ(CheckWeights(out("always.vtp")).components, 5 + 8);
   // deform: the rest pose, then the controls translated
   ASSERT_EQ(run("deform " + base + " --hull-points auto --deformed-control-points " + out("small.obj") +
               " --output " + out("rest.vtp")).code, 0);
@@ -1033,9 +1084,9 @@ TEST_F(CLI, CelestialUsageAndInputErrors)
     const CommandResult r = run(args);
     EXPECT_EQ(r.code, 2) << args << "\n" << r.output;
   }
-  // points outside the hull: an error by default, NaN rows with --outside nan
-  ExpectError(run("weights --method scc --control-points " + data("cage2d.obj") + " --points " +
-                data("model3d.off") + " --output " + out("w.vtp")),
+  // points outside the hull: hull points added by default (auto), an error with none
+  ExpectError(run("weights --method scc --hull-points none --control-points " + data("cage2d.obj") +
+                " --points " + data("model3d.off") + " --output " + out("w.vtp")),
     "outside");
   {
     std::ofstream(out("s.txt")) << "# s_i\n1 0 0\n0 0 0 0\n";
@@ -2129,6 +2180,75 @@ TEST_F(CLI, GreenWeightsAndDeformRoundTrip)
   }
   EXPECT_LT(same, 1e-12);
   EXPECT_LT(similarity, 1e-11);
+}
+
+// Hostile input on Green coordinates and celestial hull points: NaN model points, a NaN cage
+// vertex, a cage with a zero-area face (3D) or a zero-length edge (2D), and hull margins <= 0,
+// NaN or too large: each a clear error naming the problem (exit 1; 2 for a flag's value out of
+// range), no output file.
+TEST_F(CLI, GreenAndHullPointsHostileInput)
+{
+  // a unit cube with a vertex M at the middle of edge 0-1 and the zero-area face (0, 1, M)
+  {
+    std::ofstream cube(out("flatface.obj"));
+    cube << "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nv 0 0 1\nv 1 0 1\nv 0 1 1\nv 1 1 1\nv 0.5 0 0\n"
+            "f 1 3 2\nf 2 3 4\nf 5 6 7\nf 6 8 7\nf 1 2 9\nf 2 6 9\nf 6 5 9\nf 5 1 9\n"
+            "f 3 7 4\nf 4 7 8\nf 1 5 3\nf 3 5 7\nf 2 4 6\nf 4 8 6\n";
+    std::ofstream inside(out("inside3d.obj"));
+    inside << "v 0.5 0.5 0.5\nv 0.2 0.3 0.4\n";
+  }
+  ExpectError(run("weights --method green --cage " + out("flatface.obj") + " --points " +
+                out("inside3d.obj") + " --output " + out("x.vtp")),
+    "zero area");
+  EXPECT_FALSE(fs::exists(out("x.vtp")));
+  // 2D: the gingerbread cage with vertex 3 repeated (a zero-length edge)
+  {
+    std::ifstream in(data("cage2d.obj"));
+    std::ofstream dup(out("dup2d.obj"));
+    std::string line;
+    int k = 0;
+    while (std::getline(in, line))
+    {
+      dup << line << "\n";
+      if (line.rfind("v ", 0) == 0 && k++ == 3)
+        dup << line << "\n";
+    }
+  }
+  const CommandResult dup = run("weights --method green --cage " + out("dup2d.obj") + " --points " +
+    data("model2d.obj") + " --output " + out("x.vtp"));
+  ExpectError(dup, "coincide");
+  EXPECT_FALSE(fs::exists(out("x.vtp")));
+  // NaN model points and a NaN cage vertex (written by VTK, read back as NaN)
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  {
+    auto model = vtkBaryDataIO::Read(data("model2d.obj"));
+    vtkPointSet::SafeDownCast(model)->GetPoints()->SetPoint(5, nan, 0.1, 0.0);
+    vtkBaryDataIO::Write(model, out("nanmodel.vtp"));
+    auto cage = vtkBaryDataIO::Read(data("cage2d.obj"));
+    vtkPointSet::SafeDownCast(cage)->GetPoints()->SetPoint(2, 0.45, nan, 0.0);
+    vtkBaryDataIO::Write(cage, out("nancage.vtp"));
+  }
+  ExpectError(run("weights --method green --cage " + data("cage2d.obj") + " --points " +
+                out("nanmodel.vtp") + " --output " + out("x.vtp")),
+    "point 5");
+  ExpectError(run("weights --method green --cage " + out("nancage.vtp") + " --points " +
+                data("model2d.obj") + " --output " + out("x.vtp")),
+    "non-finite");
+  ExpectError(run("deform --method green --cage " + data("cage2d.obj") + " --deformed-cage " +
+                out("nancage.vtp") + " --points " + data("model2d.obj") + " --output " + out("x.vtp")),
+    "non-finite");
+  EXPECT_FALSE(fs::exists(out("x.vtp")));
+  // hull margins out of range: a command-line error (exit 2) naming the flag
+  const std::string scc = "weights --method scc --control-points " + data("cage2d.obj") +
+    " --points " + data("cage2d_posed.obj") + " --output " + out("x.vtp") + " --hull-margin ";
+  for (const std::string margin : { "0", "-0.5", "nan", "inf", "11" })
+  {
+    const CommandResult r = run(scc + margin);
+    EXPECT_EQ(r.code, 2) << margin << "\n" << r.output;
+    EXPECT_NE(r.output.find("--hull-margin"), std::string::npos) << r.output;
+  }
+  EXPECT_FALSE(fs::exists(out("x.vtp")));
+  EXPECT_EQ(run(scc + "1e-6 -q").code, 0) << "the smallest margin is accepted";
 }
 
 TEST_F(CLI, GreenDeformation3DAndBadCages)

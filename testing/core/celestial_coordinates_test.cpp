@@ -27,6 +27,7 @@
 #include "statistics_matchers.h"
 
 #include <Eigen/Geometry>
+#include <Eigen/QR>
 
 #include <gtest/gtest.h>
 
@@ -1093,23 +1094,65 @@ TEST(Celestial, MoveAndAccessors)
 // ------------------------------------------------------------------------------------------
 // Hull points (CelestialHullPoints::Auto, §6) and warm starts from a given solution.
 
-/// The 2^dim corners of the bounding box of X and V enlarged by margin * its diagonal, corner k
-/// at the maximum in axis j iff bit j of k is set (computed here independently of the library).
-Points expected_hull_points(const Points& V, const Points& X, double margin)
+/// Checks, independently of the library's construction, that H (2^dim rows) are the corners of
+/// a box (corner k = H(0) + the edges of the set bits of k, the edges mutually orthogonal)
+/// that holds every row of V and X at least pad from each face, with pad = margin times the
+/// diagonal of the box without it, and that the box is tight: along every edge some point lies
+/// exactly pad from each of its two faces. Returns an empty string or what failed.
+std::string check_hull_box(const Points& V, const Points& X, const Points& H, double margin)
 {
   const int dim = static_cast<int>(V.cols());
-  Eigen::RowVectorXd lo(dim), hi(dim);
+  if (H.rows() != (Index(1) << dim) || H.cols() != dim)
+    return "H is not 2^dim by dim";
+  const double scale = diameter(H);
+  const double tol = 1e-12 * scale;
+  Points E(dim, dim); // row j: the edge of bit j
+  for (int j = 0; j < dim; ++j)
+    E.row(j) = H.row(Index(1) << j) - H.row(0);
+  for (Index k = 0; k < H.rows(); ++k)
+  {
+    Eigen::RowVectorXd corner = H.row(0);
+    for (int j = 0; j < dim; ++j)
+      if ((k >> j) & 1)
+        corner += E.row(j);
+    if ((corner - H.row(k)).norm() > tol)
+      return "corner " + std::to_string(k) + " is not H(0) plus its edges";
+  }
+  for (int i = 0; i < dim; ++i)
+    for (int j = i + 1; j < dim; ++j)
+      if (std::abs(E.row(i).dot(E.row(j))) > 1e-12 * scale * scale)
+        return "edges " + std::to_string(i) + " and " + std::to_string(j) + " are not orthogonal";
+  Points P(V.rows() + X.rows(), dim);
+  P << V, X;
+  Eigen::VectorXd length(dim), low(dim), high(dim); // the edge lengths, the least slacks
   for (int j = 0; j < dim; ++j)
   {
-    lo[j] = std::min(V.col(j).minCoeff(), X.col(j).minCoeff());
-    hi[j] = std::max(V.col(j).maxCoeff(), X.col(j).maxCoeff());
+    length[j] = E.row(j).norm();
+    const Eigen::VectorXd t = (P.rowwise() - H.row(0)) * E.row(j).transpose() / length[j];
+    low[j] = t.minCoeff();
+    high[j] = length[j] - t.maxCoeff();
   }
-  const double pad = margin * std::sqrt((hi - lo).squaredNorm());
-  Points H(1 << dim, dim);
-  for (int k = 0; k < (1 << dim); ++k)
+  const double pad = margin * (length.array() - 2.0 * low[0]).matrix().norm();
+  for (int j = 0; j < dim; ++j)
+    if (std::abs(low[j] - pad) > tol || std::abs(high[j] - pad) > tol)
+      return "axis " + std::to_string(j) + ": slacks " + std::to_string(low[j]) + ", " +
+        std::to_string(high[j]) + " instead of " + std::to_string(pad);
+  return "";
+}
+
+/// A random rotation (Gram-Schmidt of a Gaussian matrix, determinant +1).
+Eigen::MatrixXd random_rotation(int dim, unsigned seed)
+{
+  std::mt19937_64 rng(seed);
+  std::normal_distribution<double> N(0.0, 1.0);
+  Eigen::MatrixXd A(dim, dim);
+  for (int i = 0; i < dim; ++i)
     for (int j = 0; j < dim; ++j)
-      H(k, j) = (k >> j) & 1 ? hi[j] + pad : lo[j] - pad;
-  return H;
+      A(i, j) = N(rng);
+  Eigen::MatrixXd Q = Eigen::HouseholderQR<Eigen::MatrixXd>(A).householderQ();
+  if (Q.determinant() < 0.0)
+    Q.col(0) *= -1.0;
+  return Q;
 }
 
 // A model far outside a small control set: with Auto every point gets positive weights over the
@@ -1129,9 +1172,18 @@ TEST(CelestialHullPoints, ModelFarOutsideASmallControlSet)
         ErrorCode::PointsOutside, { "59 of 60 points lie outside", "points 1, 2, 3" }));
       o.hull_points = CelestialHullPoints::Auto;
       const CelestialResult r = celestial_coordinates(V, X, o);
-      const Points H = expected_hull_points(V, X, 0.1);
-      ASSERT_EQ(r.added_controls.rows(), 1 << dim);
-      EXPECT_LE((r.added_controls - H).cwiseAbs().maxCoeff(), 1e-12 * diameter(H));
+      const Points H = r.added_controls;
+      ASSERT_EQ(H.rows(), 1 << dim);
+      EXPECT_EQ(check_hull_box(V, X, H, 0.1), "") << "dim " << dim;
+      // the box's first edge points along the direction from the centroid of the controls and
+      // the points to the one farthest from it (the documented frame)
+      Points P(V.rows() + X.rows(), dim);
+      P << V, X;
+      const Points centred = P.rowwise() - P.colwise().mean();
+      Index far = 0;
+      centred.rowwise().squaredNorm().maxCoeff(&far);
+      const Eigen::RowVectorXd e1 = (H.row(1) - H.row(0)).normalized();
+      EXPECT_NEAR(e1.dot(centred.row(far).normalized()), 1.0, 1e-12);
       ASSERT_EQ(r.W.cols(), V.rows() + H.rows());
       EXPECT_EQ(r.statistic("hull_points_added"), static_cast<double>(H.rows()));
       EXPECT_TRUE(r.outside.empty());
@@ -1160,61 +1212,107 @@ TEST(CelestialHullPoints, OnlyWhenAPointIsNotStrictlyInside)
   EXPECT_EQ(automatic.added_controls.rows(), 0);
   EXPECT_EQ(automatic.statistic("hull_points_added"), 0.0);
   EXPECT_TRUE(none.W == automatic.W);
+  // Always adds them anyway: other weights, the same reproduction
+  o.hull_points = CelestialHullPoints::Always;
+  const CelestialResult always = celestial_coordinates(V, X, o);
+  ASSERT_EQ(always.added_controls.rows(), 8);
+  EXPECT_EQ(check_hull_box(V, X, always.added_controls, 0.1), "");
+  Points all(V.rows() + 8, 3);
+  all << V, always.added_controls;
+  EXPECT_LE(row_errors(always.W, all, X).repro, kReproTol);
+  EXPECT_GT(row_errors(always.W, all, X).min_w, 0.0);
+  o.hull_points = CelestialHullPoints::Auto;
   X.row(5) << 1.2, 0.3, -0.4; // on the face x = 1.2 of the controls' box
   const CelestialResult on_face = celestial_coordinates(V, X, o);
   EXPECT_EQ(on_face.added_controls.rows(), 8);
   EXPECT_EQ(on_face.hull_location[5], CelestialLocation::Inside);
   EXPECT_GT(on_face.W.row(5).minCoeff(), 0.0);
+  X.row(5) << 1.2 - 1e-9, 0.3, -0.4; // 1e-9 inside: strictly inside, nothing added
+  EXPECT_EQ(celestial_coordinates(V, X, o).added_controls.rows(), 0);
 }
 
-// The margin: the corners lie hull_margin * diagonal beyond the bounding box of the points and
-// the controls (checked for several margins against the distance of every point to the added
-// box); with 0 the extreme points lie on the added hull (Boundary) and still get weights.
+// The hull points rotate, translate and scale with the scene, so the weights do not change
+// (to 1e-10; the coordinates themselves are similarity invariant, SimilarityInvariant): random
+// controls and points partly outside, and a symmetric scene (a cube's corners around an
+// octahedron of controls: every corner is equally far from the centroid, so the frame's ties
+// must be broken the same way after the rotation), in 2D and 3D, both schemes.
+TEST(CelestialHullPoints, RotationTranslationScaleInvariant)
+{
+  for (int dim : { 2, 3 })
+    for (bool symmetric : { false, true })
+    {
+      Points V, X;
+      if (symmetric)
+      {
+        V.setZero(2 * dim, dim); // the cross-polytope of radius 0.5
+        for (int j = 0; j < dim; ++j)
+        {
+          V(2 * j, j) = 0.5;
+          V(2 * j + 1, j) = -0.5;
+        }
+        X = random_controls(dim, 0, 1, true); // the corners of [-1.2, 1.2]^dim
+      }
+      else
+      {
+        V = random_controls(dim, dim + 4, 121u + static_cast<unsigned>(dim), false);
+        X = random_controls(dim, 50, 123, false);
+        X.col(0).array() *= 3.0; // partly outside
+      }
+      const Eigen::MatrixXd R = random_rotation(dim, 125u + static_cast<unsigned>(dim));
+      const Eigen::RowVectorXd t = Eigen::RowVectorXd::LinSpaced(dim, 3.0, -2.0);
+      const double scale = 2.5;
+      const Points V2 = ((V * R.transpose()) * scale).rowwise() + t;
+      const Points X2 = ((X * R.transpose()) * scale).rowwise() + t;
+      for (CelestialScheme scheme : { CelestialScheme::T, CelestialScheme::S })
+      {
+        CelestialOptions o = options_for(scheme);
+        o.hull_points = CelestialHullPoints::Auto;
+        const CelestialResult a = celestial_coordinates(V, X, o);
+        const CelestialResult b = celestial_coordinates(V2, X2, o);
+        ASSERT_EQ(a.added_controls.rows(), 1 << dim);
+        ASSERT_EQ(b.added_controls.rows(), 1 << dim);
+        const Points H2 = ((a.added_controls * R.transpose()) * scale).rowwise() + t;
+        EXPECT_LE((b.added_controls - H2).cwiseAbs().maxCoeff(), 1e-12 * diameter(H2))
+          << "dim " << dim << (symmetric ? " symmetric" : "");
+        EXPECT_LE((a.W - b.W).cwiseAbs().maxCoeff(), 1e-10)
+          << "dim " << dim << (symmetric ? " symmetric" : "");
+        EXPECT_GT(a.W.minCoeff(), 0.0);
+      }
+    }
+}
+
+// The margin: every point and control lies at least hull_margin times the box's diagonal from
+// each face of the added box, and the nearest exactly that (check_hull_box, for several
+// margins); the weights are then positive. A margin <= 0, NaN or > 10 is refused.
 TEST(CelestialHullPoints, MarginRespected)
 {
   const Points V = random_controls(2, 5, 91, false);
   Points X = random_controls(2, 40, 92, false);
   X.col(0).array() *= 4.0; // wider than the controls
-  Eigen::RowVectorXd lo = V.colwise().minCoeff().cwiseMin(X.colwise().minCoeff());
-  Eigen::RowVectorXd hi = V.colwise().maxCoeff().cwiseMax(X.colwise().maxCoeff());
-  const double diag = (hi - lo).norm();
-  for (double margin : { 0.0, 0.05, 0.1, 1.0 })
+  for (double margin : { 1e-6, 0.05, 0.1, 1.0 })
   {
     CelestialOptions o;
     o.hull_points = CelestialHullPoints::Auto;
     o.hull_margin = margin;
     const CelestialResult r = celestial_coordinates(V, X, o);
     ASSERT_EQ(r.added_controls.rows(), 4);
-    const Eigen::RowVectorXd hlo = r.added_controls.colwise().minCoeff();
-    const Eigen::RowVectorXd hhi = r.added_controls.colwise().maxCoeff();
-    double nearest = std::numeric_limits<double>::infinity(); // of a point to the added box
-    for (Index p = 0; p < X.rows(); ++p)
-      for (int j = 0; j < 2; ++j)
-        nearest = std::min({ nearest, X(p, j) - hlo[j], hhi[j] - X(p, j) });
-    EXPECT_NEAR(nearest, margin * diag, 1e-12 * diag) << "margin " << margin;
+    EXPECT_EQ(check_hull_box(V, X, r.added_controls, margin), "") << "margin " << margin;
     Points all(9, 2);
     all << V, r.added_controls;
     const RowErrors e = row_errors(r.W, all, X);
     EXPECT_LE(e.sum, kSumTol);
     EXPECT_LE(e.repro, kReproTol);
-    if (margin > 0.0)
-    {
-      EXPECT_GT(e.min_w, 0.0);
-      EXPECT_EQ(r.boundary, 0);
-    }
-    else
-    {
-      EXPECT_GE(e.min_w, 0.0);
-      EXPECT_GT(r.boundary, 0); // the extreme points of X lie on the box
-    }
+    EXPECT_GT(e.min_w, 0.0);
+    EXPECT_EQ(r.boundary, 0);
   }
-  CelestialOptions bad;
-  bad.hull_margin = -0.1;
-  EXPECT_TRUE(throws_error([&] { CelestialCoordinates c(V, bad); }, ErrorCode::InvalidArgument,
-    { "hull_margin must lie in [0, 10]" }));
-  bad.hull_margin = 11.0;
-  EXPECT_TRUE(throws_error([&] { CelestialCoordinates c(V, bad); }, ErrorCode::InvalidArgument,
-    { "hull_margin must lie in [0, 10]" }));
+  for (double margin : { 0.0, -0.1, std::numeric_limits<double>::quiet_NaN(), 11.0 })
+  {
+    CelestialOptions bad;
+    bad.hull_margin = margin;
+    EXPECT_TRUE(throws_error([&] { CelestialCoordinates c(V, bad); }, ErrorCode::InvalidArgument,
+      { "hull_margin must lie in [1e-6, 10]" }))
+      << margin;
+  }
 }
 
 // With Auto, controls that span no interior (one point, two, on a line or a plane) are accepted:

@@ -132,6 +132,10 @@ TEST(SettingsTable, DefaultsAreTheAlgorithmsAndInRange)
   EXPECT_EQ(s.boundary_tolerance, bary::MeanValueOptions{}.boundary_tolerance);
   EXPECT_EQ(s.lambda, bary::CelestialOptions{}.lambda);
   EXPECT_FALSE(s.bbw_fast) << "the front ends' BBW default is the coupled problem";
+  EXPECT_EQ(s.celestial_hull_points, bary::CelestialHullPoints::Auto)
+    << "the front ends add celestial hull points when needed";
+  EXPECT_EQ(s.celestial_hull_margin, bary::CelestialOptions{}.hull_margin);
+  EXPECT_FALSE(bary::setting_field("celestial_hull_margin").accepts(0.0)) << "a margin must be > 0";
   EXPECT_EQ(s.method, MethodId::MeanValue);
 }
 

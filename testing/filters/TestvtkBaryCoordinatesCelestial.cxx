@@ -15,8 +15,12 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
+#include <limits>
 #include <random>
+#include <vector>
 
 namespace
 {
@@ -141,6 +145,8 @@ TEST(vtkBaryCoordinatesCelestial, OutsidePointsFollowThePolicyAndUserWeightsChan
   auto controls = Controls3D();
   auto points = MakePointCloud({ { 0.1, 0.1, 0.1 }, { 3, 3, 3 } });
   Celestial c(points, controls, vtkBaryWeightMethod::S_CELESTIAL);
+  // the default (hull points auto) would add hull points around the outside point
+  c.Filter->GetWeightMethod()->SetCelestialHullPointsToNone();
   EXPECT_EQ(c.Run(), 0);
   EXPECT_TRUE(c.Observer->HasError("outside")) << c.Observer->AllErrors();
   c.Observer->Clear();
@@ -188,6 +194,10 @@ TEST(vtkBaryCoordinatesCelestial, DegenerateControlsAreNamed)
   // all five in z = 0 up to rounding: read as 2D, which is fine; force 3D to see the error
   Celestial c(MakePointCloud({ { 0.5, 0.5, 0 } }), coplanar, vtkBaryWeightMethod::S_CELESTIAL);
   c.Filter->GetWeightMethod()->SetCageDimension(3);
+  // hull points auto (the default) give flat controls an interior: the 8 corners are added
+  ASSERT_EQ(c.Run(), 1) << c.Observer->AllErrors();
+  EXPECT_EQ(c.Weights()->GetNumberOfComponents(), 5 + 8);
+  c.Filter->GetWeightMethod()->SetCelestialHullPointsToNone();
   EXPECT_EQ(c.Run(), 0);
   EXPECT_TRUE(c.Observer->HasError("plane")) << c.Observer->AllErrors();
   auto twice = MakePointCloud({ { 0, 0, 0 }, { 1, 0, 0 }, { 0, 1, 0 }, { 0, 0, 1 }, { 1, 0, 0 } });
@@ -242,17 +252,23 @@ TEST(vtkBaryCoordinatesCelestial, DeformationByMovedControlPoints)
   EXPECT_EQ(deform->GetNumberOfWeightComputations(), 1);
 }
 
-// Hull points (CelestialHullPoints auto) in 2D at z = 0.5: points far outside three controls get
-// 3 + 4 weights, positive, a partition of unity reproducing them with the added corners, whose
-// positions are the field data AddedControlPoints (z: the controls' plane), the corners of the
-// bounding box enlarged by the margin; rerunning with none drops the array again.
+// Hull points (CelestialHullPoints auto, the default) in 2D at z = 0.5: points far outside three
+// controls get 3 + 4 weights, positive, a partition of unity reproducing them with the added
+// corners, whose positions are the field data AddedControlPoints (z: the controls' plane): a
+// rectangle holding every point and control at least the margin times its diagonal inside, the
+// nearest exactly that; with none the points outside are an error, and with none and NaN rows
+// the array is dropped again; points strictly inside get no hull points.
 TEST(vtkBaryCoordinatesCelestial, HullPointsAreAddedAndReported)
 {
   auto controls = MakePointCloud({ { 0, 0, 0.5 }, { 1, 0, 0.5 }, { 0, 1, 0.5 } });
   auto points = MakePointCloud({ { 3, 2, 0.5 }, { -2, 0.5, 0.5 }, { 0.2, 0.2, 0.5 }, { 1, -4, 0.5 } });
   Celestial c(points, controls, vtkBaryWeightMethod::S_CELESTIAL);
+  EXPECT_EQ(c.Filter->GetWeightMethod()->GetCelestialHullPoints(),
+    vtkBaryWeightMethod::HULL_POINTS_AUTO);
+  c.Filter->GetWeightMethod()->SetCelestialHullPointsToNone();
   EXPECT_EQ(c.Run(), 0) << "outside the hull without hull points";
-  c.Filter->GetWeightMethod()->SetCelestialHullPoints(vtkBaryWeightMethod::HULL_POINTS_AUTO);
+  c.Observer->Clear();
+  c.Filter->GetWeightMethod()->SetCelestialHullPointsToAuto();
   c.Filter->GetWeightMethod()->SetCelestialHullMargin(0.25);
   ASSERT_EQ(c.Run(), 1) << c.Observer->AllErrors();
   vtkDataArray* W = c.Weights();
@@ -262,14 +278,38 @@ TEST(vtkBaryCoordinatesCelestial, HullPointsAreAddedAndReported)
   vtkDataArray* added = out->GetFieldData()->GetArray("AddedControlPoints");
   ASSERT_NE(added, nullptr);
   ASSERT_EQ(added->GetNumberOfTuples(), 4);
-  // the box of points and controls: [-2, 3] x [-4, 2], diagonal sqrt(61)
-  const double pad = 0.25 * std::sqrt(61.0);
+  // a rectangle: corner 3 = corner 0 + both edges, the edges orthogonal
+  double h[4][3];
   for (vtkIdType k = 0; k < 4; ++k)
   {
-    EXPECT_NEAR(added->GetComponent(k, 0), (k & 1) ? 3 + pad : -2 - pad, 1e-12);
-    EXPECT_NEAR(added->GetComponent(k, 1), (k & 2) ? 2 + pad : -4 - pad, 1e-12);
-    EXPECT_EQ(added->GetComponent(k, 2), 0.5);
+    added->GetTuple(k, h[k]);
+    EXPECT_EQ(h[k][2], 0.5);
   }
+  const double e[2][2] = { { h[1][0] - h[0][0], h[1][1] - h[0][1] },
+    { h[2][0] - h[0][0], h[2][1] - h[0][1] } };
+  EXPECT_NEAR(h[3][0], h[0][0] + e[0][0] + e[1][0], 1e-12);
+  EXPECT_NEAR(h[3][1], h[0][1] + e[0][1] + e[1][1], 1e-12);
+  EXPECT_NEAR(e[0][0] * e[1][0] + e[0][1] * e[1][1], 0.0, 1e-12);
+  // every point and control at least pad inside each side, the nearest exactly pad, where pad
+  // is 0.25 times the diagonal of the rectangle without it
+  const std::vector<std::array<double, 2>> all_points = { { 3, 2 }, { -2, 0.5 }, { 0.2, 0.2 },
+    { 1, -4 }, { 0, 0 }, { 1, 0 }, { 0, 1 } };
+  double length[2], slack[2][2];
+  for (int j = 0; j < 2; ++j)
+  {
+    length[j] = std::hypot(e[j][0], e[j][1]);
+    slack[j][0] = slack[j][1] = std::numeric_limits<double>::infinity();
+    for (const auto& p : all_points)
+    {
+      const double t = ((p[0] - h[0][0]) * e[j][0] + (p[1] - h[0][1]) * e[j][1]) / length[j];
+      slack[j][0] = std::min(slack[j][0], t);
+      slack[j][1] = std::min(slack[j][1], length[j] - t);
+    }
+  }
+  const double pad = 0.25 * std::hypot(length[0] - 2 * slack[0][0], length[1] - 2 * slack[0][0]);
+  for (int j = 0; j < 2; ++j)
+    for (int side = 0; side < 2; ++side)
+      EXPECT_NEAR(slack[j][side], pad, 1e-12) << "axis " << j << " side " << side;
   auto all = MakePointCloud({ { 0, 0, 0.5 }, { 1, 0, 0.5 }, { 0, 1, 0.5 } });
   for (vtkIdType k = 0; k < 4; ++k)
     all->GetPoints()->InsertNextPoint(added->GetTuple3(k));
@@ -284,6 +324,15 @@ TEST(vtkBaryCoordinatesCelestial, HullPointsAreAddedAndReported)
   out = vtkDataSet::SafeDownCast(c.Filter->GetOutputDataObject(0));
   EXPECT_EQ(out->GetFieldData()->GetArray("AddedControlPoints"), nullptr);
   EXPECT_EQ(c.Weights()->GetNumberOfComponents(), 3);
+  // strictly inside: auto adds nothing, always adds the 4 corners
+  auto inside = MakePointCloud({ { 0.2, 0.2, 0.5 }, { 0.3, 0.1, 0.5 } });
+  Celestial d(inside, controls, vtkBaryWeightMethod::S_CELESTIAL);
+  ASSERT_EQ(d.Run(), 1) << d.Observer->AllErrors();
+  EXPECT_EQ(d.Weights()->GetNumberOfComponents(), 3);
+  EXPECT_EQ(d.Filter->GetStatistic("hull_points_added"), 0.0);
+  d.Filter->GetWeightMethod()->SetCelestialHullPointsToAlways();
+  ASSERT_EQ(d.Run(), 1) << d.Observer->AllErrors();
+  EXPECT_EQ(d.Weights()->GetNumberOfComponents(), 7);
 }
 
 } // namespace
