@@ -19,6 +19,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstring>
 #include <map>
 #include <string>
 
@@ -67,6 +68,27 @@ int integer_value(vtkDataArray* array, vtkIdType i, const std::string& what)
     throw Error(ErrorCode::InvalidArgument,
       what + " is " + std::to_string(v) + ", not an integer");
   return static_cast<int>(v);
+}
+
+/// The array @p name of @p arrays, nullptr when there is none; an array that is not numeric
+/// (text) or whose tuples do not match the @p count cells / points is an error naming it, never
+/// ignored or read past its end.
+vtkDataArray* numeric_array(vtkFieldData* arrays, const char* name, const std::string& what,
+  vtkIdType count, const char* items)
+{
+  vtkAbstractArray* any = arrays->GetAbstractArray(name);
+  if (!any)
+    return nullptr;
+  vtkDataArray* array = vtkDataArray::SafeDownCast(any);
+  if (!array)
+    throw Error(ErrorCode::InvalidArgument,
+      what + " " + name + " is not numeric (" + any->GetClassName() + "): give one integer per " +
+        std::string(items).substr(0, std::strlen(items) - 1));
+  if (array->GetNumberOfTuples() != count)
+    throw Error(ErrorCode::SizeMismatch,
+      what + " " + name + " has " + std::to_string(array->GetNumberOfTuples()) + " values but there are " +
+        std::to_string(count) + " " + items);
+  return array;
 }
 
 /// Segments (a, b) of a cell: a line's consecutive pairs; a polygon's, closed.
@@ -148,8 +170,10 @@ bary::Skeleton vtkBaryMixedHandles::ToHandles(vtkPolyData* data, int dimension)
         "2D handles must lie in a plane z = const, but their z ranges over [" +
           std::to_string(b[4]) + ", " + std::to_string(b[5]) + "]");
   }
-  vtkDataArray* kinds = data->GetCellData()->GetArray(HandleTypeArrayName());
-  vtkDataArray* region_ids = data->GetCellData()->GetArray(RegionIdArrayName());
+  vtkDataArray* kinds = numeric_array(
+    data->GetCellData(), HandleTypeArrayName(), "the handles' cell array", data->GetNumberOfCells(), "cells");
+  vtkDataArray* region_ids = numeric_array(
+    data->GetCellData(), RegionIdArrayName(), "the handles' cell array", data->GetNumberOfCells(), "cells");
   if (kinds && kinds->GetNumberOfComponents() != 1)
     throw Error(ErrorCode::InvalidArgument,
       std::string("the handles' cell array ") + HandleTypeArrayName() + " must have one component");
@@ -251,7 +275,9 @@ bary::Skeleton vtkBaryMixedHandles::ToHandles(vtkPolyData* data, int dimension)
 
 std::vector<std::vector<int>> vtkBaryMixedHandles::RegionVertices(vtkDataSet* domain)
 {
-  vtkDataArray* array = domain ? domain->GetPointData()->GetArray(HandleRegionArrayName()) : nullptr;
+  vtkDataArray* array = domain ? numeric_array(domain->GetPointData(), HandleRegionArrayName(),
+                                    "the domain's point array", domain->GetNumberOfPoints(), "points")
+                               : nullptr;
   if (!array)
     return {};
   if (array->GetNumberOfComponents() != 1)

@@ -16,6 +16,7 @@
 #include "vtkPointData.h"
 #include "vtkPoints.h"
 #include "vtkPolyData.h"
+#include "vtkStringArray.h"
 #include "vtkUnstructuredGrid.h"
 
 #include <gtest/gtest.h>
@@ -26,6 +27,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <string>
 #include <sys/wait.h>
 
@@ -251,5 +253,119 @@ TEST_F(CLIMixedBBW, BadBrushesAreClearErrors)
   expect_error("weights --method bbw --cage " + out("handles.vtp") + " --shape-preservation paint"
       " --points " + out("mesh.vtu") + " --output " + out("x.vtu"),
     "--shape-preservation is for --method bbw with a domain mesh", 2);
+}
+
+// Hostile handles, regions and brushes: each a clear error naming the problem, exit code 1, no
+// output file (never a crash, a hang or weights computed from a misread file).
+TEST_F(CLIMixedBBW, HostileHandlesRegionsAndBrushesAreClearErrors)
+{
+  auto expect_error = [&](const std::string& args, const std::string& needle) {
+    fs::remove(out("x.vtu"));
+    const Result r = barylab(args + " --output " + out("x.vtu"));
+    EXPECT_EQ(r.code, 1) << args << "\n" << r.output;
+    EXPECT_NE(r.output.find(needle), std::string::npos) << "expected '" << needle << "' in\n"
+                                                        << r.output;
+    EXPECT_FALSE(fs::exists(out("x.vtu")));
+  };
+  const std::string mesh = " --mesh " + out("mesh.vtu");
+  const auto handles_with = [&](const std::string& name, auto edit) {
+    auto h = vtkBaryDataIO::Read(out("handles.vtp"));
+    vtkPolyData* poly = vtkPolyData::SafeDownCast(h);
+    edit(poly);
+    vtkBaryDataIO::Write(poly, out(name));
+    return " --method bbw --fast --handles " + out(name) + mesh;
+  };
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  // a NaN handle point (refused as the file is read)
+  expect_error("weights" + handles_with("nan.vtp", [&](vtkPolyData* h) { h->GetPoints()->SetPoint(4, nan, 0.6, 0); }),
+    "point 4 has a non-finite coordinate");
+  // HandleType: text instead of numbers (ignored before: the region read as a cage), too few
+  // values (fractions and unknown kinds: TestvtkBaryMixedHandles)
+  expect_error("weights" + handles_with("text.vtp", [&](vtkPolyData* h) {
+    h->GetCellData()->RemoveArray("HandleType");
+    vtkNew<vtkStringArray> kind;
+    kind->SetName("HandleType");
+    for (const char* k : { "bone", "cage", "region" })
+      kind->InsertNextValue(k);
+    h->GetCellData()->AddArray(kind);
+  }),
+    "HandleType is not numeric");
+  expect_error("weights" + handles_with("short.vtp", [&](vtkPolyData* h) {
+    vtkNew<vtkIntArray> kind;
+    kind->SetName("HandleType");
+    kind->InsertNextValue(1);
+    h->GetCellData()->AddArray(kind); // replaces the 3-value array
+  }),
+    "Cannot read cell data array \"HandleType\""); // VTK's reader refuses it
+  // RegionId: text (ignored before), NaN
+  expect_error("weights" + handles_with("rtext.vtp", [&](vtkPolyData* h) {
+    vtkNew<vtkStringArray> id;
+    id->SetName("RegionId");
+    for (const char* k : { "a", "b", "c" })
+      id->InsertNextValue(k);
+    h->GetCellData()->AddArray(id);
+  }),
+    "RegionId is not numeric");
+  expect_error("weights" + handles_with("rnan.vtp", [&](vtkPolyData* h) {
+    vtkNew<vtkDoubleArray> id;
+    id->SetName("RegionId");
+    for (double k : { 0.0, 0.0, nan })
+      id->InsertNextValue(k);
+    h->GetCellData()->AddArray(id);
+  }),
+    "handle cell 2's RegionId is nan");
+  // a region with no mesh vertex inside it (a square between the grid's vertices)
+  expect_error("weights" + handles_with("empty.vtp", [&](vtkPolyData* h) {
+    const double square[4][2] = { { 0.11, 0.36 }, { 0.14, 0.36 }, { 0.14, 0.39 }, { 0.11, 0.39 } };
+    for (int k = 0; k < 4; ++k)
+      h->GetPoints()->SetPoint(6 + k, square[k][0], square[k][1], 0);
+  }),
+    "region 0");
+  // the domain's HandleRegion array as text (ignored before)
+  {
+    auto m = vtkBaryDataIO::Read(out("mesh.vtu"));
+    vtkNew<vtkStringArray> region;
+    region->SetName("HandleRegion");
+    region->SetNumberOfValues(m->GetNumberOfPoints());
+    for (vtkIdType i = 0; i < m->GetNumberOfPoints(); ++i)
+      region->SetValue(i, "-1");
+    vtkDataSet::SafeDownCast(m)->GetPointData()->AddArray(region);
+    vtkBaryDataIO::Write(m, out("textregion.vtu"));
+  }
+  expect_error("weights --method bbw --fast --handles " + out("handles.vtp") + " --mesh " +
+      out("textregion.vtu"),
+    "HandleRegion is not numeric");
+  // brushes with NaN or a negative value: from a file and from a point array
+  for (const std::string value : { "nan", "-2" })
+  {
+    {
+      std::ofstream bad(out("brush.txt"));
+      for (int i = 0; i < 441; ++i)
+        bad << (i == 30 ? value : std::string("0")) << "\n";
+    }
+    expect_error("weights" + Inputs() + " --shape-preservation " + out("brush.txt"),
+      value == "-2" ? "negative at vertex 30" : "line 31 holds NaN or infinity");
+    auto m = vtkBaryDataIO::Read(out("mesh.vtu"));
+    vtkDataArray* paint = vtkDataSet::SafeDownCast(m)->GetPointData()->GetArray("paint");
+    paint->SetComponent(30, 0, std::stod(value));
+    vtkBaryDataIO::Write(m, out("badpaint.vtu"));
+    expect_error("weights --method bbw --fast --handles " + out("handles.vtp") + " --mesh " +
+        out("badpaint.vtu") + " --shape-preservation paint",
+      "vertex 30");
+  }
+  // a brush array with 3 components
+  {
+    auto m = vtkBaryDataIO::Read(out("mesh.vtu"));
+    vtkNew<vtkDoubleArray> three;
+    three->SetName("paint");
+    three->SetNumberOfComponents(3);
+    three->SetNumberOfTuples(m->GetNumberOfPoints());
+    three->Fill(0.0);
+    vtkDataSet::SafeDownCast(m)->GetPointData()->AddArray(three);
+    vtkBaryDataIO::Write(m, out("paint3.vtu"));
+  }
+  expect_error("weights --method bbw --fast --handles " + out("handles.vtp") + " --mesh " +
+      out("paint3.vtu") + " --shape-preservation paint",
+    "has 3 components");
 }
 } // namespace

@@ -17,6 +17,7 @@
 #include "vtkCellData.h"
 #include "vtkDoubleArray.h"
 #include "vtkIntArray.h"
+#include "vtkStringArray.h"
 #include "vtkPointData.h"
 #include "vtkPolyData.h"
 #include "vtkUnstructuredGrid.h"
@@ -338,6 +339,23 @@ TEST(vtkBaryMixedHandles, Errors)
   auto handles = mixed_handles_2d();
   vtkIntArray::SafeDownCast(handles->GetCellData()->GetArray("HandleType"))->SetValue(0, 9);
   expect_error(handles, m.Grid, "handle cell 0 has HandleType 9");
+  // HandleType or RegionId with fewer values than cells (never read past their end), or text
+  for (const char* name : { "HandleType", "RegionId" })
+  {
+    handles = mixed_handles_2d();
+    vtkNew<vtkIntArray> one;
+    one->SetName(name);
+    one->InsertNextValue(1);
+    handles->GetCellData()->AddArray(one);
+    expect_error(handles, m.Grid, std::string(name) + " has 1 values but there are 3 cells");
+    handles = mixed_handles_2d();
+    vtkNew<vtkStringArray> text;
+    text->SetName(name);
+    for (int k = 0; k < 3; ++k)
+      text->InsertNextValue("1");
+    handles->GetCellData()->AddArray(text);
+    expect_error(handles, m.Grid, std::string(name) + " is not numeric");
+  }
   handles = mixed_handles_2d();
   vtkIntArray::SafeDownCast(handles->GetCellData()->GetArray("HandleType"))->SetValue(2, 1);
   expect_error(handles, m.Grid, "handle cell 2 is marked a bone");
