@@ -12,6 +12,7 @@
 
 #include <benchmark/benchmark.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <random>
@@ -180,6 +181,42 @@ void BBWHandFast(benchmark::State& state)
   report(state, r, mesh.V.rows(), r.seconds);
 }
 BENCHMARK(BBWHandFast)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1);
+
+/// The page's bind-time table (docs/bounded-biharmonic-weights.md#speed): libigl's decimated
+/// knight (1,822 vertices, 7 bones) and hand (7,234 vertices, 20 bones) with the current
+/// defaults (BBWOptions{}: Voronoi lumping; range(1) = 1 barycentric, to tell the lumping from
+/// the machine's load), range(0) = 0 fast / 1 coupled, one thread, process CPU time.
+void bind_igl(benchmark::State& state, const std::string& name, double radius)
+{
+  const std::string dir = std::string(BARYLAB_SHARED_DIR) + "/igl/";
+  if (!std::filesystem::exists(dir + name + ".mesh"))
+  {
+    state.SkipWithError("shared data not found (../shared/data/igl/)");
+    return;
+  }
+  const auto mesh = bary::test::read_medit_mesh(dir + name + ".mesh");
+  const auto tgf = bary::test::read_tgf(dir + name + ".tgf");
+  const bary::BBWHandles h = radius > 0
+    ? bary::handles_from_skeleton(mesh.V, tgf.C, Eigen::VectorXi(), tgf.E, radius)
+    : bary::handles_from_skeleton(mesh.V, tgf.C, Eigen::VectorXi(), tgf.E);
+  bary::BBWOptions options;
+  options.mode = state.range(0) == 0 ? bary::BBWMode::Fast : bary::BBWMode::Coupled;
+  options.threads = 1;
+  if (state.range(1) == 1)
+    options.mass_lumping = bary::BBWMassLumping::Barycentric;
+  bary::BBWResult r;
+  for (auto _ : state)
+  {
+    r = bary::bounded_biharmonic_weights(mesh.V, mesh.T, h, options);
+    benchmark::DoNotOptimize(r.W.data());
+  }
+  report(state, r, mesh.V.rows(), r.seconds);
+}
+/// The knight's bones sampled as the BBW oracle test does (radius sqrt(1e-7)).
+void BBWKnight(benchmark::State& state) { bind_igl(state, "decimated-knight", std::sqrt(1e-7)); }
+void BBWHand(benchmark::State& state) { bind_igl(state, "hand", 0.0); }
+BENCHMARK(BBWKnight)->ArgsProduct({ { 0, 1 }, { 0, 1 } })->Unit(benchmark::kMillisecond)->MeasureProcessCPUTime()->Iterations(1);
+BENCHMARK(BBWHand)->ArgsProduct({ { 0, 1 }, { 0, 1 } })->Unit(benchmark::kMillisecond)->MeasureProcessCPUTime()->Iterations(1);
 
 /// Pose time: linear blend skinning of range(0) points by range(1) handles, dense weights.
 void Skinning(benchmark::State& state)
