@@ -98,7 +98,7 @@ case "$cmd" in
     with_display ctest --test-dir "$ROOT/build" --output-on-failure -j "$JOBS" --timeout 600 \
       --repeat until-pass:2
     if [ "${BARYLAB_SKIP_ASAN:-0}" != "1" ]; then
-      SANITIZER_SLOW='^(MeanValueCoordinates3D\.MatchesQuadrature(OfTheDefiningIntegral|Outside)|vtkBaryCoordinatesLBC\.BarycentricPropertiesOnTheBundled3DCage|LBC\.MatchesAnIndependentPrimalDualSolver|LBC\.ConvergedRuleIsCloserToATightSolveThanThePapers|Backends/SparseCholeskyBackend\.BiLaplacianWithLargeSupernodes/.*|MixedHandles\.PointBoneOpenCageAndRegionInOneCoupledSolve|Catalogue/SurfaceMeshProperties\.(QualityMeshWithVolumeBound|SteinerPointsInsideAreInsertedExactly)/icosphere320.*|Meshes/LocatorProperties\.AgreesWithBruteForceOverAllElements/.*|vtkBaryCoordinatesLBC\.ResultsDoNotDependOnTheThreadCount|BBWOracle\.FastModeMatchesLibiglsMatlabActiveSetOnTheKnight|GreenCoordinates\.MatchQuadratureOfTheBoundaryIntegrals3D)$'
+      SANITIZER_SLOW='^(MeanValueCoordinates3D\.MatchesQuadrature(OfTheDefiningIntegral|Outside)|vtkBaryCoordinatesLBC\.BarycentricPropertiesOnTheBundled3DCage|LBC\.MatchesAnIndependentPrimalDualSolver|LBC\.ConvergedRuleIsCloserToATightSolveThanThePapers|LBC\.ResidualBalancingReachesTheSameWeightsInFewerIterations|Backends/SparseCholeskyBackend\.BiLaplacianWithLargeSupernodes/.*|MixedHandles\.PointBoneOpenCageAndRegionInOneCoupledSolve|Catalogue/SurfaceMeshProperties\.(QualityMeshWithVolumeBound|SteinerPointsInsideAreInsertedExactly)/icosphere320.*|Meshes/LocatorProperties\.AgreesWithBruteForceOverAllElements/.*|vtkBaryCoordinatesLBC\.ResultsDoNotDependOnTheThreadCount|BBWOracle\.FastModeMatchesLibiglsMatlabActiveSetOnTheKnight|GreenCoordinates\.MatchQuadratureOfTheBoundaryIntegrals3D)$'
       log "AddressSanitizer + UndefinedBehaviorSanitizer build of core and filter tests"
       # -O1 -g1 (line tables): the sanitizers' stack traces keep file:line and the tree builds in
       # about 7.5 min instead of 10 on 2 cores; the test code itself is compiled with -O0 there
@@ -106,6 +106,7 @@ case "$cmd" in
       # slowest under the sanitizers (MVC 3D against quadrature, inside and outside: 54 s; LBC's
       # barycentric properties on the bundled 3D cage: 42 s; LBC against an independent
       # primal-dual solver: 18 s; LBC's converged rule against a tight solve, 2.5 s of CPU in Release;
+      # LBC's residual balancing against the fixed penalty on a 42-control icosphere, 2-5 s;
       # the three sparse Cholesky backends on a large bi-Laplacian:
       # 34 s) run in the Release pass only (SANITIZER_SLOW): smaller tests exercise the same code
       # paths here. So do TetGen's quality meshes of the 320-face icosphere (27 s), the point

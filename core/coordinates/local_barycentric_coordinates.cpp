@@ -328,10 +328,11 @@ struct LocalBarycentricCoordinates::Impl
     RowMatrix r;   ///< #T D by n: r_X = 2 p_X - s_X (shrinkage (30) applied to s_X)
     RowMatrix B;   ///< m by n (2n on checks): right-hand sides, then Z' (and Z^k)
     std::vector<double> sums; ///< per-row partial sums for deterministic reductions
+    double mu = 0.0; ///< the penalty of this computation (Impl::mu, changed by residual balancing)
   };
   /// r_X = 2 prox(s_X) - s_X: the shrinkage (30) per cell and control point.
   template <int N>
-  void reflect_gradients(const RowMatrix& s, RowMatrix& r, int threads) const;
+  void reflect_gradients(const RowMatrix& s, RowMatrix& r, double mu_now, int threads) const;
   /// The Y-update of Appendix B: w.B <- the feasible Z minimising
   /// |a (G Z + E) - r_X|^2 + |b Z - r_W|^2 for r = 2 p - s (columns 0..n-1) and, with
   /// @p with_state, for r = s itself (columns n..2n-1: Z^k of the state).
@@ -445,7 +446,7 @@ void dispatch_columns(Index n, F&& f)
 
 template <int N>
 void LocalBarycentricCoordinates::Impl::reflect_gradients(
-  const RowMatrix& s, RowMatrix& r, int threads) const
+  const RowMatrix& s, RowMatrix& r, double mu_now, int threads) const
 {
   const Index n = N > 0 ? N : nc;
   const int dim = D;
@@ -466,7 +467,7 @@ void LocalBarycentricCoordinates::Impl::reflect_gradients(
         q += Eigen::Map<const Array>(st + k * n, n).square();
       q = q.sqrt(); // Eigen's packet sqrt vectorises (std::sqrt keeps errno and does not)
       // s_X = a x~ with x~ = a x: the threshold of x~ is kappa~ = phi A / (mu a) (Eq. 30).
-      const double inv_mu_a = 1.0 / (mu * a(t));
+      const double inv_mu_a = 1.0 / (mu_now * a(t));
       if (eps <= 0.0)
         f = (q - w * inv_mu_a).max(0.0) / q.max(1e-300); // max(0, 1 - kappa / |s|)
       else
@@ -713,7 +714,7 @@ double LocalBarycentricCoordinates::Impl::step(RowMatrix& s, RowMatrix* g, Work&
     constexpr int N = decltype(columns)::value;
     // 1. p = prox(s): shrinkage (30) per cell and control point, projection (31) per vertex;
     //    kept as r = 2 p - s.
-    reflect_gradients<N>(s, w.r, threads);
+    reflect_gradients<N>(s, w.r, w.mu, threads);
     // 2. Z' = Pi(2 p - s) (and Z^k = Pi(s) on checks without tracking): the Y-update
     if (project_state)
       y_update<N, true>(s, w, threads);
@@ -744,7 +745,7 @@ double LocalBarycentricCoordinates::Impl::step(RowMatrix& s, RowMatrix* g, Work&
   if (check)
   {
     check->primal_scaled = std::sqrt(total[1]);
-    check->dual_scaled = mu * std::sqrt(total[2]);
+    check->dual_scaled = w.mu * std::sqrt(total[2]);
     check->primal = std::sqrt(total[3]);
     check->dual = o.penalty * std::sqrt(total[4]);
   }
@@ -1247,6 +1248,7 @@ LBCResult LocalBarycentricCoordinates::compute(const ProgressCallback& progress)
         state.row(rx + v) = s.b(v) * s.H.row(v);
     }
     Impl::Work work;
+    work.mu = s.mu;
     Impl::Check_ check;
     std::unique_ptr<Anderson> anderson;
     if (o.anderson)
@@ -1301,11 +1303,73 @@ LBCResult LocalBarycentricCoordinates::compute(const ProgressCallback& progress)
         *norm2 = r2;
       return due && process_check();
     };
+    // Residual balancing (LBCOptions::adaptive_penalty, with the converged rule only): after a
+    // check, the residuals' root mean squares relative to the converged rule's targets; when
+    // one exceeds the other by more than kBalanceBand, mu is doubled (primal too large) or
+    // halved (dual too large). Band, factor and spacing chosen on the kidney and icosphere42
+    // cases of the stopping study (band 5 / 3 / 2 / 1.5, spacing 2 / 3 / 5 checks, factor 2 / 4:
+    // docs/local-barycentric-coordinates.md). The state
+    // s = l(Z^k) - lambda / mu is rescaled to keep Z^k and the multipliers lambda: its part
+    // orthogonal to the constraint subspace, s - l(Z^k) (Z^k = Pi(s), tracked), is multiplied by
+    // mu_old / mu_new. The Y-system does not depend on mu (only the shrinkage threshold does), so
+    // nothing is refactored. At most kMaxPenaltyUpdates changes, kPenaltyUpdateChecks checks
+    // apart: mu is then fixed and convergence is that of ADMM with a fixed penalty.
+    constexpr double kBalanceBand = 2.0, kFactor = 2.0;
+    constexpr int kMaxPenaltyUpdates = 20, kPenaltyUpdateChecks = 3;
+    const bool balance = o.adaptive_penalty && o.stopping == LBCStopping::Converged;
+    int checks_since_update = 0;
+    const double e_p = 1e3 * o.primal_tolerance / n, e_d = 1e3 * o.dual_tolerance / n;
+    const double root_entries = std::sqrt(entries);
+    RowMatrix lx;
+    auto rebalance = [&]() {
+      if (++checks_since_update < kPenaltyUpdateChecks ||
+        result.penalty_updates >= kMaxPenaltyUpdates)
+        return;
+      const double rp = check.primal / root_entries / e_p, rd = check.dual / root_entries / e_d;
+      double factor = 1.0;
+      if (rp > kBalanceBand * rd)
+        factor = kFactor;
+      else if (rd > kBalanceBand * rp)
+        factor = 1.0 / kFactor;
+      else
+        return;
+      const double keep = 1.0 / factor; // mu_old / mu_new
+      const Index rx = s.rows_x();
+      csr_times(s.Ga, tracked, lx, threads);
+#pragma omp parallel for num_threads(threads) schedule(static)
+      for (Index t = 0; t < s.nt; ++t)
+      {
+        const int erow = s.ea_row[static_cast<std::size_t>(t)];
+        for (int k = 0; k < s.D; ++k)
+        {
+          const Index r = t * s.D + k;
+          for (Index i = 0; i < n; ++i)
+          {
+            const double l = lx(r, i) + (erow >= 0 ? s.ea(erow + k, i) : 0.0);
+            state(r, i) = l + keep * (state(r, i) - l);
+          }
+        }
+      }
+#pragma omp parallel for num_threads(threads) schedule(static)
+      for (Index v = 0; v < m; ++v)
+        for (Index i = 0; i < n; ++i)
+        {
+          const double l = s.b(v) * tracked(v, i);
+          state(rx + v, i) = l + keep * (state(rx + v, i) - l);
+        }
+      work.mu *= factor;
+      ++result.penalty_updates;
+      checks_since_update = 0;
+    };
     bool converged = false;
     if (!anderson)
     {
       while (!converged && iterations < o.max_iterations)
+      {
         converged = evaluate(state, nullptr, nullptr);
+        if (!converged && balance && iterations % o.check_interval == 0)
+          rebalance();
+      }
     }
     else
     {
@@ -1351,6 +1415,7 @@ LBCResult LocalBarycentricCoordinates::compute(const ProgressCallback& progress)
     }
     result.iterations = iterations;
     result.converged = converged;
+    result.penalty_factor = work.mu / s.mu;
     if (!converged && result.primal_history.empty())
     {
       // never checked (max_iterations below check_interval): the residuals of one more step

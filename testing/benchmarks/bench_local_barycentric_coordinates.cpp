@@ -682,6 +682,102 @@ BENCHMARK(LBCStoppingStudy)
   ->Unit(benchmark::kMillisecond)
   ->Iterations(1);
 
+/// Penalty sweep of the converged rule on a study case (kStudyNames): BARYLAB_LBC_SWEEP holds
+/// settings "scaled_penalty:constraint_balance:relaxation" separated by spaces (default: the
+/// defaults). Prints per setting: iterations, CPU, support, objective and max |W - W_first|.
+void LBCPenaltySweep(benchmark::State& state)
+{
+  const int which = static_cast<int>(state.range(0));
+  const Table2Case& c = study_case(which);
+  if (!c.ok)
+  {
+    state.SkipWithError(c.error.c_str());
+    return;
+  }
+  for (auto _ : state)
+  {
+  }
+  bary::LBCOptions o;
+  o.threads = 1;
+  o.require_convergence = false;
+  o.stopping = bary::LBCStopping::Converged;
+  if (which < 4)
+    o.distance_normalization = bary::DistanceNormalization::Global;
+  const char* cap = std::getenv("BARYLAB_LBC_SWEEP_ITERATIONS");
+  o.max_iterations = cap ? std::atoi(cap) : 20000;
+  const char* list = std::getenv("BARYLAB_LBC_SWEEP");
+  std::istringstream in(list ? list : "0.3:7:1.65");
+  std::string item;
+  const Eigen::VectorXd measure = bary::vertex_measures(c.mesh.V, c.mesh.T);
+  bary::DenseWeights first;
+  // BARYLAB_LBC_SWEEP_TRUTH: a file with a tight solve's weights (written there by a
+  // 1e-10 / 1e-9 solve with the first setting when it does not exist); max|dW| is against it.
+  double truth_objective = 0.0;
+  if (const char* truth_file = std::getenv("BARYLAB_LBC_SWEEP_TRUTH"))
+  {
+    first.resize(c.mesh.V.rows(), c.n);
+    std::FILE* f = std::fopen(truth_file, "rb");
+    if (f && std::fread(first.data(), sizeof(double), static_cast<std::size_t>(first.size()), f) ==
+          static_cast<std::size_t>(first.size()))
+      std::fclose(f);
+    else
+    {
+      if (f)
+        std::fclose(f);
+      bary::LBCOptions to = o;
+      std::istringstream in0(list ? list : "0.3:7:1.65");
+      std::string item0;
+      in0 >> item0;
+      int adaptive0 = 1;
+      std::sscanf(item0.c_str(), "%lf:%lf:%lf:%d", &to.scaled_penalty, &to.constraint_balance,
+        &to.relaxation, &adaptive0);
+      to.adaptive_penalty = adaptive0 != 0;
+      to.stopping = bary::LBCStopping::Converged; // with residual balancing
+      to.primal_tolerance = 1e-10;
+      to.dual_tolerance = 1e-9;
+      to.max_iterations = 60000;
+      const bary::LBCResult t = bary::local_barycentric_coordinates(c.mesh, to);
+      first = t.W;
+      std::printf("truth: %d iterations, converged %d\n", t.iterations, t.converged ? 1 : 0);
+      f = std::fopen(truth_file, "wb");
+      if (f)
+      {
+        std::fwrite(first.data(), sizeof(double), static_cast<std::size_t>(first.size()), f);
+        std::fclose(f);
+      }
+    }
+    const bary::LocalBarycentricCoordinates lbc(c.mesh, o);
+    truth_objective = lbc.objective(first);
+    const bary::LocalityStatistics ts = bary::locality_statistics(first, -1, measure);
+    std::printf("truth objective %.9e support %.2f / %.0f\n", truth_objective, ts.mean_support,
+      ts.max_support);
+  }
+  std::printf("\n%s: n %d, |V| %d\n", kStudyNames[which], c.n, static_cast<int>(c.mesh.V.rows()));
+  while (in >> item)
+  {
+    bary::LBCOptions ro = o;
+    int adaptive = 1;
+    std::sscanf(item.c_str(), "%lf:%lf:%lf:%d", &ro.scaled_penalty, &ro.constraint_balance,
+      &ro.relaxation, &adaptive);
+    ro.adaptive_penalty = adaptive != 0;
+    const double c0 = cpu_seconds();
+    const bary::LBCResult r = bary::local_barycentric_coordinates(c.mesh, ro);
+    const double cpu = cpu_seconds() - c0;
+    const bary::LocalityStatistics s = bary::locality_statistics(r.W, -1, measure);
+    if (first.size() == 0)
+      first = r.W;
+    std::printf("  mu %.4g beta %.4g alpha %.3g adaptive %d (%d updates, x%.3g): %6d iterations (converged %d) %7.2f s support "
+                "%.2f / %.0f objective %.6e (%+.1e rel) max|dW| %.2e\n",
+      ro.scaled_penalty, ro.constraint_balance, ro.relaxation, adaptive, r.penalty_updates,
+      r.penalty_factor, r.iterations, r.converged ? 1 : 0,
+      cpu, s.mean_support, s.max_support, r.objective,
+      truth_objective > 0 ? (r.objective - truth_objective) / truth_objective : 0.0,
+      (r.W - first).cwiseAbs().maxCoeff());
+    std::fflush(stdout);
+  }
+}
+BENCHMARK(LBCPenaltySweep)->DenseRange(0, 8)->Unit(benchmark::kMillisecond)->Iterations(1);
+
 /// BBW (fast and coupled, one thread) and harmonic coordinates on a study case's mesh, for the
 /// locality comparison with the converged LBC of LBCStoppingStudy on the same mesh. The cage's
 /// hat values are fixed on the boundary, clamped to [0, 1] (the mesher's barycentric boundary
