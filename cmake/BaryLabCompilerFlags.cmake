@@ -34,3 +34,24 @@ target_compile_options(barylab_light_optimization INTERFACE
 function(barylab_set_light_optimization target)
   target_link_libraries(${target} PRIVATE $<BUILD_INTERFACE:barylab_light_optimization>)
 endfunction()
+
+# barylab_set_unity_build(target [SKIP sources...]): compiles the target's sources in unity
+# batches when BARYLAB_UNITY_BUILD is on. Sources listed after SKIP are compiled on their own
+# (the largest files, which share little with the rest and would lengthen one batch). Every core
+# file must then avoid names that clash with another file's anonymous namespace: shared helpers
+# live in core/detail (timing.h, constants.h).
+function(barylab_set_unity_build target)
+  cmake_parse_arguments(ARG "" "" "SKIP" ${ARGN})
+  if(NOT BARYLAB_UNITY_BUILD)
+    return()
+  endif()
+  set_target_properties(${target} PROPERTIES UNITY_BUILD ON UNITY_BUILD_BATCH_SIZE 8)
+  if(ARG_SKIP)
+    set_source_files_properties(${ARG_SKIP} TARGET_DIRECTORY ${target}
+      PROPERTIES SKIP_UNITY_BUILD_INCLUSION ON)
+  endif()
+  # GCC warns about a class whose member's type lives in an anonymous namespace when the class is
+  # defined in an included file, which every source is in a unity batch; it is not a problem in
+  # a file compiled once.
+  target_compile_options(${target} PRIVATE $<$<CXX_COMPILER_ID:GNU>:-Wno-subobject-linkage>)
+endfunction()

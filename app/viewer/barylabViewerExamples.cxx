@@ -6,23 +6,20 @@ namespace barylab
 {
 namespace viewer
 {
-namespace
-{
-QString data_path(const char* name)
+QString DataPath(const char* name)
 {
   return QString(BARYLAB_DEFAULT_DATA_DIR) + "/" + name;
 }
-} // namespace
 
 Inputs Example::inputs() const
 {
   Inputs in;
-  in.controls = data_path(this->controls);
-  in.model = data_path(this->model);
+  in.controls = DataPath(this->controls);
+  in.model = DataPath(this->model);
   if (*this->domain)
-    in.domain = data_path(this->domain);
+    in.domain = DataPath(this->domain);
   in.example = this->name;
-  in.pose = data_path(this->pose);
+  in.pose = DataPath(this->pose);
   return in;
 }
 

@@ -34,6 +34,8 @@ const std::vector<Example>& Examples();
 QStringList ExampleNames();
 /// The example named @p name; null when there is none.
 const Example* FindExample(const QString& name);
+/// The path of the bundled data file @p name (in BARYLAB_DEFAULT_DATA_DIR).
+QString DataPath(const char* name);
 
 } // namespace viewer
 } // namespace barylab

@@ -1,6 +1,7 @@
 #include "barylabViewerSplineMode.h"
 
 #include "barylabPipeline.h"
+#include "barylabViewerExamples.h"
 #include "barylabViewerScene.h"
 
 #include "vtkBaryDataIO.h"
@@ -69,18 +70,13 @@ namespace viewer
 {
 namespace
 {
-const char* kExample = "organism-spline";
+const char* kSplineExample = "organism-spline";
 /// Samples along each domain edge of the drawn grid, and per side of a folded triangle's fill.
 constexpr int kEdgeSamples = 16;
 constexpr int kFoldSamples = 12;
 /// The side view's share of the view's height (bottom / top modes), and its section's samples.
 constexpr double kSideHeight = 0.3;
 constexpr int kSectionSamples = 240;
-
-QString data_path(const char* name)
-{
-  return QString(BARYLAB_DEFAULT_DATA_DIR) + "/" + name;
-}
 
 const char* target_name(SplineTarget t)
 {
@@ -208,7 +204,7 @@ SplineWindow::~SplineWindow() = default;
 
 QStringList SplineWindow::ExampleNames()
 {
-  return { kExample };
+  return { kSplineExample };
 }
 
 bool SplineWindow::IsExample(const QString& name)
@@ -513,7 +509,7 @@ bool SplineWindow::openPicture(const QString& path)
 
 bool SplineWindow::loadExample(const QString& name)
 {
-  if (name != kExample)
+  if (name != kSplineExample)
   {
     this->reportError("no spline example named '" + name + "' (" + ExampleNames().join(", ") + ")");
     return false;
@@ -521,7 +517,7 @@ bool SplineWindow::loadExample(const QString& name)
   vtkBarySpline spline;
   const bool ok = this->reporting([&]() {
     auto source = vtkSmartPointer<vtkBarySplineSource>::New();
-    source->SetInputData(vtkBaryDataIO::ReadPolyData(data_path("spline_domain.obj").toStdString()));
+    source->SetInputData(vtkBaryDataIO::ReadPolyData(DataPath("spline_domain.obj").toStdString()));
     source->PrismOn();
     source->SetPrismBottom(-0.1);
     source->SetPrismTop(0.1);
@@ -530,8 +526,8 @@ bool SplineWindow::loadExample(const QString& name)
   });
   if (!ok || !this->useSpline(spline, "the identity spline on spline_domain.obj"))
     return false;
-  return this->openModel(data_path("spline_organism.obj")) &&
-    this->openPicture(data_path("spline_organism_picture.png"));
+  return this->openModel(DataPath("spline_organism.obj")) &&
+    this->openPicture(DataPath("spline_organism_picture.png"));
 }
 
 // --- edits --------------------------------------------------------------------------------

@@ -1,6 +1,7 @@
 #include "barylabViewerSurfaceMode.h"
 
 #include "barylabPipeline.h"
+#include "barylabViewerExamples.h"
 #include "barylabRender.h"
 #include "barylabSurfacePipeline.h"
 #include "barylabViewerScene.h"
@@ -95,12 +96,7 @@ enum Changed
   Everything = 63
 };
 
-const char* kExample = "torus-averages";
-
-QString data_path(const char* name)
-{
-  return QString(BARYLAB_DEFAULT_DATA_DIR) + "/" + name;
-}
+const char* kSurfaceExample = "torus-averages";
 
 vtkSmartPointer<vtkPolyData> as_points(vtkPoints* points)
 {
@@ -299,7 +295,7 @@ SurfaceWindow::~SurfaceWindow() = default;
 
 QStringList SurfaceWindow::ExampleNames()
 {
-  return { kExample };
+  return { kSurfaceExample };
 }
 
 bool SurfaceWindow::IsExample(const QString& name)
@@ -459,20 +455,20 @@ bool SurfaceWindow::openSurface(const QString& mesh, const QString& embedding)
 
 bool SurfaceWindow::loadExample(const QString& name)
 {
-  if (name != kExample)
+  if (name != kSurfaceExample)
   {
     this->reportError("no surface example named '" + name + "' (" + ExampleNames().join(", ") + ")");
     return false;
   }
   // the embeddings bundled (made by `barylab embed` with its defaults): the example opens at
   // once instead of after ~15 s of precomputation
-  return this->openSurface(data_path("wa_torus.obj"), data_path("wa_torus_embedding.txt")) &&
-    this->openAnchors(data_path("wa_anchors.txt")) &&
-    this->openWeights(data_path("wa_weights.txt"), 1) &&
-    this->openCurve(data_path("wa_curve_controls.txt")) &&
-    this->openPicture(data_path("gingerbread.png")) &&
-    this->openTarget(data_path("wa_torus_target.obj"), data_path("wa_target_anchors.txt"),
-      data_path("wa_torus_target_embedding.txt"));
+  return this->openSurface(DataPath("wa_torus.obj"), DataPath("wa_torus_embedding.txt")) &&
+    this->openAnchors(DataPath("wa_anchors.txt")) &&
+    this->openWeights(DataPath("wa_weights.txt"), 1) &&
+    this->openCurve(DataPath("wa_curve_controls.txt")) &&
+    this->openPicture(DataPath("gingerbread.png")) &&
+    this->openTarget(DataPath("wa_torus_target.obj"), DataPath("wa_target_anchors.txt"),
+      DataPath("wa_torus_target_embedding.txt"));
 }
 
 namespace

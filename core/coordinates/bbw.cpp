@@ -5,6 +5,7 @@
 #include "core/common/error.h"
 #include "core/solvers/fem_operators.h"
 #include "core/solvers/min_quad_with_fixed.h"
+#include "core/detail/timing.h"
 
 #include <algorithm>
 #include <chrono>
@@ -23,11 +24,6 @@ namespace
 
 using SparseMatrix = Eigen::SparseMatrix<double>;
 using Clock = std::chrono::steady_clock;
-
-double seconds_since(Clock::time_point start)
-{
-  return std::chrono::duration<double>(Clock::now() - start).count();
-}
 
 void validate_options(const BBWOptions& o)
 {

@@ -3,6 +3,7 @@
 #include "core/common/error.h"
 #include "core/detail/closest_point.h"
 #include "core/detail/parallel_for.h"
+#include "core/detail/constants.h"
 
 #include <Eigen/Geometry>
 
@@ -16,7 +17,6 @@ namespace bary
 namespace
 {
 
-constexpr double kPi = 3.14159265358979323846;
 
 // ---------------------------------------------------------------------------------------------
 // 2D. Edge from v1 to v2 = v1 + a, seen from x; b = v1 - x, r(t)^2 = |b + t a|^2 = Q t^2 + R t + S

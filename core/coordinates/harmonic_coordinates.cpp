@@ -4,6 +4,7 @@
 #include "core/solvers/fem_operators.h"
 #include "core/coordinates/mean_value_coordinates.h"
 #include "core/solvers/min_quad_with_fixed.h"
+#include "core/detail/timing.h"
 
 #include <algorithm>
 #include <chrono>
@@ -13,11 +14,6 @@ namespace bary
 {
 namespace
 {
-double seconds_since(std::chrono::steady_clock::time_point t0)
-{
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
-
 void check_cancel(const ProgressCallback& progress, double fraction)
 {
   if (progress && !progress(fraction))

@@ -2,6 +2,7 @@
 
 #include "core/detail/parallel_for.h"
 #include "core/common/error.h"
+#include "core/detail/constants.h"
 
 #include <Eigen/Geometry>
 
@@ -17,8 +18,6 @@ namespace bary
 namespace
 {
 
-constexpr double kPi = 3.14159265358979323846;
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 /// Scratch space reused by the per-point kernels of one thread.
 std::vector<double>& scratch(std::size_t size)

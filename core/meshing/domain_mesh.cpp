@@ -7,6 +7,8 @@
 #include "core/common/error.h"
 #include "core/solvers/fem_operators.h"
 #include "core/coordinates/harmonic_coordinates.h"
+#include "core/detail/timing.h"
+#include "core/detail/constants.h"
 
 #include <Eigen/Geometry>
 
@@ -29,7 +31,6 @@ namespace bary
 namespace
 {
 
-constexpr double kPi = 3.14159265358979323846;
 
 /// The automatic SurfaceMeshOptions::max_added_vertices (TetGen's 'S' switch). Its quality
 /// refinement does not end when the radius-edge bound cannot be met (1.0 on the bundled kidney
@@ -51,11 +52,6 @@ void checkpoint(const ProgressCallback& progress, double fraction, const char* w
 {
   if (progress && !progress(std::clamp(fraction, 0.0, 1.0)))
     throw Error(ErrorCode::Cancelled, std::string(what) + " was cancelled");
-}
-
-double seconds_since(std::chrono::steady_clock::time_point t0)
-{
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
 void check_points(const Eigen::MatrixXd& P, int dim, const std::string& what)

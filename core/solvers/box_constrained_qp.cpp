@@ -2,6 +2,7 @@
 
 #include "core/detail/format.h"
 #include "core/common/error.h"
+#include "core/detail/timing.h"
 
 #include <algorithm>
 #include <atomic>
@@ -21,11 +22,6 @@ namespace
 using SparseMatrix = Eigen::SparseMatrix<double>;
 using Clock = std::chrono::steady_clock;
 using StateVector = Eigen::Matrix<BoxQPState, Eigen::Dynamic, 1>;
-
-double seconds_since(Clock::time_point start)
-{
-  return std::chrono::duration<double>(Clock::now() - start).count();
-}
 
 std::uint64_t next_id()
 {

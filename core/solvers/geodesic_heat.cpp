@@ -3,6 +3,7 @@
 #include "core/detail/parallel_for.h"
 #include "core/common/error.h"
 #include "core/solvers/fem_operators.h"
+#include "core/detail/timing.h"
 
 #include <algorithm>
 #include <chrono>
@@ -17,11 +18,6 @@ namespace bary
 {
 namespace
 {
-
-double seconds_since(std::chrono::steady_clock::time_point t0)
-{
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
 
 /// Mean length of the mesh's edges, each edge counted once.
 double average_edge_length(const Eigen::MatrixXd& V, const Eigen::MatrixXi& T)

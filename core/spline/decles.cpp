@@ -3,6 +3,7 @@
 #include "core/common/error.h"
 #include "core/detail/exact_elimination.h"
 #include "core/detail/format.h"
+#include "core/detail/timing.h"
 
 #include <Eigen/SparseCholesky>
 
@@ -33,11 +34,6 @@ const char* to_string(SplineEditOp op) noexcept
 
 namespace
 {
-
-double seconds_since(std::chrono::steady_clock::time_point t0)
-{
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
 
 /// Flags over the control points that are set and cleared in time proportional to the points
 /// touched (an edit's cost must not grow with the grid).

@@ -7,6 +7,7 @@
 #include "core/solvers/min_quad_with_fixed.h"
 #include "core/detail/parallel_for.h"
 #include "core/surface/landmark_decimation.h"
+#include "core/detail/timing.h"
 
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
@@ -23,11 +24,6 @@ namespace
 {
 
 using Clock = std::chrono::steady_clock;
-
-double seconds_since(Clock::time_point t0)
-{
-  return std::chrono::duration<double>(Clock::now() - t0).count();
-}
 
 /// Rows @p rows of the heat distances from @p sources (in blocks of 64 sources, so memory stays
 /// #V x 64), as a #rows by #sources matrix.
