@@ -39,7 +39,7 @@
 /// unscaled variables after rescaling the mesh to bounding-box diameter 1, |r_p| <= N_p
 /// primal_tolerance and |r_d| <= N_d dual_tolerance with N the residuals' numbers of entries.
 /// Its thresholds grow like N, the residuals like sqrt(N), so on 3D meshes it stops while most
-/// weights are still significant; LBCStopping::Converged adds a test on the
+/// weights are still significant; LBCStopping::Converged (the default) adds a test on the
 /// residuals' root mean square and on the support (see LBCStopping), and balances the penalty
 /// mu against the residuals (LBCOptions::adaptive_penalty; Boyd et al. 2011, §3.4.1).
 ///
@@ -113,10 +113,9 @@ enum class LBCStopping
   /// support (weights above 10^-3 / #C per vertex) within 1% of its value at half the
   /// iterations. Chosen by a convergence study against tight solves (the LBC page): on 3D cages
   /// the paper's rule stops with 1.5-3 times the converged support, this rule within 6% of
-  /// it. With residual balancing of the penalty (LBCOptions::adaptive_penalty) it costs 1-4
-  /// times the paper's rule's iterations in 3D (without it 10-30 times): the kidney cage at the
-  /// command line's defaults (10,154 vertices) 990 against 230 iterations, 227 s against 59 s of
-  /// CPU. Not the default: above the ~3x the project set for making it one.
+  /// it. Default: with residual balancing of the penalty (LBCOptions::adaptive_penalty) it
+  /// costs 1-3.5 times the paper's iterations in 3D (without it 10-30 times) and 1-2 times in
+  /// 2D, where the penalty is not changed.
   Converged
 };
 
@@ -133,7 +132,8 @@ enum class ConstraintScaling
 };
 
 /// Options of local barycentric coordinates. Defaults: the paper's (Appendix B "Parameters",
-/// §5: tau(x) = x^2), plus acceleration that does not change the solution.
+/// §5: tau(x) = x^2) but the stopping rule (LBCStopping::Converged), plus acceleration that
+/// does not change the solution.
 struct LBCOptions
 {
   /// ADMM penalty mu (Eq. 25) of ConstraintScaling::Paper, > 0: the paper's 10 (for a model of
@@ -163,8 +163,8 @@ struct LBCOptions
   /// Residuals are checked every check_interval iterations (each check costs one extra solve),
   /// >= 1. Default 10 (as the authors' code).
   int check_interval = 10;
-  /// The stopping rule. Default Paper (see LBCStopping::Converged for why not Converged).
-  LBCStopping stopping = LBCStopping::Paper;
+  /// The stopping rule. Default Converged (local weights in 3D too); Paper: the paper's rule.
+  LBCStopping stopping = LBCStopping::Converged;
 
   /// tau (§3.3). Default Squared.
   LocalityFunction locality = LocalityFunction::Squared;
@@ -225,9 +225,8 @@ struct LBCOptions
   /// most 20 times, so mu is eventually fixed and convergence is that of ADMM. The multipliers
   /// are kept and nothing is refactored (the Y-system does not depend on mu). Same problem,
   /// same stopping test: on the 3D study cases it cut the converged rule's iterations 4-10
-  /// times (kidney 8,660 to 1,460, icosphere42 4,020 to 400); on the authors' four 2D cages it
-  /// never changed mu (on the bundled 2D cage it does: 300 iterations against the paper's
-  /// rule's 370). Not with anderson. Default true.
+  /// times (kidney 8,660 to 1,460, icosphere42 4,020 to 400); on the 2D ones it never changed
+  /// mu. Not with anderson. Default true.
   bool adaptive_penalty = true;
   /// Project every row onto {w >= 0, w K = b} at the end (file comment). Default true.
   bool polish = true;

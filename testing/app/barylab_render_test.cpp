@@ -285,8 +285,8 @@ TEST(RenderImages, LBCWeightField3D)
   p.target_cells = 200;
   p.lbc_primal_tolerance = 1e-7;
   p.lbc_dual_tolerance = 1e-6;
-  // the paper's rule, pinned (the default today): the picture of a weight field is what this
-  // test checks, and its baseline was made with the paper's rule
+  // the paper's rule, pinned since the default became the converged rule: the picture of a
+  // weight field is what this test checks, and its baseline was made with the paper's rule
   p.lbc_stopping = bary::LBCStopping::Paper;
   auto weighted = barylab::ComputeWeights(vtkBaryDataIO::Read(data("model3d.off")), cage, p);
   barylab::RenderOptions options;

@@ -86,7 +86,9 @@ TEST(Error, LBCNotConvergedSplitsItsAdvice)
     EXPECT_EQ(e.message().rfind("local barycentric coordinates did not converge in 5 iterations (", 0), 0u)
       << e.message();
     EXPECT_EQ(e.message().back(), ')');
-    EXPECT_EQ(e.advice(), "raise max_iterations, loosen the tolerances or set require_convergence = false");
+    // the default stopping rule is the converged one: the advice offers the paper's
+    EXPECT_EQ(e.advice(), "raise max_iterations, loosen the tolerances, set stopping = Paper or set "
+                          "require_convergence = false");
     EXPECT_EQ(what, e.message() + "; " + e.advice());
     // what the filter used to cut by hand
     EXPECT_EQ(what.substr(0, what.find("; raise")), e.message());

@@ -201,8 +201,8 @@ TEST(LBC, ResidualBalancingReachesTheSameWeightsInFewerIterations)
   so.target_cells = 120; // 363 vertices (at 60, 177 vertices, mu settles at x2 and gains nothing)
   const DomainMesh mesh = mesh_closed_surface(test::noisy_icosphere(1, 0.1, 7), so);
   LBCOptions o = one_thread();
-  o.stopping = LBCStopping::Converged;
-  ASSERT_TRUE(o.adaptive_penalty); // the default
+  ASSERT_EQ(o.stopping, LBCStopping::Converged); // the default
+  ASSERT_TRUE(o.adaptive_penalty);
   const LBCResult balanced = local_barycentric_coordinates(mesh, o);
   o.adaptive_penalty = false;
   const LBCResult plain = local_barycentric_coordinates(mesh, o);

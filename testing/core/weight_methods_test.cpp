@@ -265,10 +265,24 @@ TEST(ComputeWeights, NonConvergenceAdviceNamesTheSettings)
   catch (const bary::Error& e)
   {
     EXPECT_EQ(e.code(), bary::ErrorCode::NotConverged);
+    // the default stopping rule is the converged one: the advice also offers the paper's
+    EXPECT_EQ(e.advice(), "raise LBCMaximumIterations (--max-iterations) or loosen "
+                          "LBCPrimalTolerance / LBCDualTolerance (--primal-tolerance, "
+                          "--dual-tolerance) or choose paper for LBCStopping (--stopping)");
+    EXPECT_EQ(std::string(e.what()), e.message() + "; " + e.advice());
+  }
+  // a user already on the paper's rule is not told to choose it
+  s.lbc_stopping = bary::LBCStopping::Paper;
+  try
+  {
+    bary::compute_weights(input, s);
+    FAIL() << "converged in one iteration?";
+  }
+  catch (const bary::Error& e)
+  {
     EXPECT_EQ(e.advice(), "raise LBCMaximumIterations (--max-iterations) or loosen "
                           "LBCPrimalTolerance / LBCDualTolerance (--primal-tolerance, "
                           "--dual-tolerance)");
-    EXPECT_EQ(std::string(e.what()), e.message() + "; " + e.advice());
   }
 }
 

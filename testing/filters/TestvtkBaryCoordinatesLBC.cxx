@@ -164,8 +164,8 @@ TEST(vtkBaryCoordinatesLBC, BarycentricPropertiesOnTheBundled3DCage)
   auto points = Samples(model, cage, 60, false);
   LBC lbc(points, cage, 600);
   lbc.Filter->GetWeightMethod()->InsertPointsIntoMeshOn();
-  // the properties hold at any stop: the paper's rule (the default today) keeps this test
-  // short (the converged rule takes about 5 times its iterations here)
+  // the properties hold at any stop: the paper's rule keeps this test short (the converged
+  // default takes about 5 times its iterations here)
   lbc.Filter->GetWeightMethod()->SetLBCStoppingToPaper();
   const auto t0 = std::chrono::steady_clock::now();
   ASSERT_EQ(lbc.Run(), 1) << lbc.Observer->AllErrors();
