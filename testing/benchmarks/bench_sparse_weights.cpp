@@ -106,6 +106,19 @@ void read_obj(const std::string& path, std::vector<std::vector<double>>& v,
   }
 }
 
+/// The 3D triangle cage of the OBJ vertex and face lists @p v, @p f (read_obj's).
+bary::Cage cage_3d(const std::vector<std::vector<double>>& v, const std::vector<std::vector<int>>& f)
+{
+  bary::Cage cage;
+  cage.V.resize(static_cast<Index>(v.size()), 3);
+  for (std::size_t k = 0; k < v.size(); ++k)
+    cage.V.row(static_cast<Index>(k)) << v[k][0], v[k][1], v[k][2];
+  cage.F.resize(static_cast<Index>(f.size()), 3);
+  for (std::size_t k = 0; k < f.size(); ++k)
+    cage.F.row(static_cast<Index>(k)) << f[k][0], f[k][1], f[k][2];
+  return cage;
+}
+
 /// Regular grid points inside the mesh (about kTargetPoints), as located by the mesh.
 bary::Points grid_inside(const bary::DomainMesh& mesh, const bary::MeshPointLocator& locator)
 {
@@ -189,12 +202,7 @@ Case make_case(int which)
     std::vector<std::vector<int>> f;
     std::vector<int> none;
     read_obj(std::string(BARYLAB_DATA_DIR) + "/cage3d.obj", v, f, none);
-    cage.V.resize(static_cast<Index>(v.size()), 3);
-    for (std::size_t k = 0; k < v.size(); ++k)
-      cage.V.row(static_cast<Index>(k)) << v[k][0], v[k][1], v[k][2];
-    cage.F.resize(static_cast<Index>(f.size()), 3);
-    for (std::size_t k = 0; k < f.size(); ++k)
-      cage.F.row(static_cast<Index>(k)) << f[k][0], f[k][1], f[k][2];
+    cage = cage_3d(v, f);
     bary::SurfaceMeshOptions so;
     so.target_cells = 5000;
     mesh = bary::mesh_closed_surface(cage, so);
@@ -412,13 +420,7 @@ void LBC3DPaper(benchmark::State& state)
     state.SkipWithError("data/starfish_cage.obj or data/starfish.off not found");
     return;
   }
-  bary::Cage cage;
-  cage.V.resize(static_cast<Index>(v.size()), 3);
-  for (std::size_t k = 0; k < v.size(); ++k)
-    cage.V.row(static_cast<Index>(k)) << v[k][0], v[k][1], v[k][2];
-  cage.F.resize(static_cast<Index>(f.size()), 3);
-  for (std::size_t k = 0; k < f.size(); ++k)
-    cage.F.row(static_cast<Index>(k)) << f[k][0], f[k][1], f[k][2];
+  const bary::Cage cage = cage_3d(v, f);
   const int n = static_cast<int>(cage.V.rows());
 
   bary::SurfaceMeshOptions so;
