@@ -1,5 +1,6 @@
 #include "core/coordinates/celestial_coordinates.h"
 
+#include "core/detail/constants.h"
 #include "core/detail/format.h"
 #include "core/detail/parallel_for.h"
 #include "core/common/error.h"
@@ -55,7 +56,6 @@ namespace bary
 namespace
 {
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr double kRoundoff = std::numeric_limits<double>::epsilon() / 2; // u = 2^-53
 constexpr Index kChunk = 256;      // points per warm-start chunk (independent of the threads)
 constexpr int kMaxBacktracks = 50; // halvings of the Newton step before giving up

@@ -4,6 +4,7 @@
 #include "core/detail/parallel_for.h"
 #include "core/detail/row_cholesky.h"
 #include "core/detail/format.h"
+#include "core/detail/timing.h"
 #include "core/common/error.h"
 #include "core/solvers/fem_operators.h"
 #include "core/coordinates/harmonic_coordinates.h"
@@ -30,11 +31,6 @@ namespace
 using RowMatrix = DenseWeights;
 using Csr = Eigen::SparseMatrix<double, Eigen::RowMajor, int>;
 using Clock = std::chrono::steady_clock;
-
-double seconds_since(Clock::time_point t0)
-{
-  return std::chrono::duration<double>(Clock::now() - t0).count();
-}
 
 using detail::Anderson;
 using detail::RowCholesky;
