@@ -1,0 +1,590 @@
+// TestBaryLabParaViewPlugin <BaryLab plugin .so> <data folder>
+//
+// Loads the BaryLab plugin into ParaView's server manager (a built-in session, as the paraview
+// client's, with no Python: python3-paraview cannot be installed beside python3-vtk9), creates
+// its proxies through vtkSMSessionProxyManager as the GUI does, updates pipelines and checks the
+// results' mathematical properties against references computed here:
+// - every proxy of the plugin's XML exists;
+// - the weight method's properties are BaryLab's settings table (core/coordinates/
+//   weight_methods.h): one property per setting, with its default, and a value set on the
+//   proxy reaches the VTK object;
+// - mean value coordinates of the kidney (data/model3d.off) w.r.t. its cage (data/cage3d.obj),
+//   both read by the plugin's reader: partition of unity and linear precision to 1e-12;
+//   harmonic coordinates on a coarse mesh: partition of unity and non-negativity;
+// - cage deformation with the posed cage equals sum_i w_i c'_i computed here from the weights,
+//   and the rest cage reproduces the model;
+// - reduce weights (row sums 1), locality statistics (Q(1) = 1 for weights that sum to one),
+//   cage mesher (the tetrahedra's volume is the cage's, by the divergence theorem here);
+// - bad input (a missing file, an open cage) fails with an error, not a crash.
+#include "vtkAlgorithm.h"
+#include "vtkCallbackCommand.h"
+#include "vtkClientServerInterpreter.h"
+#include "vtkClientServerInterpreterInitializer.h"
+#include "vtkClientServerStream.h"
+#include "vtkCellArray.h"
+#include "vtkCommand.h"
+#include "vtkDataArray.h"
+#include "vtkDataSet.h"
+#include "vtkIdList.h"
+#include "vtkInitializationHelper.h"
+#include "vtkNew.h"
+#include "vtkPointData.h"
+#include "vtkPointSet.h"
+#include "vtkPolyData.h"
+#include "vtkProcessModule.h"
+#include "vtkSMParaViewPipelineController.h"
+#include "vtkSMPluginManager.h"
+#include "vtkSMProperty.h"
+#include "vtkSMPropertyHelper.h"
+#include "vtkSMPropertyIterator.h"
+#include "vtkSMStringVectorProperty.h"
+#include "vtkSMVectorProperty.h"
+#include "vtkSMProxyManager.h"
+#include "vtkSMSession.h"
+#include "vtkSMSessionProxyManager.h"
+#include "vtkSMSourceProxy.h"
+#include "vtkSmartPointer.h"
+#include "vtkTable.h"
+#include "vtkTetra.h"
+#include "vtkUnstructuredGrid.h"
+
+#include "vtkBaryCoordinates.h"
+#include "vtkBaryWeightMethod.h"
+
+#include "core/coordinates/weight_methods.h"
+
+#include <cmath>
+#include <iostream>
+#include <string>
+#include <vector>
+
+namespace
+{
+int failures = 0;
+
+/// Every proxy of the plugin's XML.
+const char* const kProxies[][2] = { { "filters", "BaryCoordinates" },
+  { "filters", "BaryCageDeformation" }, { "filters", "BaryReduceWeights" },
+  { "filters", "BaryLocalityStatistics" }, { "filters", "BaryCageMesher" },
+  { "filters", "BaryLinearBlendSkinning" }, { "filters", "BarySurfaceEmbedding" }, { "filters", "BarySurfaceWeights" },
+  { "filters", "BarySurfaceCurve" }, { "filters", "BarySurfaceRemesh" },
+  { "filters", "BarySurfaceCorrespondence" }, { "filters", "BarySplineSource" },
+  { "filters", "BarySplineDeform" }, { "sources", "BaryFileReader" },
+  { "writers", "BaryOFFWriter" }, { "barylab_weight_methods", "WeightMethod" } };
+
+void check(bool ok, const std::string& what)
+{
+  std::cout << (ok ? "ok   " : "FAIL ") << what << "\n";
+  if (!ok)
+    ++failures;
+}
+
+struct ErrorCounter
+{
+  int errors = 0;
+  static void Count(vtkObject*, unsigned long, void* clientData, void*)
+  {
+    ++static_cast<ErrorCounter*>(clientData)->errors;
+  }
+};
+
+class Pipeline
+{
+public:
+  explicit Pipeline(vtkSMSessionProxyManager* pxm)
+    : Pxm(pxm)
+  {
+  }
+
+  vtkSMSourceProxy* Create(const char* group, const char* name)
+  {
+    vtkSmartPointer<vtkSMProxy> proxy;
+    proxy.TakeReference(this->Pxm->NewProxy(group, name));
+    auto* source = vtkSMSourceProxy::SafeDownCast(proxy);
+    if (source)
+    {
+      this->Controller->PreInitializeProxy(source);
+      this->Proxies.push_back(proxy);
+    }
+    return source;
+  }
+
+  /// Finishes the proxy as the GUI's Apply does (domain defaults, registration) and updates it.
+  vtkDataObject* Update(vtkSMSourceProxy* proxy, ErrorCounter* errors = nullptr, int port = 0)
+  {
+    proxy->UpdateVTKObjects();
+    this->Controller->PostInitializeProxy(proxy);
+    this->Controller->RegisterPipelineProxy(proxy);
+    auto* algorithm = vtkAlgorithm::SafeDownCast(proxy->GetClientSideObject());
+    vtkNew<vtkCallbackCommand> observer;
+    if (errors)
+    {
+      observer->SetCallback(&ErrorCounter::Count);
+      observer->SetClientData(errors);
+      algorithm->AddObserver(vtkCommand::ErrorEvent, observer);
+    }
+    proxy->UpdatePipeline();
+    if (errors)
+      algorithm->RemoveObserver(observer);
+    return algorithm->GetOutputDataObject(port);
+  }
+
+  vtkNew<vtkSMParaViewPipelineController> Controller;
+
+private:
+  vtkSMSessionProxyManager* Pxm;
+  std::vector<vtkSmartPointer<vtkSMProxy>> Proxies;
+};
+
+double Diameter(vtkDataSet* data)
+{
+  double b[6];
+  data->GetBounds(b);
+  return std::sqrt((b[1] - b[0]) * (b[1] - b[0]) + (b[3] - b[2]) * (b[3] - b[2]) +
+    (b[5] - b[4]) * (b[5] - b[4]));
+}
+
+/// Largest |sum_i w_i - 1| and largest |sum_i w_i c_i - x| over the points.
+void WeightErrors(vtkDataSet* points, vtkDataArray* weights, vtkDataSet* cage, double* partition,
+  double* reproduction)
+{
+  *partition = 0.0;
+  *reproduction = 0.0;
+  for (vtkIdType p = 0; p < points->GetNumberOfPoints(); ++p)
+  {
+    double sum = 0.0, x[3] = { 0, 0, 0 }, point[3];
+    for (int i = 0; i < weights->GetNumberOfComponents(); ++i)
+    {
+      const double w = weights->GetComponent(p, i);
+      double c[3];
+      cage->GetPoint(i, c);
+      sum += w;
+      for (int k = 0; k < 3; ++k)
+        x[k] += w * c[k];
+    }
+    points->GetPoint(p, point);
+    *partition = std::max(*partition, std::abs(sum - 1.0));
+    for (int k = 0; k < 3; ++k)
+      *reproduction = std::max(*reproduction, std::abs(x[k] - point[k]));
+  }
+}
+
+/// Volume enclosed by a closed, outward-oriented triangle surface (divergence theorem).
+double EnclosedVolume(vtkPolyData* surface)
+{
+  double volume = 0.0;
+  vtkNew<vtkIdList> ids;
+  for (vtkIdType c = 0; c < surface->GetNumberOfCells(); ++c)
+  {
+    surface->GetCellPoints(c, ids);
+    double a[3], b[3], d[3];
+    surface->GetPoint(ids->GetId(0), a);
+    surface->GetPoint(ids->GetId(1), b);
+    surface->GetPoint(ids->GetId(2), d);
+    volume += (a[0] * (b[1] * d[2] - b[2] * d[1]) - a[1] * (b[0] * d[2] - b[2] * d[0]) +
+                a[2] * (b[0] * d[1] - b[1] * d[0])) /
+      6.0;
+  }
+  return volume;
+}
+
+double TetrahedraVolume(vtkUnstructuredGrid* grid)
+{
+  double volume = 0.0;
+  for (vtkIdType c = 0; c < grid->GetNumberOfCells(); ++c)
+  {
+    vtkCell* cell = grid->GetCell(c);
+    if (cell->GetCellType() != VTK_TETRA)
+      continue;
+    double p[4][3];
+    for (int k = 0; k < 4; ++k)
+      cell->GetPoints()->GetPoint(k, p[k]);
+    volume += std::abs(vtkTetra::ComputeVolume(p[0], p[1], p[2], p[3]));
+  }
+  return volume;
+}
+
+void CheckPluginProxies(vtkSMSessionProxyManager* pxm)
+{
+  for (const auto& p : kProxies)
+  {
+    vtkSmartPointer<vtkSMProxy> proxy;
+    proxy.TakeReference(pxm->NewProxy(p[0], p[1]));
+    check(proxy != nullptr, std::string("proxy ") + p[0] + "/" + p[1] + " exists");
+  }
+}
+
+
+/// The XML's default of every one-element property of the plugin's hand-written proxies equals
+/// what the VTK class's getter returns on a new object (the class, which takes its defaults
+/// from the core's option structs, is the one place of a default; the XML's copy is checked
+/// here). The weight method's properties are generated from the table (CheckSettingsTable).
+void CheckDefaults(vtkSMSessionProxyManager* pxm)
+{
+  vtkClientServerInterpreter* interpreter =
+    vtkClientServerInterpreterInitializer::GetGlobalInterpreter();
+  int compared = 0, differ = 0;
+  for (const auto& p : kProxies)
+  {
+    vtkSmartPointer<vtkSMProxy> proxy;
+    proxy.TakeReference(pxm->NewProxy(p[0], p[1]));
+    if (!proxy || std::string(p[1]) == "WeightMethod")
+      continue;
+    vtkSmartPointer<vtkObjectBase> object;
+    object.TakeReference(interpreter->NewInstance(proxy->GetVTKClassName()));
+    vtkNew<vtkSMPropertyIterator> it;
+    it->SetProxy(proxy);
+    it->SetTraverseSubProxies(0);
+    for (it->Begin(); !it->IsAtEnd(); it->Next())
+    {
+      auto* property = vtkSMVectorProperty::SafeDownCast(it->GetProperty());
+      const char* command = property ? property->GetCommand() : nullptr;
+      if (!command || std::string(command).rfind("Set", 0) != 0 ||
+        property->GetNumberOfElements() != 1 || property->GetInformationOnly() ||
+        std::string(it->GetKey()) == "FileName" || bary::setting_field_of_property(it->GetKey()) ||
+        std::string(it->GetKey()) == "Method")
+        continue;
+      vtkClientServerStream stream;
+      stream << vtkClientServerStream::Invoke << object << ("Get" + std::string(command + 3))
+             << vtkClientServerStream::End;
+      interpreter->ProcessStream(stream);
+      const vtkClientServerStream& result = interpreter->GetLastResult();
+      std::string xml, cls;
+      if (vtkSMStringVectorProperty::SafeDownCast(property))
+      {
+        const char* text = nullptr;
+        xml = vtkSMPropertyHelper(property).GetAsString();
+        cls = result.GetArgument(0, 0, &text) && text ? text : "(no value)";
+      }
+      else
+      {
+        double value = 0.0;
+        bool flag = false;
+        xml = std::to_string(vtkSMPropertyHelper(property).GetAsDouble());
+        if (result.GetArgument(0, 0, &value))
+          cls = std::to_string(value);
+        else if (result.GetArgument(0, 0, &flag)) // vtkGetMacro of a bool
+          cls = std::to_string(flag ? 1.0 : 0.0);
+        else
+          cls = "(no value)";
+      }
+      ++compared;
+      if (xml != cls)
+      {
+        ++differ;
+        std::cout << "     " << p[1] << "." << it->GetKey() << ": XML " << xml << ", class "
+                  << cls << "\n";
+      }
+    }
+  }
+  std::cout << "     " << compared << " defaults compared\n";
+  check(compared > 40 && differ == 0,
+    "the XML's defaults are the classes' (every one-element property)");
+}
+
+void CheckSettingsTable(Pipeline& pipeline)
+{
+  vtkSMSourceProxy* proxy = pipeline.Create("filters", "BaryCoordinates");
+  int missing = 0, wrong_default = 0;
+  for (const bary::SettingField& f : bary::weights_setting_fields())
+  {
+    if (f.kind == bary::SettingField::Kind::Numbers)
+      continue; // a vtkDataArray (UserWeights), not a property
+    vtkSMProperty* property = proxy->GetProperty(f.property.c_str());
+    if (!property)
+    {
+      ++missing;
+      std::cout << "     no property " << f.property << "\n";
+      continue;
+    }
+    const double value = vtkSMPropertyHelper(property).GetAsDouble();
+    if (value != f.default_value())
+    {
+      ++wrong_default;
+      std::cout << "     " << f.property << " default " << value << ", table "
+                << f.default_value() << "\n";
+    }
+  }
+  check(missing == 0, "every setting of the table is a property of BaryCoordinates");
+  check(wrong_default == 0, "every property's default is the table's");
+  check(vtkSMPropertyHelper(proxy, "Method").GetAsInt() ==
+      static_cast<int>(bary::WeightsSettings{}.method),
+    "Method's default is the table's");
+
+  // A value set on the proxy reaches the filter's vtkBaryWeightMethod.
+  vtkSMPropertyHelper(proxy, "Method").Set(static_cast<int>(bary::MethodId::LBC));
+  vtkSMPropertyHelper(proxy, "LBCPrimalTolerance").Set(2.5e-7);
+  vtkSMPropertyHelper(proxy, "LBCStopping").Set(0);
+  proxy->UpdateVTKObjects();
+  auto* filter = vtkBaryCoordinates::SafeDownCast(proxy->GetClientSideObject());
+  check(filter && filter->GetWeightMethod()->GetMethod() == vtkBaryWeightMethod::LBC &&
+      filter->GetWeightMethod()->GetLBCPrimalTolerance() == 2.5e-7 &&
+      filter->GetWeightMethod()->GetLBCStopping() == vtkBaryWeightMethod::LBC_STOPPING_PAPER,
+    "properties set on the proxy reach the filter's weight method");
+}
+
+vtkSMSourceProxy* Reader(Pipeline& pipeline, const std::string& path)
+{
+  vtkSMSourceProxy* reader = pipeline.Create("sources", "BaryFileReader");
+  vtkSMPropertyHelper(reader, "FileName").Set(path.c_str());
+  return reader;
+}
+
+void CheckWeightsAndDeformation(Pipeline& pipeline, const std::string& data)
+{
+  vtkSMSourceProxy* model = Reader(pipeline, data + "/model3d.off");
+  vtkSMSourceProxy* cage = Reader(pipeline, data + "/cage3d.obj");
+  vtkSMSourceProxy* posed = Reader(pipeline, data + "/cage3d_posed.obj");
+  auto* modelData = vtkDataSet::SafeDownCast(pipeline.Update(model));
+  auto* cageData = vtkPolyData::SafeDownCast(pipeline.Update(cage));
+  auto* posedData = vtkDataSet::SafeDownCast(pipeline.Update(posed));
+  check(modelData && modelData->GetNumberOfPoints() == 2562 && modelData->GetNumberOfCells() == 5120,
+    "the reader reads data/model3d.off (2562 points, 5120 triangles)");
+  check(cageData && cageData->GetNumberOfPoints() == 72 && posedData &&
+      posedData->GetNumberOfPoints() == 72,
+    "the reader reads the cages (72 points each)");
+  if (!modelData || !cageData || !posedData)
+    return;
+
+  // Mean value coordinates (the default method).
+  vtkSMSourceProxy* mvc = pipeline.Create("filters", "BaryCoordinates");
+  vtkSMPropertyHelper(mvc, "Input").Set(model, 0);
+  vtkSMPropertyHelper(mvc, "Cage").Set(cage, 0);
+  ErrorCounter errors;
+  auto* weighted = vtkDataSet::SafeDownCast(pipeline.Update(mvc, &errors));
+  vtkDataArray* weights = weighted ? weighted->GetPointData()->GetArray("Weights") : nullptr;
+  check(errors.errors == 0 && weights && weights->GetNumberOfComponents() == 72 &&
+      weights->GetNumberOfTuples() == 2562,
+    "mean value coordinates: a Weights array of 72 components on every point");
+  if (!weights)
+    return;
+  double partition, reproduction;
+  WeightErrors(weighted, weights, cageData, &partition, &reproduction);
+  std::cout << "     mvc: partition of unity error " << partition << ", reproduction error "
+            << reproduction << " (diameter " << Diameter(cageData) << ")\n";
+  check(partition <= 1e-12, "mean value coordinates: partition of unity to 1e-12");
+  check(reproduction <= 1e-12 * Diameter(cageData),
+    "mean value coordinates: linear precision to 1e-12 of the cage's diameter");
+
+  // Harmonic coordinates on a coarse mesh of the cage (the mesh properties from the table).
+  vtkSMSourceProxy* harmonic = pipeline.Create("filters", "BaryCoordinates");
+  vtkSMPropertyHelper(harmonic, "Input").Set(model, 0);
+  vtkSMPropertyHelper(harmonic, "Cage").Set(cage, 0);
+  vtkSMPropertyHelper(harmonic, "Method").Set(static_cast<int>(bary::MethodId::Harmonic));
+  vtkSMPropertyHelper(harmonic, "TargetNumberOfCells").Set(3000);
+  auto* harmonicData = vtkDataSet::SafeDownCast(pipeline.Update(harmonic));
+  vtkDataArray* hw = harmonicData ? harmonicData->GetPointData()->GetArray("Weights") : nullptr;
+  if (hw)
+  {
+    double minimum = 0.0;
+    for (vtkIdType p = 0; p < hw->GetNumberOfTuples(); ++p)
+      for (int i = 0; i < hw->GetNumberOfComponents(); ++i)
+        minimum = std::min(minimum, hw->GetComponent(p, i));
+    WeightErrors(harmonicData, hw, cageData, &partition, &reproduction);
+    // Linear finite elements reproduce linear functions exactly (the cage's boundary values are
+    // linear on its faces), so partition of unity and linear precision hold to the solver's
+    // precision; non-negativity does not hold exactly on a coarse mesh (no discrete maximum
+    // principle for obtuse tetrahedra), so the minimum is only reported.
+    std::cout << "     harmonic: partition of unity error " << partition << ", reproduction error "
+              << reproduction << ", minimum weight " << minimum << "\n";
+    check(hw->GetNumberOfComponents() == 72 && partition <= 1e-9 &&
+        reproduction <= 1e-9 * Diameter(cageData),
+      "harmonic coordinates: partition of unity and linear precision (1e-9)");
+  }
+  else
+    check(false, "harmonic coordinates: a Weights array");
+
+  // Cage deformation with the weights the model carries (from BaryCoordinates).
+  vtkSMSourceProxy* deform = pipeline.Create("filters", "BaryCageDeformation");
+  vtkSMPropertyHelper(deform, "Input").Set(mvc, 0);
+  vtkSMPropertyHelper(deform, "RestCage").Set(cage, 0);
+  vtkSMPropertyHelper(deform, "DeformedCage").Set(posed, 0);
+  auto* deformed = vtkPointSet::SafeDownCast(pipeline.Update(deform));
+  double deviation = deformed ? 0.0 : 1.0;
+  for (vtkIdType p = 0; deformed && p < deformed->GetNumberOfPoints(); ++p)
+  {
+    double expected[3] = { 0, 0, 0 }, x[3];
+    for (int i = 0; i < 72; ++i)
+    {
+      double c[3];
+      posedData->GetPoint(i, c);
+      for (int k = 0; k < 3; ++k)
+        expected[k] += weights->GetComponent(p, i) * c[k];
+    }
+    deformed->GetPoint(p, x);
+    for (int k = 0; k < 3; ++k)
+      deviation = std::max(deviation, std::abs(x[k] - expected[k]));
+  }
+  std::cout << "     deformation: largest deviation from sum_i w_i c'_i " << deviation << "\n";
+  check(deviation <= 1e-12, "cage deformation: x' = sum_i w_i c'_i to 1e-12");
+
+  // The same filter computing its own weights, with the rest cage as the deformed one: identity.
+  vtkSMSourceProxy* identity = pipeline.Create("filters", "BaryCageDeformation");
+  vtkSMPropertyHelper(identity, "Input").Set(model, 0);
+  vtkSMPropertyHelper(identity, "RestCage").Set(cage, 0);
+  vtkSMPropertyHelper(identity, "DeformedCage").Set(cage, 0);
+  auto* same = vtkPointSet::SafeDownCast(pipeline.Update(identity));
+  deviation = same ? 0.0 : 1.0;
+  for (vtkIdType p = 0; same && p < same->GetNumberOfPoints(); ++p)
+  {
+    double a[3], b[3];
+    same->GetPoint(p, a);
+    modelData->GetPoint(p, b);
+    for (int k = 0; k < 3; ++k)
+      deviation = std::max(deviation, std::abs(a[k] - b[k]));
+  }
+  check(deviation <= 1e-12 * Diameter(cageData),
+    "cage deformation by the rest cage reproduces the model (1e-12 of the diameter)");
+
+  // Linear blend skinning with one rigid motion on every handle moves every point by it (the
+  // weights sum to one).
+  vtkSMSourceProxy* skin = pipeline.Create("filters", "BaryLinearBlendSkinning");
+  vtkSMPropertyHelper(skin, "Input").Set(mvc, 0);
+  const double angle = 0.5, cs = std::cos(angle), sn = std::sin(angle);
+  const double motion[12] = { cs, -sn, 0, 0.1, sn, cs, 0, -0.2, 0, 0, 1, 0.3 };
+  std::vector<double> transforms;
+  for (int handle = 0; handle < 72; ++handle)
+    transforms.insert(transforms.end(), motion, motion + 12);
+  vtkSMPropertyHelper(skin, "Transforms").Set(transforms.data(), static_cast<unsigned int>(transforms.size()));
+  ErrorCounter skinErrors;
+  auto* skinned = vtkPointSet::SafeDownCast(pipeline.Update(skin, &skinErrors));
+  deviation = skinned && skinned->GetNumberOfPoints() == 2562 ? 0.0 : 1.0;
+  for (vtkIdType p = 0; skinned && p < skinned->GetNumberOfPoints(); ++p)
+  {
+    double x[3], y[3];
+    modelData->GetPoint(p, x);
+    skinned->GetPoint(p, y);
+    for (int r = 0; r < 3; ++r)
+      deviation = std::max(deviation,
+        std::abs(y[r] - (motion[4 * r] * x[0] + motion[4 * r + 1] * x[1] + motion[4 * r + 2] * x[2] + motion[4 * r + 3])));
+  }
+  check(skinErrors.errors == 0 && deviation <= 1e-12 * Diameter(cageData),
+    "linear blend skinning: one rigid motion on all 72 handles moves the model by it (1e-12)");
+
+  // Reduce weights (threshold 0.05): K, the compact arrays' width, is the largest number of
+  // weights above the threshold at one point, counted here from the dense weights; each row of
+  // kept weights sums to one (RowSum renormalisation).
+  vtkSMSourceProxy* reduce = pipeline.Create("filters", "BaryReduceWeights");
+  vtkSMPropertyHelper(reduce, "Input").Set(harmonic, 0);
+  vtkSMPropertyHelper(reduce, "Threshold").Set(0.05);
+  auto* reduced = vtkDataSet::SafeDownCast(pipeline.Update(reduce));
+  vtkDataArray* values = reduced ? reduced->GetPointData()->GetArray("WeightsValues") : nullptr;
+  int expectedK = 0;
+  for (vtkIdType p = 0; hw && p < hw->GetNumberOfTuples(); ++p)
+  {
+    int kept = 0;
+    for (int i = 0; i < hw->GetNumberOfComponents(); ++i)
+      kept += hw->GetComponent(p, i) > 0.05 ? 1 : 0;
+    expectedK = std::max(expectedK, kept);
+  }
+  double rowError = values ? 0.0 : 1.0;
+  for (vtkIdType p = 0; values && p < values->GetNumberOfTuples(); ++p)
+  {
+    double sum = 0.0;
+    for (int k = 0; k < values->GetNumberOfComponents(); ++k)
+      sum += values->GetComponent(p, k);
+    rowError = std::max(rowError, std::abs(sum - 1.0));
+  }
+  std::cout << "     reduce weights: K = " << (values ? values->GetNumberOfComponents() : -1)
+            << " (counted: " << expectedK << "), largest row-sum error " << rowError << "\n";
+  check(values && values->GetNumberOfComponents() == expectedK && rowError <= 1e-12,
+    "reduce weights: K as counted from the dense weights, rows summing to 1 (1e-12)");
+
+  // Locality statistics: Q(1) = 1 where the weights sum to one.
+  vtkSMSourceProxy* locality = pipeline.Create("filters", "BaryLocalityStatistics");
+  vtkSMPropertyHelper(locality, "Input").Set(harmonic, 0);
+  auto* q = vtkTable::SafeDownCast(pipeline.Update(locality, nullptr, 1));
+  vtkDataArray* qColumn = q ? vtkDataArray::SafeDownCast(q->GetColumnByName("Q")) : nullptr;
+  check(qColumn && qColumn->GetNumberOfTuples() == 72 &&
+      std::abs(qColumn->GetComponent(0, 0) - 1.0) <= 1e-12,
+    "locality statistics: Q has 72 rows and Q(1) = 1");
+}
+
+void CheckMesherAndErrors(Pipeline& pipeline, const std::string& data)
+{
+  vtkSMSourceProxy* cage = Reader(pipeline, data + "/cage3d.obj");
+  auto* cageData = vtkPolyData::SafeDownCast(pipeline.Update(cage));
+  vtkSMSourceProxy* mesher = pipeline.Create("filters", "BaryCageMesher");
+  vtkSMPropertyHelper(mesher, "Input").Set(cage, 0);
+  vtkSMPropertyHelper(mesher, "TargetNumberOfCells").Set(2000);
+  auto* mesh = vtkUnstructuredGrid::SafeDownCast(pipeline.Update(mesher));
+  if (mesh && cageData)
+  {
+    const double expected = EnclosedVolume(cageData);
+    const double volume = TetrahedraVolume(mesh);
+    std::cout << "     mesher: " << mesh->GetNumberOfCells() << " tetrahedra, volume " << volume
+              << " (cage " << expected << ")\n";
+    check(mesh->GetNumberOfCells() > 0 && std::abs(volume - expected) <= 1e-9 * expected,
+      "cage mesher: the tetrahedra fill the cage's volume (1e-9 relative)");
+  }
+  else
+    check(false, "cage mesher: an unstructured grid");
+
+  ErrorCounter missing;
+  vtkSMSourceProxy* reader = Reader(pipeline, data + "/no_such_file.off");
+  auto* none = vtkDataSet::SafeDownCast(pipeline.Update(reader, &missing));
+  check(missing.errors > 0 && (!none || none->GetNumberOfPoints() == 0),
+    "a missing file is an error with an empty output");
+
+  // An open cage (one triangle less): the coordinates filter fails with an error.
+  vtkNew<vtkCellArray> polys;
+  vtkNew<vtkIdList> ids;
+  for (vtkIdType c = 1; c < cageData->GetNumberOfCells(); ++c)
+  {
+    cageData->GetCellPoints(c, ids);
+    polys->InsertNextCell(ids);
+  }
+  vtkNew<vtkPolyData> openCage;
+  openCage->SetPoints(cageData->GetPoints());
+  openCage->SetPolys(polys);
+  vtkNew<vtkBaryCoordinates> direct; // the same class ParaView runs, fed directly
+  direct->SetInputData(0, cageData);
+  direct->SetCageData(openCage);
+  ErrorCounter openErrors;
+  vtkNew<vtkCallbackCommand> observer;
+  observer->SetCallback(&ErrorCounter::Count);
+  observer->SetClientData(&openErrors);
+  direct->AddObserver(vtkCommand::ErrorEvent, observer);
+  direct->Update();
+  check(openErrors.errors > 0, "an open cage is an error");
+}
+} // namespace
+
+int main(int argc, char* argv[])
+{
+  if (argc != 3)
+  {
+    std::cerr << "usage: TestBaryLabParaViewPlugin <plugin .so> <data folder>\n";
+    return 2;
+  }
+  vtkInitializationHelper::SetLoadSettingsFilesDuringInitialization(false);
+  if (!vtkInitializationHelper::Initialize(argv[0], vtkProcessModule::PROCESS_CLIENT))
+  {
+    std::cerr << "ParaView's initialisation failed\n";
+    return 1;
+  }
+  std::cout.setf(std::ios::unitbuf); // every line out before a crash, if one comes
+  vtkSMSession::ConnectToSelf();
+  vtkSMProxyManager* proxyManager = vtkSMProxyManager::GetProxyManager();
+  {
+    // the session's time keeper, selection and animation proxies, as the client makes them
+    vtkNew<vtkSMParaViewPipelineController> controller;
+    controller->InitializeSession(proxyManager->GetActiveSession());
+  }
+  vtkSMSessionProxyManager* pxm = proxyManager->GetActiveSessionProxyManager();
+  const bool loaded = proxyManager->GetPluginManager()->LoadLocalPlugin(argv[1]);
+  check(loaded, std::string("the plugin loads: ") + argv[1]);
+  if (loaded && pxm)
+  {
+    CheckPluginProxies(pxm);
+    CheckDefaults(pxm);
+    Pipeline pipeline(pxm);
+    CheckSettingsTable(pipeline);
+    CheckWeightsAndDeformation(pipeline, argv[2]);
+    CheckMesherAndErrors(pipeline, argv[2]);
+    pxm->UnRegisterProxies();
+  }
+  vtkInitializationHelper::Finalize();
+  std::cout << (failures ? "FAILED: " : "passed: ") << failures << " failure(s)\n";
+  return failures == 0 && loaded ? 0 : 1;
+}
