@@ -241,8 +241,12 @@ void CheckDefaults(vtkSMSessionProxyManager* pxm)
       const char* command = property ? property->GetCommand() : nullptr;
       if (!command || std::string(command).rfind("Set", 0) != 0 ||
         property->GetNumberOfElements() != 1 || property->GetInformationOnly() ||
-        std::string(it->GetKey()) == "FileName" || bary::setting_field_of_property(it->GetKey()) ||
-        std::string(it->GetKey()) == "Method")
+        std::string(it->GetKey()) == "FileName")
+        continue;
+      // the weight method's properties, exposed from its sub-proxy: CheckSettingsTable's
+      const std::string name = proxy->GetXMLName();
+      if ((name == "BaryCoordinates" || name == "BaryCageDeformation") &&
+        (bary::setting_field_of_property(it->GetKey()) || std::string(it->GetKey()) == "Method"))
         continue;
       vtkClientServerStream stream;
       stream << vtkClientServerStream::Invoke << object << ("Get" + std::string(command + 3))
