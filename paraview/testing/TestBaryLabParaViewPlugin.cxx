@@ -34,6 +34,7 @@
 #include "vtkProcessModule.h"
 #include "vtkSMParaViewPipelineController.h"
 #include "vtkSMPluginManager.h"
+#include "vtkSMReaderFactory.h"
 #include "vtkSMProperty.h"
 #include "vtkSMPropertyHelper.h"
 #include "vtkSMPropertyIterator.h"
@@ -284,6 +285,23 @@ void CheckDefaults(vtkSMSessionProxyManager* pxm)
   std::cout << "     " << compared << " defaults compared\n";
   check(compared > 40 && differ == 0,
     "the XML's defaults are the classes' (every one-element property)");
+}
+
+/// File > Open: ParaView's reader factory picks the plugin's reader for the formats it lacks
+/// (it asks the reader's CanReadFile through the client-server layer, as the GUI does).
+void CheckReaderFactory(vtkSMProxyManager* proxyManager, const std::string& data)
+{
+  vtkSMReaderFactory* factory = proxyManager->GetReaderFactory();
+  vtkSMSession* session = proxyManager->GetActiveSession();
+  for (const char* file : { "model3d.off", "heart.off", "skeleton2d.tgf" })
+  {
+    const std::string path = data + "/" + file;
+    const bool found = factory->CanReadFile(path.c_str(), session);
+    const std::string reader = found && factory->GetReaderName() ? factory->GetReaderName() : "";
+    check(found && reader == "BaryFileReader",
+      std::string("File > Open finds the plugin's reader for ") + file + " (" +
+        (reader.empty() ? "none" : reader) + ")");
+  }
 }
 
 void CheckSettingsTable(Pipeline& pipeline)
@@ -582,6 +600,7 @@ int main(int argc, char* argv[])
   {
     CheckPluginProxies(pxm);
     CheckDefaults(pxm);
+    CheckReaderFactory(proxyManager, argv[2]);
     Pipeline pipeline(pxm);
     CheckSettingsTable(pipeline);
     CheckWeightsAndDeformation(pipeline, argv[2]);
