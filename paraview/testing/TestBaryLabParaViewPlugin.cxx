@@ -1,4 +1,4 @@
-// TestBaryLabParaViewPlugin <BaryLab plugin .so> <data folder>
+// TestBaryLabParaViewPlugin <BaryLab plugin .so> <data folder> [<output folder>]
 //
 // Loads the BaryLab plugin into ParaView's server manager (a built-in session, as the paraview
 // client's, with no Python: python3-paraview cannot be installed beside python3-vtk9), creates
@@ -15,6 +15,7 @@
 //   and the rest cage reproduces the model;
 // - reduce weights (row sums 1), locality statistics (Q(1) = 1 for weights that sum to one),
 //   cage mesher (the tetrahedra's volume is the cage's, by the divergence theorem here);
+// - the .off writer's file reads back exactly;
 // - bad input (a missing file, an open cage) fails with an error, not a crash.
 #include "vtkAlgorithm.h"
 #include "vtkCallbackCommand.h"
@@ -44,6 +45,7 @@
 #include "vtkSMSession.h"
 #include "vtkSMSessionProxyManager.h"
 #include "vtkSMSourceProxy.h"
+#include "vtkSMWriterProxy.h"
 #include "vtkSmartPointer.h"
 #include "vtkTable.h"
 #include "vtkTetra.h"
@@ -55,6 +57,7 @@
 #include "core/coordinates/weight_methods.h"
 
 #include <cmath>
+#include <cstdio>
 #include <iostream>
 #include <string>
 #include <vector>
@@ -62,6 +65,7 @@
 namespace
 {
 int failures = 0;
+std::string outputDir = "."; ///< where the writer's file goes (argv[3])
 
 /// Every proxy of the plugin's XML.
 const char* const kProxies[][2] = { { "filters", "BaryCoordinates" },
@@ -131,9 +135,9 @@ public:
   }
 
   vtkNew<vtkSMParaViewPipelineController> Controller;
+  vtkSMSessionProxyManager* Pxm;
 
 private:
-  vtkSMSessionProxyManager* Pxm;
   std::vector<vtkSmartPointer<vtkSMProxy>> Proxies;
 };
 
@@ -368,6 +372,36 @@ void CheckWeightsAndDeformation(Pipeline& pipeline, const std::string& data)
   if (!modelData || !cageData || !posedData)
     return;
 
+  // The .off writer: what it writes reads back as the same points (17 significant digits).
+  const std::string written = outputDir + "/paraview_plugin_model.off";
+  std::remove(written.c_str());
+  vtkSmartPointer<vtkSMProxy> writerProxy;
+  writerProxy.TakeReference(pipeline.Pxm->NewProxy("writers", "BaryOFFWriter"));
+  auto* writer = vtkSMWriterProxy::SafeDownCast(writerProxy);
+  if (writer)
+  {
+    vtkSMPropertyHelper(writer, "Input").Set(model, 0);
+    vtkSMPropertyHelper(writer, "FileName").Set(written.c_str());
+    writer->UpdateVTKObjects();
+    writer->UpdatePipeline();
+  }
+  vtkSMSourceProxy* back = Reader(pipeline, written);
+  auto* backData = vtkDataSet::SafeDownCast(pipeline.Update(back));
+  double roundTrip = backData && backData->GetNumberOfPoints() == modelData->GetNumberOfPoints() &&
+      backData->GetNumberOfCells() == modelData->GetNumberOfCells()
+    ? 0.0
+    : 1.0;
+  for (vtkIdType p = 0; roundTrip == 0.0 && p < backData->GetNumberOfPoints(); ++p)
+  {
+    double a[3], b[3];
+    backData->GetPoint(p, a);
+    modelData->GetPoint(p, b);
+    for (int k = 0; k < 3; ++k)
+      roundTrip = std::max(roundTrip, std::abs(a[k] - b[k]));
+  }
+  check(writer && roundTrip == 0.0,
+    "the .off writer's file reads back with the same points and cells, exactly");
+
   // Mean value coordinates (the default method).
   vtkSMSourceProxy* mvc = pipeline.Create("filters", "BaryCoordinates");
   vtkSMPropertyHelper(mvc, "Input").Set(model, 0);
@@ -574,11 +608,13 @@ void CheckMesherAndErrors(Pipeline& pipeline, const std::string& data)
 
 int main(int argc, char* argv[])
 {
-  if (argc != 3)
+  if (argc != 3 && argc != 4)
   {
-    std::cerr << "usage: TestBaryLabParaViewPlugin <plugin .so> <data folder>\n";
+    std::cerr << "usage: TestBaryLabParaViewPlugin <plugin .so> <data folder> [<output folder>]\n";
     return 2;
   }
+  if (argc == 4)
+    outputDir = argv[3];
   vtkInitializationHelper::SetLoadSettingsFilesDuringInitialization(false);
   if (!vtkInitializationHelper::Initialize(argv[0], vtkProcessModule::PROCESS_CLIENT))
   {
