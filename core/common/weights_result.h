@@ -9,6 +9,7 @@
 #include "core/common/types.h"
 
 #include <limits>
+#include <memory>
 #include <string>
 #include <utility>
 #include <vector>
@@ -29,6 +30,19 @@ enum class PointLocation : unsigned char
 /// Named figures of a computation, in the order computed (iterations, residuals, seconds, ...).
 using Statistics = std::vector<std::pair<std::string, double>>;
 
+/// The weights of a mesh-based method (harmonic, BBW, LBC) at the vertices of its domain mesh,
+/// from which the points' weights are interpolated (MeshPointLocator). What a run solves once
+/// per cage: a distributed run (vtkBaryCoordinates with a controller of several processes)
+/// solves on one process and sends this to the others, which only interpolate
+/// (WeightsInput::mesh_weights), so that every process gets the serial run's weights.
+struct MeshWeights
+{
+  Eigen::MatrixXd V;     ///< #V by dim vertices (the input's scale)
+  Eigen::MatrixXi T;     ///< #T by dim + 1 simplices
+  DenseWeights W;        ///< #V by #C
+  Statistics statistics; ///< the solve's figures (mesh size, iterations, residuals, seconds)
+};
+
 /// What every weights computation returns.
 struct WeightsResult
 {
@@ -46,6 +60,8 @@ struct WeightsResult
   /// Control points the method added after the given ones (celestial hull points, §6 of
   /// Cerveró et al.), #A by dim: W's last #A columns are theirs, in this order (empty: none).
   Points added_controls;
+  /// Mesh-based methods: the domain mesh and its vertices' weights (null for the others).
+  std::shared_ptr<MeshWeights> mesh_weights;
 
   /// The value of the first statistic called @p name, or @p fallback when there is none.
   double statistic(

@@ -1328,7 +1328,7 @@ CelestialResult CelestialCoordinates::Impl::compute(const Points& Xin,
   // Hull points (§6): the controls and the corners of the enlarged bounding box, solved as one
   // set of controls; the corners' columns last.
   const auto with_hull_points = [&]() {
-    const Points H = hull_points_for(Xin);
+    const Points H = hull_points_for(opt.hull_reference ? *opt.hull_reference : Xin);
     Points all(nc + H.rows(), dim);
     all << V, H;
     CelestialOptions o = opt;
@@ -1370,7 +1370,19 @@ CelestialResult CelestialCoordinates::Impl::compute(const Points& Xin,
 #pragma omp parallel for schedule(static) num_threads(threads) if (np >= 4096)
   for (Index p = 0; p < np; ++p)
     result.hull_location[static_cast<std::size_t>(p)] = im.classify(X.row(p).data());
-  if (auto_hull)
+  if (auto_hull && opt.hull_reference)
+  { // the whole's decision (a distributed run's piece): the same columns on every piece
+    const Points& R = *opt.hull_reference;
+    check_query(R, Eigen::MatrixXi(), dim);
+    for (Index p = 0; p < R.rows(); ++p)
+    {
+      const Eigen::Matrix<double, 1, Eigen::Dynamic> r = R.row(p);
+      const CelestialLocation where = im.classify(r.data());
+      if (where == CelestialLocation::Outside || where == CelestialLocation::Boundary)
+        return with_hull_points();
+    }
+  }
+  else if (auto_hull)
     for (Index p = 0; p < np; ++p)
     {
       const CelestialLocation where = result.hull_location[static_cast<std::size_t>(p)];

@@ -153,6 +153,11 @@ struct CelestialOptions
   /// query points and the controls (hull_points_for), in [1e-6, 10] (> 0, so that every point
   /// is strictly inside the added corners' box). Default 0.1.
   double hull_margin = 0.1;
+  /// With Auto or Always: the points from which the hull points are decided and placed, when
+  /// the query points are a part of them (a distributed run's piece; non-owning, #R by dim,
+  /// must outlive compute()). Null (default): the query points. Every part then gets the
+  /// whole's columns: Auto adds the corners when some reference point needs them.
+  const Points* hull_reference = nullptr;
   /// If true, compute() throws Error(NotConverged) naming the points that did not converge and
   /// their residuals; if false they get NaN rows and are listed in CelestialResult::not_converged.
   bool require_convergence = true;

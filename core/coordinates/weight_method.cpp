@@ -44,7 +44,27 @@ WeightsResult compute_in_settings_words(
 {
   try
   {
-    return method_info(settings.method).instance().compute(input, settings, progress);
+    if (input.mesh_weights)
+    { // solved elsewhere (another process): interpolate as the solving run did
+      if (!method_info(settings.method).domain_mesh)
+        throw Error(ErrorCode::InvalidArgument,
+          "weights solved on a mesh were given to " + method_info(settings.method).title +
+            ", which is not a mesh-based method");
+      const MeshWeights& m = *input.mesh_weights;
+      if (m.V.cols() != input.points->cols() || m.W.rows() != m.V.rows())
+        throw Error(ErrorCode::SizeMismatch,
+          "the mesh weights (" + std::to_string(m.W.rows()) + " rows for " +
+            std::to_string(m.V.rows()) + " vertices in " + std::to_string(m.V.cols()) +
+            "D) do not fit the " + std::to_string(input.points->cols()) + "D points");
+      WeightsResult result;
+      detail::interpolate_on_mesh(m.V, m.T, m.W, *input.points, settings, progress, result);
+      result.statistics = m.statistics;
+      return result;
+    }
+    WeightsResult result = method_info(settings.method).instance().compute(input, settings, progress);
+    if (result.mesh_weights)
+      result.mesh_weights->statistics = result.statistics;
+    return result;
   }
   catch (const Error& e)
   {
@@ -104,6 +124,19 @@ WeightsResult compute_weights(
     boundary.V *= s;
     scaled.domain_boundary = &boundary;
   }
+  MeshWeights mesh_weights;
+  if (input.mesh_weights)
+  {
+    mesh_weights = *input.mesh_weights;
+    mesh_weights.V *= s;
+    scaled.mesh_weights = &mesh_weights;
+  }
+  Eigen::MatrixXd hull_reference;
+  if (input.hull_reference_points)
+  {
+    hull_reference = *input.hull_reference_points * s;
+    scaled.hull_reference_points = &hull_reference;
+  }
   WeightsSettings scaled_settings = settings;
   if (settings.max_cell_size > 0.0)
   {
@@ -117,6 +150,8 @@ WeightsResult compute_weights(
       std::numeric_limits<double>::min(), std::numeric_limits<double>::max());
   }
   WeightsResult result = compute_in_settings_words(scaled, scaled_settings, progress);
+  if (result.mesh_weights)
+    result.mesh_weights->V /= s; // exact: s is a power of 2
   if (result.face_weights.size() > 0 && input.cage)
   { // Green coordinates' psi: x = phi V + psi N at both scales, phi unchanged, so psi scales
     // with 1 / s; in 2D psi_j also carries -log(s) |e_j| / (2 pi) from log r (a multiple of
@@ -206,6 +241,7 @@ void interpolate_on_mesh(const Eigen::MatrixXd& V, const Eigen::MatrixXi& T, con
   MeshPointLocator::Result at_points =
     locator.interpolate(W, points, settings.outside, progress_slice(progress, 0.95, 1.0));
   result.W = std::move(at_points.W);
+  result.mesh_weights = std::make_shared<MeshWeights>(MeshWeights{ V, T, W, {} });
   result.location.assign(static_cast<std::size_t>(points.rows()), PointLocation::Inside);
   for (Index id : at_points.outside)
     result.location[static_cast<std::size_t>(id)] = PointLocation::Outside;

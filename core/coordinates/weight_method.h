@@ -40,6 +40,15 @@ struct WeightsInput
   const Eigen::MatrixXd* points = nullptr;
   /// #E by 2 point ids: the input's mesh edges, for warm starts along neighbours (optional).
   const Eigen::MatrixXi* edges = nullptr;
+  /// Mesh-based methods: weights already solved on the domain mesh (the mesh_weights of a run
+  /// on the same inputs and settings, e.g. on another process of a distributed run). The
+  /// method is not run: the points are only interpolated, exactly as that run interpolated its
+  /// own. Optional.
+  const MeshWeights* mesh_weights = nullptr;
+  /// Celestial coordinates: all the points of which input.points is a part (a distributed
+  /// run's piece). The hull points' decision and box (CelestialOptions::hull_points) are made
+  /// from them, so that every piece gets the same columns as the whole. Optional.
+  const Eigen::MatrixXd* hull_reference_points = nullptr;
 };
 
 /// A weight method: stateless, thread-safe, one instance per method (MethodInfo::instance).

@@ -401,3 +401,79 @@ TEST(ComputeWeights, CubesFrom1e300Down1e_300AreBarycentric)
     EXPECT_GE(harmonic.W.minCoeff(), -1e-12);
   }
 }
+
+TEST(ComputeWeights, MeshWeightsGivenBackInterpolateToTheSameWeights)
+{
+  // A distributed run solves once and sends WeightsResult::mesh_weights to the other processes,
+  // which interpolate their pieces (WeightsInput::mesh_weights): every piece must get exactly
+  // the rows of the whole run, at unit and at extreme (power-of-two rescaled) scales.
+  const bary::Cage u = bary::test::regular_polygon(7); // convex about the origin
+  Eigen::MatrixXd points(40, 2);
+  for (Eigen::Index i = 0; i < points.rows(); ++i) // inside: 30% to 96% of the way to a vertex
+    points.row(i) = u.V.row(i % u.V.rows()) * (0.3 + 0.0165 * static_cast<double>(i));
+  for (const double scale : { 1.0, std::ldexp(1.0, 400) })
+    for (const MethodId m : { MethodId::Harmonic, MethodId::BBW, MethodId::LBC })
+    {
+      SCOPED_TRACE(std::string(bary::method_info(m).name) + " at scale " + std::to_string(scale));
+      bary::Cage cage = u;
+      cage.V *= scale;
+      const Eigen::MatrixXd X = points * scale;
+      WeightsSettings settings;
+      settings.method = m;
+      settings.target_cells = 300;
+      bary::WeightsInput input;
+      input.cage = &cage;
+      input.points = &X;
+      const bary::WeightsResult whole = bary::compute_weights(input, settings);
+      ASSERT_TRUE(whole.mesh_weights);
+      const bary::MeshWeights& mesh = *whole.mesh_weights;
+      EXPECT_EQ(mesh.W.rows(), mesh.V.rows());
+      EXPECT_EQ(mesh.W.cols(), cage.V.rows());
+      EXPECT_LE((mesh.V.colwise().maxCoeff() - cage.V.colwise().maxCoeff()).cwiseAbs().maxCoeff(),
+        1e-12 * scale) << "the mesh at the input's scale";
+      EXPECT_EQ(mesh.statistics, whole.statistics);
+      const Eigen::MatrixXd piece = X.bottomRows(15);
+      bary::WeightsInput given = input;
+      given.points = &piece;
+      given.mesh_weights = &mesh;
+      const bary::WeightsResult interpolated = bary::compute_weights(given, settings);
+      EXPECT_EQ(interpolated.W, bary::DenseWeights(whole.W.bottomRows(15))) << "bitwise";
+      EXPECT_EQ(interpolated.statistics, whole.statistics);
+    }
+  // not a mesh-based method: refused by name
+  WeightsSettings mvc;
+  const bary::Cage cage = bary::test::unit_square();
+  Eigen::MatrixXd X(1, 2);
+  X << 0.5, 0.5;
+  bary::MeshWeights mesh;
+  bary::WeightsInput input;
+  input.cage = &cage;
+  input.points = &X;
+  input.mesh_weights = &mesh;
+  EXPECT_THROW(bary::compute_weights(input, mvc), bary::Error);
+}
+
+TEST(ComputeWeights, CelestialHullPointsOfAPieceAreTheWholesWithAReference)
+{
+  // The hull points (auto) depend on all the points; a piece that lies inside the controls'
+  // hull would get none of its own. With the whole as reference, it gets the whole's columns.
+  const bary::Cage square = bary::test::unit_square();
+  Eigen::MatrixXd whole(4, 2);
+  whole << 0.5, 0.5, 0.25, 0.75, 1.5, 0.5, -0.25, -0.5; // the last two are outside the square
+  const Eigen::MatrixXd piece = whole.topRows(2);
+  WeightsSettings settings;
+  settings.method = MethodId::TCelestial;
+  bary::WeightsInput input;
+  input.cage = &square;
+  input.points = &whole;
+  const bary::WeightsResult all = bary::compute_weights(input, settings);
+  ASSERT_EQ(all.added_controls.rows(), 4);
+  input.points = &piece;
+  const bary::WeightsResult alone = bary::compute_weights(input, settings);
+  EXPECT_EQ(alone.added_controls.rows(), 0) << "inside points alone need no hull points";
+  input.hull_reference_points = &whole;
+  const bary::WeightsResult shared = bary::compute_weights(input, settings);
+  EXPECT_EQ(shared.added_controls, all.added_controls);
+  ASSERT_EQ(shared.W.cols(), all.W.cols());
+  EXPECT_LE((shared.W - all.W.topRows(2)).cwiseAbs().maxCoeff(), 1e-12);
+}

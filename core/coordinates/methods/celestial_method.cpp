@@ -26,6 +26,7 @@ public:
     options.lambda = settings.lambda;
     options.hull_points = settings.celestial_hull_points;
     options.hull_margin = settings.celestial_hull_margin;
+    options.hull_reference = input.hull_reference_points;
     if (!settings.user_weights.empty())
     {
       if (scheme_ == CelestialScheme::S)

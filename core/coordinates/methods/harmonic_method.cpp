@@ -37,6 +37,8 @@ public:
       result.undefined = outside;
     result.statistics.emplace_back("mesh_vertices", harmonic.mesh().num_vertices());
     result.statistics.emplace_back("mesh_cells", harmonic.mesh().num_elements());
+    result.mesh_weights = std::make_shared<MeshWeights>(
+      MeshWeights{ harmonic.mesh().V, harmonic.mesh().T, harmonic.mesh_weights(), {} });
     return result;
   }
 };
