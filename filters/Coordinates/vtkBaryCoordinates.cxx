@@ -8,11 +8,16 @@
 
 #include "vtkDataArray.h"
 #include "vtkDataSet.h"
+#include "vtkDataSetAttributes.h"
 #include "vtkDoubleArray.h"
 #include "vtkFieldData.h"
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
+#include "vtkMultiProcessController.h"
+#include "vtkMultiProcessStream.h"
 #include "vtkObjectFactory.h"
+#include "vtkPoints.h"
+#include "vtkStreamingDemandDrivenPipeline.h"
 #include "vtkPointData.h"
 #include "vtkPolyData.h"
 #include "vtkUnsignedCharArray.h"
@@ -20,6 +25,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <exception>
 
 vtkStandardNewMacro(vtkBaryCoordinates);
 
@@ -30,7 +36,10 @@ vtkBaryCoordinates::vtkBaryCoordinates()
   this->SetWeightsArrayName("Weights");
   this->SetLocationArrayName("CageLocation");
   this->SetFaceWeightsArrayName("FaceWeights");
+  this->SetController(vtkMultiProcessController::GetGlobalController());
 }
+
+vtkCxxSetObjectMacro(vtkBaryCoordinates, Controller, vtkMultiProcessController);
 
 void vtkBaryCoordinates::SetWeightMethod(vtkBaryWeightMethod* method)
 {
@@ -47,6 +56,7 @@ vtkMTimeType vtkBaryCoordinates::GetMTime()
 vtkBaryCoordinates::~vtkBaryCoordinates()
 {
   this->WeightMethod->UnRegister(this);
+  this->SetController(nullptr);
   this->SetWeightsArrayName(nullptr);
   this->SetLocationArrayName(nullptr);
   this->SetFaceWeightsArrayName(nullptr);
@@ -108,6 +118,94 @@ int vtkBaryCoordinates::FillInputPortInformation(int port, vtkInformation* info)
   return 1;
 }
 
+int vtkBaryCoordinates::RequestUpdateExtent(
+  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector*)
+{
+  // input 0 keeps the piece the executive copied from the output's request
+  for (int port = 1; port < 3; ++port)
+    if (vtkInformation* info = inputVector[port]->GetInformationObject(0))
+    {
+      info->Set(vtkStreamingDemandDrivenPipeline::UPDATE_PIECE_NUMBER(), 0);
+      info->Set(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_PIECES(), 1);
+      info->Set(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_GHOST_LEVELS(), 0);
+    }
+  return 1;
+}
+
+bary::WeightsResult vtkBaryCoordinates::ComputeShared(
+  const std::function<bary::WeightsResult(const bary::MeshWeights*)>& compute)
+{
+  vtkMultiProcessController* controller = this->Controller;
+  const int rank = controller->GetLocalProcessId();
+  vtkMultiProcessStream header;
+  bary::WeightsResult result;
+  std::exception_ptr failure;
+  if (rank == 0)
+  {
+    try
+    {
+      result = compute(nullptr);
+      if (!result.mesh_weights)
+        throw bary::Error(bary::ErrorCode::Internal, "a mesh-based method returned no mesh weights");
+      const bary::MeshWeights& m = *result.mesh_weights;
+      header << 1 << static_cast<vtkTypeInt64>(m.V.rows()) << static_cast<int>(m.V.cols())
+             << static_cast<vtkTypeInt64>(m.T.rows()) << static_cast<int>(m.T.cols())
+             << static_cast<vtkTypeInt64>(m.W.cols())
+             << static_cast<int>(m.statistics.size());
+      for (const auto& entry : m.statistics)
+        header << entry.first << entry.second;
+    }
+    catch (const bary::Error& e)
+    {
+      failure = std::current_exception();
+      header << 0 << static_cast<int>(e.code()) << e.message() << e.advice();
+    }
+    catch (const std::exception& e)
+    {
+      failure = std::current_exception();
+      header << 0 << static_cast<int>(bary::ErrorCode::Internal)
+             << std::string("Unexpected failure: ") + e.what() << std::string();
+    }
+  }
+  controller->Broadcast(header, 0);
+  int ok = 0;
+  header >> ok;
+  if (!ok)
+  {
+    if (failure)
+      std::rethrow_exception(failure);
+    int code = 0;
+    std::string message, advice;
+    header >> code >> message >> advice;
+    throw bary::Error(static_cast<bary::ErrorCode>(code), message, advice);
+  }
+  vtkTypeInt64 vertices = 0, cells = 0, columns = 0;
+  int dim = 0, corners = 0, statistics = 0;
+  header >> vertices >> dim >> cells >> corners >> columns >> statistics;
+  auto m = std::make_shared<bary::MeshWeights>();
+  if (rank == 0)
+    m = result.mesh_weights;
+  else
+  {
+    m->V.resize(vertices, dim);
+    m->T.resize(cells, corners);
+    m->W.resize(vertices, columns);
+    for (int k = 0; k < statistics; ++k)
+    {
+      std::string name;
+      double value = 0;
+      header >> name >> value;
+      m->statistics.emplace_back(name, value);
+    }
+  }
+  controller->Broadcast(m->V.data(), static_cast<vtkIdType>(m->V.size()), 0);
+  controller->Broadcast(m->T.data(), static_cast<vtkIdType>(m->T.size()), 0);
+  controller->Broadcast(m->W.data(), static_cast<vtkIdType>(m->W.size()), 0);
+  if (rank == 0)
+    return result;
+  return compute(m.get());
+}
+
 int vtkBaryCoordinates::RequestData(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
@@ -135,7 +233,8 @@ int vtkBaryCoordinates::RequestData(
     vtkErrorMacro(<< "WeightsArrayName must not be empty.");
     return 0;
   }
-  if (input->GetNumberOfPoints() == 0)
+  const bool distributed = this->Controller && this->Controller->GetNumberOfProcesses() > 1;
+  if (input->GetNumberOfPoints() == 0 && !distributed) // a distributed run's piece takes part
   {
     vtkWarningMacro(<< "The input has no points; nothing to compute.");
     return 1;
@@ -154,10 +253,64 @@ int vtkBaryCoordinates::RequestData(
     // with the domain's HandleRegion / ShapePreservation arrays: vtkBaryMixedHandles.
     const bool mixed = this->WeightMethod->GetMethod() == vtkBaryWeightMethod::BBW &&
       vtkBaryMixedHandles::UsesMixedHandles(cagePoly, domain);
-    const bary::WeightsResult result = mixed
-      ? vtkBaryMixedHandles::Compute(
-          this->WeightMethod->GetSettings(), input, cagePoly, domain, progress)
-      : this->WeightMethod->Compute(input, cagePoly, domain, progress, &columns, &warnings);
+    const bary::WeightsSettings settings = this->WeightMethod->GetSettings();
+    vtkBaryShared shared;
+    vtkNew<vtkPolyData> allPoints;
+    const bool celestial = settings.method == bary::MethodId::TCelestial ||
+      settings.method == bary::MethodId::SCelestial;
+    if (distributed && celestial && settings.celestial_hull_points != bary::CelestialHullPoints::None)
+    { // the hull points are the whole's: every piece's own points (not those flagged as
+      // duplicates in vtkGhostType), in the order of their global ids when the pieces have them
+      vtkUnsignedCharArray* ghosts = input->GetPointGhostArray();
+      vtkDataArray* ids = input->GetPointData()->GetGlobalIds();
+      vtkNew<vtkDoubleArray> mine, all, mineIds, allIds;
+      mine->SetNumberOfComponents(3);
+      for (vtkIdType i = 0; i < input->GetNumberOfPoints(); ++i)
+        if (!ghosts || !(ghosts->GetValue(i) & vtkDataSetAttributes::DUPLICATEPOINT))
+        {
+          mine->InsertNextTuple(input->GetPoint(i));
+          mineIds->InsertNextValue(ids ? ids->GetComponent(i, 0) : 0.0);
+        }
+      int withIds = ids ? 1 : 0, allWithIds = 0;
+      this->Controller->AllReduce(&withIds, &allWithIds, 1, vtkCommunicator::MIN_OP);
+      all->SetNumberOfComponents(3);
+      this->Controller->AllGatherV(mine, all);
+      this->Controller->AllGatherV(mineIds, allIds);
+      vtkNew<vtkPoints> points;
+      if (allWithIds)
+      {
+        std::vector<vtkIdType> order(static_cast<std::size_t>(all->GetNumberOfTuples()));
+        for (std::size_t k = 0; k < order.size(); ++k)
+          order[k] = static_cast<vtkIdType>(k);
+        std::stable_sort(order.begin(), order.end(), [&allIds](vtkIdType a, vtkIdType b) {
+          return allIds->GetValue(a) < allIds->GetValue(b);
+        });
+        vtkNew<vtkDoubleArray> sorted;
+        sorted->SetNumberOfComponents(3);
+        sorted->SetNumberOfTuples(all->GetNumberOfTuples());
+        for (std::size_t k = 0; k < order.size(); ++k)
+          sorted->SetTuple(static_cast<vtkIdType>(k), order[k], all);
+        points->SetData(sorted);
+      }
+      else
+        points->SetData(all);
+      allPoints->SetPoints(points);
+      shared.AllPoints = allPoints;
+    }
+    const auto compute = [&](const bary::MeshWeights* solved) {
+      shared.MeshWeights = solved;
+      return mixed
+        ? vtkBaryMixedHandles::Compute(settings, input, cagePoly, domain, progress, solved)
+        : this->WeightMethod->Compute(input, cagePoly, domain, progress, &columns, &warnings, shared);
+    };
+    const bool meshBased = bary::method_info(settings.method).domain_mesh;
+    if (distributed && meshBased && settings.insert_points)
+      throw bary::Error(bary::ErrorCode::InvalidArgument,
+        "InsertPointsIntoMesh (--insert-points) makes the mesh of all the points, but a "
+        "distributed run (" + std::to_string(this->Controller->GetNumberOfProcesses()) +
+          " processes) solves one mesh for all the pieces: turn it off");
+    const bary::WeightsResult result =
+      distributed && meshBased ? this->ComputeShared(compute) : compute(nullptr);
     if (mixed)
     {
       columns = vtkBaryCage(); // identity column order: handle j is component j
@@ -237,6 +390,7 @@ void vtkBaryCoordinates::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "FaceWeightsArrayName: "
      << (this->FaceWeightsArrayName ? this->FaceWeightsArrayName : "(none)") << "\n";
   os << indent << "GenerateLocation: " << this->GenerateLocation << "\n";
+  os << indent << "Controller: " << this->Controller << "\n";
   os << indent << "LocationArrayName: "
      << (this->LocationArrayName ? this->LocationArrayName : "(none)") << "\n";
 }

@@ -91,8 +91,10 @@
 
 class vtkDataArray;
 class vtkDataSet;
+class vtkMultiProcessController;
 class vtkPolyData;
 
+#include <functional> // for std::function
 #include <string>  // for std::string
 #include <utility> // for std::pair
 #include <vector>  // for std::vector
@@ -160,6 +162,23 @@ public:
   ///@}
 
   ///@{
+  /// The processes of a distributed run (VTK's parallel pipeline: each process holds a piece
+  /// of input 0, and the whole cage and domain, which RequestUpdateExtent asks for whole).
+  /// Default: the global controller (vtkMultiProcessController::GetGlobalController(): null,
+  /// or one process, in a serial program). With several processes every process must execute
+  /// the filter, as everywhere in VTK's parallel pipeline: the mesh-based methods (HARMONIC,
+  /// BBW, LBC) mesh and solve once, on process 0, and send the mesh weights to the others,
+  /// which interpolate their pieces (the serial run's weights, bitwise); an error of that solve
+  /// fails the request on every process with its message. Celestial coordinates decide and
+  /// place hull points from all the pieces' points (gathered; points flagged as duplicates in
+  /// vtkGhostType left out, ordered by the pieces' global point ids when they have them: then
+  /// the serial run's hull points). The other methods evaluate each
+  /// piece on its own. InsertPointsIntoMesh (a mesh made of all the points) is refused.
+  virtual void SetController(vtkMultiProcessController* controller);
+  vtkGetObjectMacro(Controller, vtkMultiProcessController);
+  ///@}
+
+  ///@{
   /// The cage (input port 1).
   void SetCageData(vtkPolyData* cage);
   void SetCageConnection(vtkAlgorithmOutput* output);
@@ -178,13 +197,21 @@ protected:
   ~vtkBaryCoordinates() override;
   int FillInputPortInformation(int port, vtkInformation* info) override;
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+  /// Input 0 follows the requested piece; the cage and the domain are requested whole.
+  int RequestUpdateExtent(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
 #ifndef __VTK_WRAP__
+  /// The weights of @p input (a piece) from a solve on process 0 of Controller: @p compute
+  /// (called with the mesh weights to interpolate, or null to solve) runs there first, its
+  /// error or its MeshWeights are broadcast, the other processes then interpolate.
+  bary::WeightsResult ComputeShared(
+    const std::function<bary::WeightsResult(const bary::MeshWeights*)>& compute);
   /// Adds the weights (columns permuted by @p columns) and location arrays, keeps the counts.
   void FinishOutput(vtkDataSet* output, const bary::WeightsResult& result,
     const struct vtkBaryCage& columns);
 #endif
 
   vtkBaryWeightMethod* WeightMethod = nullptr;
+  vtkMultiProcessController* Controller = nullptr;
   char* WeightsArrayName = nullptr;
   char* FaceWeightsArrayName = nullptr;
   bool GenerateLocation = true;

@@ -323,7 +323,8 @@ Eigen::VectorXd vtkBaryMixedHandles::ShapePreservation(vtkDataSet* domain)
 }
 
 bary::WeightsResult vtkBaryMixedHandles::Compute(const bary::WeightsSettings& settings,
-  vtkDataSet* input, vtkPolyData* handles, vtkDataSet* domain, const bary::ProgressCallback& progress)
+  vtkDataSet* input, vtkPolyData* handles, vtkDataSet* domain, const bary::ProgressCallback& progress,
+  const bary::MeshWeights* solved)
 {
   const int dim = vtkBaryConversion::DomainDimension(domain);
   const std::vector<std::vector<int>> regions = RegionVertices(domain);
@@ -367,5 +368,6 @@ bary::WeightsResult vtkBaryMixedHandles::Compute(const bary::WeightsSettings& se
   in.points = &points;
   in.region_vertices = regions.empty() ? nullptr : &regions;
   in.shape_preservation = brush.size() > 0 ? &brush : nullptr;
+  in.mesh_weights = solved;
   return bary::compute_weights(in, settings, progress);
 }

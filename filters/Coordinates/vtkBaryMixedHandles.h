@@ -82,9 +82,11 @@ public:
   static Eigen::VectorXd ShapePreservation(vtkDataSet* domain);
 
   /// BBW of the points of @p input with mixed handles in @p domain (a simplicial mesh used as
-  /// is, or a closed surface / polygon meshed with the handles' samples).
+  /// is, or a closed surface / polygon meshed with the handles' samples). @p solved: the mesh
+  /// weights of the same solve done elsewhere (a distributed run): interpolation only.
   static bary::WeightsResult Compute(const bary::WeightsSettings& settings, vtkDataSet* input,
-    vtkPolyData* handles, vtkDataSet* domain, const bary::ProgressCallback& progress);
+    vtkPolyData* handles, vtkDataSet* domain, const bary::ProgressCallback& progress,
+    const bary::MeshWeights* solved = nullptr);
 #endif
 
 protected:

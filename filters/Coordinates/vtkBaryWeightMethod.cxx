@@ -207,7 +207,7 @@ vtkBaryCage vtkBaryWeightMethod::ReadControls(vtkPolyData* controls) const
 
 bary::WeightsResult vtkBaryWeightMethod::Compute(vtkDataSet* input, vtkPolyData* controls,
   vtkDataSet* domain, const bary::ProgressCallback& progress, vtkBaryCage* columns,
-  std::vector<std::string>* warnings) const
+  std::vector<std::string>* warnings, const vtkBaryShared& shared) const
 {
   const bary::WeightsSettings settings = this->GetSettings();
   const bary::MethodInfo& info = bary::method_info(settings.method);
@@ -248,6 +248,7 @@ bary::WeightsResult vtkBaryWeightMethod::Compute(vtkDataSet* input, vtkPolyData*
     }
     in.skeleton = &skeleton;
     in.points = &points;
+    in.mesh_weights = shared.MeshWeights;
     bary::WeightsResult result = bary::compute_weights(in, settings, progress);
     if (columns)
     {
@@ -293,6 +294,13 @@ bary::WeightsResult vtkBaryWeightMethod::Compute(vtkDataSet* input, vtkPolyData*
   in.cage = &cage.Cage;
   in.points = &points;
   in.edges = edges.rows() > 0 ? &edges : nullptr;
+  in.mesh_weights = shared.MeshWeights;
+  Eigen::MatrixXd all_points;
+  if (shared.AllPoints)
+  {
+    all_points = vtkBaryConversion::PointsToMatrix(shared.AllPoints, dim);
+    in.hull_reference_points = &all_points;
+  }
   bary::WeightsResult result = bary::compute_weights(in, settings, progress);
   if (columns)
     *columns = std::move(cage);

@@ -31,6 +31,15 @@
 #include "core/common/weights_result.h" // for bary::WeightsResult
 #include <string>                // for std::string
 #include <vector>                // for std::vector
+
+/// What the processes of a distributed run share (vtkBaryCoordinates with a controller of
+/// several processes): the weights solved once on the domain mesh, and all the points (whose
+/// hull decides celestial coordinates' hull points). Both optional (null: a serial run).
+struct vtkBaryShared
+{
+  const bary::MeshWeights* MeshWeights = nullptr;
+  vtkDataSet* AllPoints = nullptr;
+};
 #endif
 
 class vtkDataArray;
@@ -251,7 +260,7 @@ public:
    */
   bary::WeightsResult Compute(vtkDataSet* input, vtkPolyData* controls, vtkDataSet* domain,
     const bary::ProgressCallback& progress, struct vtkBaryCage* columns,
-    std::vector<std::string>* warnings) const;
+    std::vector<std::string>* warnings, const vtkBaryShared& shared = {}) const;
 #endif
 
 protected:

@@ -10,6 +10,7 @@
 #include "vtkDoubleArray.h"
 #include "vtkImageData.h"
 #include "vtkPointSource.h"
+#include "vtkSphereSource.h"
 #include "vtkUnsignedCharArray.h"
 #include "vtkUnstructuredGrid.h"
 
@@ -668,3 +669,48 @@ TEST(vtkBaryCoordinates, AbortFromProgressObserverCancels)
 }
 
 } // namespace
+
+TEST(vtkBaryCoordinates, CageIsRequestedWholeWhenAPieceIsRequested)
+{
+  // In VTK's parallel pipeline (ParaView, mpirun) the output is requested by pieces; the
+  // points follow the piece, the cage must not: half a sphere is an open cage. vtkSphereSource
+  // makes only the requested piece of itself, which shows whether the filter asks for it whole.
+  vtkNew<vtkSphereSource> sphere;
+  sphere->SetThetaResolution(12);
+  sphere->SetPhiResolution(8);
+  sphere->UpdatePiece(1, 2, 0);
+  vtkNew<vtkPolyData> half;
+  half->DeepCopy(sphere->GetOutput());
+  sphere->UpdatePiece(0, 1, 0);
+  ASSERT_LT(half->GetNumberOfPolys(), sphere->GetOutput()->GetNumberOfPolys())
+    << "the premise: the source makes pieces";
+  vtkNew<vtkPointSource> points;
+  points->SetNumberOfPoints(50);
+  points->SetRadius(0.4);
+  points->Update();
+  vtkNew<vtkBaryCoordinates> filter;
+  filter->SetInputData(points->GetOutput());
+  filter->SetCageConnection(sphere->GetOutputPort());
+  vtkNew<ErrorObserver> errors;
+  errors->Attach(filter);
+  filter->UpdatePiece(1, 2, 0);
+  ASSERT_EQ(errors->AllErrors(), "(none)");
+  vtkDataArray* w = vtkDataSet::SafeDownCast(filter->GetOutput())->GetPointData()->GetArray("Weights");
+  vtkPolyData* cage = sphere->GetOutput();
+  ASSERT_NE(w, nullptr);
+  ASSERT_EQ(w->GetNumberOfComponents(), cage->GetNumberOfPoints()) << "the whole sphere's";
+  for (vtkIdType p = 0; p < w->GetNumberOfTuples(); ++p)
+  { // linear reproduction with the whole cage's points (1e-12 of its size)
+    double x[3] = { 0, 0, 0 }, sum = 0;
+    for (int i = 0; i < w->GetNumberOfComponents(); ++i)
+    {
+      const double wi = w->GetComponent(p, i);
+      sum += wi;
+      for (int k = 0; k < 3; ++k)
+        x[k] += wi * cage->GetPoint(i)[k];
+    }
+    EXPECT_NEAR(sum, 1.0, 1e-12);
+    for (int k = 0; k < 3; ++k)
+      EXPECT_NEAR(x[k], points->GetOutput()->GetPoint(p)[k], 1e-12);
+  }
+}
