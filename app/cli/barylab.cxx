@@ -32,6 +32,10 @@
 //
 // Exit codes: 0 success, 1 bad input or failed computation (one line on stderr naming the
 // problem), 2 bad command line.
+//
+// Distributed runs: `mpirun -np K barylab weights|deform|animate ...` (docs/distributed.md):
+// every process parses the same command line; process 0 prints what the command line prints,
+// the lowest failing process its error.
 
 #include "barylabCli.h"
 
@@ -43,6 +47,8 @@
 
 #include <exception>
 #include <iostream>
+#include <set>
+#include <sstream>
 
 int main(int argc, char** argv)
 {
@@ -51,30 +57,72 @@ int main(int argc, char** argv)
   vtkLogger::SetStderrVerbosity(vtkLogger::VERBOSITY_OFF);
 
   namespace cli = barylab::cli;
+  barylab::DistributedSession session(&argc, &argv); // MPI when started by mpirun
+  if (session.MissingMPI())
+  {
+    std::cerr << "barylab: error: started by an MPI launcher, but this barylab was built "
+                 "without MPI (VTK's ParallelMPI module was not found)\n";
+    return 1;
+  }
   CLI::App app;
   cli::Subcommands subcommands(app);
   cli::ConfigureApp(app, subcommands);
-  if (const int parsed = cli::ParseArguments(app, argc, argv); parsed != 0)
-    return parsed < 0 ? 0 : parsed;
+  {
+    // every process parses the same command line: process 0 alone prints help and usage errors
+    std::ostringstream silent;
+    std::streambuf* out = std::cout.rdbuf();
+    std::streambuf* err = std::cerr.rdbuf();
+    if (barylab::ProcessRank() != 0)
+    {
+      std::cout.rdbuf(silent.rdbuf());
+      std::cerr.rdbuf(silent.rdbuf());
+    }
+    const int parsed = cli::ParseArguments(app, argc, argv);
+    std::cout.rdbuf(out);
+    std::cerr.rdbuf(err);
+    if (parsed != 0)
+      return parsed < 0 ? 0 : parsed;
+  }
+  if (barylab::Distributed())
+  {
+    static const std::set<std::string> distributed = { "weights", "deform", "animate" };
+    for (const CLI::App* command : app.get_subcommands())
+      if (!distributed.count(command->get_name()))
+      {
+        if (barylab::ProcessRank() == 0)
+          std::cerr << "barylab: usage error: '" << command->get_name()
+                    << "' runs on one process; distributed runs (mpirun -np K) are for "
+                       "weights, deform and animate\n";
+        return 2;
+      }
+  }
 
   try
   {
     return subcommands.Run();
   }
+  catch (const barylab::PeerFailure&)
+  {
+    return 1; // the failing process printed the error
+  }
   catch (const cli::UsageError& e)
   {
-    std::cerr << "barylab: usage error: " << bary::one_line(e.what())
+    if (barylab::ReportsErrors())
+      std::cerr << "barylab: usage error: " << bary::one_line(e.what())
               << "\nRun with --help for more information.\n";
     return 2;
   }
   catch (const bary::Error& e)
   {
-    std::cerr << "barylab: error: " << e.what() << "\n";
+    if (barylab::ReportsErrors())
+      std::cerr << "barylab: error" << barylab::ProcessLabel() << ": " << e.what() << "\n";
     return 1;
   }
   catch (const std::exception& e)
   {
-    std::cerr << "barylab: error: " << bary::one_line(e.what()) << "\n";
+    if (barylab::ReportsErrors())
+      std::cerr << "barylab: error" << barylab::ProcessLabel() << ": " << bary::one_line(e.what())
+                << "\n";
     return 1;
   }
 }

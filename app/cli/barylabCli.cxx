@@ -180,18 +180,22 @@ void check_output(const std::string& path, OutputKind kind, const std::vector<st
         "cannot write '" + path + "': it is the input '" + input +
           "' (an output never overwrites an input: choose another name)");
   const std::string ext = vtkBaryDataIO::Extension(path);
-  const bool ok = kind == OutputKind::Data ? vtkBaryDataIO::CanWrite(path)
+  const bool ok = kind == OutputKind::Data ? vtkBaryDataIO::CanWrite(path) || IsParallelFile(path)
     : kind == OutputKind::Json             ? ext == ".json"
     : kind == OutputKind::Text             ? ext == ".txt" || ext == ".vtp" || ext == ".vtu" || ext == ".vtk"
                                            : ext == ".png";
   if (!ok)
     throw bary::Error(bary::ErrorCode::Io,
       "cannot write '" + path + "': unknown file extension '" + ext + "' (" +
-        (kind == OutputKind::Data ? "writable: .vtp, .vtu, .vtk, .obj, .stl, .ply, .off"
+        (kind == OutputKind::Data ? "writable: .vtp, .vtu, .vtk, .obj, .stl, .ply, .off, .pvtp, .pvtu"
           : kind == OutputKind::Json ? "a summary is written as .json"
           : kind == OutputKind::Text ? "written as text (.txt) or with point arrays (.vtp, .vtu, .vtk)"
                                      : "images are written as .png") +
         ")");
+  if (kind == OutputKind::Data && Distributed() && !IsParallelFile(path))
+    throw bary::Error(bary::ErrorCode::Io,
+      "cannot write '" + path + "': a distributed run writes one piece per process in VTK's "
+      "parallel XML files: give a .pvtp (polygonal data) or .pvtu (unstructured grid) name");
   const fs::path parent = fs::path(path).parent_path();
   if (!parent.empty() && !fs::is_directory(parent))
     throw bary::Error(bary::ErrorCode::Io,

@@ -10,6 +10,7 @@
 /// function receives. `main` (barylab.cxx) calls every Add<Name>Command in --help order, parses,
 /// calls Subcommands::Run and turns exceptions into exit codes.
 
+#include "barylabDistributed.h"
 #include "barylabPipeline.h"
 
 #include "vtkDataSet.h"

@@ -45,34 +45,55 @@ int run_animate(AnimateArgs a)
   if (!a.user_weights.empty() && a.parameters.method != bary::MethodId::TCelestial)
     throw UsageError("--user-weights is for --method tcc (Eq. 8's s_i)");
   a.parameters.user_weights = read_user_weights(a.user_weights);
-  if (!a.json_path.empty())
-    check_output(a.json_path, OutputKind::Json);
-  auto cage = vtkBaryDataIO::ReadPolyData(a.cage);
-  std::vector<vtkSmartPointer<vtkPointSet>> frames;
-  for (const std::string& f : a.frames)
-  {
-    auto data = vtkBaryDataIO::Read(f);
-    vtkSmartPointer<vtkPointSet> set = vtkPointSet::SafeDownCast(data);
-    if (!set || set->GetNumberOfPoints() != cage->GetNumberOfPoints())
-      throw bary::Error(bary::ErrorCode::SizeMismatch,
-        "frame '" + f + "' must hold the " + std::to_string(cage->GetNumberOfPoints()) +
-          " points of '" + a.cage + "', moved (same order)");
-    frames.push_back(set);
-  }
-  auto model = vtkBaryDataIO::Read(a.points);
-  ProgressBar bar(!a.quiet, "weights");
+  // Distributed: the weights are computed on the model's pieces (one solve per cage) and
+  // gathered; process r deforms and writes frames r, r + K, ...; process 0 writes the .pvd.
+  const int rank = ProcessRank(), K = ProcessCount();
+  vtkSmartPointer<vtkPolyData> cage;
+  std::vector<vtkSmartPointer<vtkPointSet>> frames(a.frames.size());
+  vtkSmartPointer<vtkDataSet> model, piece;
+  Collective([&]() {
+    if (!a.json_path.empty())
+      check_output(a.json_path, OutputKind::Json);
+    cage = vtkBaryDataIO::ReadPolyData(a.cage);
+    for (std::size_t f = static_cast<std::size_t>(rank); f < a.frames.size(); f += static_cast<std::size_t>(K))
+    {
+      auto data = vtkBaryDataIO::Read(a.frames[f]);
+      vtkSmartPointer<vtkPointSet> set = vtkPointSet::SafeDownCast(data);
+      if (!set || set->GetNumberOfPoints() != cage->GetNumberOfPoints())
+        throw bary::Error(bary::ErrorCode::SizeMismatch,
+          "frame '" + a.frames[f] + "' must hold the " + std::to_string(cage->GetNumberOfPoints()) +
+            " points of '" + a.cage + "', moved (same order)");
+      frames[f] = set;
+    }
+    model = ReadWhole(a.points);
+    piece = SplitPiece(model);
+  });
+  const bool lead = rank == 0;
+  ProgressBar bar(!a.quiet && lead, "weights");
   json summary;
-  auto weighted = barylab::ComputeWeights(model, cage, a.parameters, callbacks(bar, a.quiet), &summary);
+  vtkSmartPointer<vtkDataSet> weighted;
+  Collective([&]() {
+    weighted = barylab::ComputeWeights(
+      piece, cage, a.parameters, callbacks(bar, a.quiet || !lead), &summary);
+  });
   bar.done();
+  Collective([&]() { weighted = GatherPointArrays(model, weighted); });
   json animation;
-  const std::string pvd = barylab::WriteAnimation(vtkPointSet::SafeDownCast(weighted), cage, frames,
-    a.parameters, a.output_dir, a.prefix, a.period, &animation);
+  std::string pvd;
+  Collective([&]() {
+    pvd = barylab::WriteAnimation(vtkPointSet::SafeDownCast(weighted), cage, frames,
+      a.parameters, a.output_dir, a.prefix, a.period, &animation, lead);
+  });
   summary["animation"] = animation;
+  if (!lead)
+    return 0;
   if (!a.json_path.empty())
     barylab::WriteJson(summary, a.json_path);
   if (!a.quiet)
     std::cerr << "barylab: wrote " << frames.size() << " frames and " << pvd << " ("
-              << animation["seconds_per_frame"].get<double>() * 1e3 << " ms per frame)\n";
+              << animation["seconds_per_frame"].get<double>() * 1e3 << " ms per frame"
+              << (K > 1 ? " on process 0, " + std::to_string(K) + " processes" : std::string())
+              << ")\n";
   return 0;
 }
 

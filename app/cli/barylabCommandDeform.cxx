@@ -52,7 +52,7 @@ vtkSmartPointer<vtkDataSet> attach_weights(vtkSmartPointer<vtkDataSet> model,
 {
   if (weights_path.empty())
     return model;
-  auto weighted = vtkBaryDataIO::Read(weights_path);
+  auto weighted = ReadPiece(weights_path); // a .pvtp / .pvtu: this process's piece
   vtkDataArray* w = vtkBaryConversion::FindPointArray(weighted, array);
   // or the compact pair written by 'barylab reduce' (sparse weights)
   vtkDataArray* wi = w ? nullptr : weighted->GetPointData()->GetArray((array + "Indices").c_str());
@@ -133,11 +133,15 @@ int run_deform_bbw(const DeformArgs& a)
     throw UsageError("give --points MODEL or --weights FILE");
   if (a.mesh.empty() && a.weights.empty())
     throw UsageError("--method bbw needs --mesh DOMAIN to compute the weights (or --weights FILE)");
-  check_outputs(a);
   if (!a.shape_preservation.empty() && a.mesh.empty())
     throw UsageError("--shape-preservation needs the domain mesh (--mesh)");
-  auto handles = vtkBaryDataIO::ReadPolyData(a.handles);
-  vtkSmartPointer<vtkDataSet> domain = a.mesh.empty() ? nullptr : vtkBaryDataIO::Read(a.mesh);
+  vtkSmartPointer<vtkPolyData> handles;
+  vtkSmartPointer<vtkDataSet> domain, model;
+  std::vector<Eigen::MatrixXd> pose;
+  Collective([&]() { // every process reads the same inputs, and its piece of the model
+  check_outputs(a);
+  handles = vtkBaryDataIO::ReadPolyData(a.handles);
+  domain = a.mesh.empty() ? nullptr : vtkBaryDataIO::Read(a.mesh);
   if (domain)
     domain = with_shape_preservation(domain, a.shape_preservation, a.mesh);
   int dim = 3;
@@ -155,7 +159,6 @@ int run_deform_bbw(const DeformArgs& a)
   const auto vertex_regions =
     static_cast<Eigen::Index>(domain ? vtkBaryMixedHandles::RegionVertices(domain).size() : 0);
   const Eigen::Index handle_count = skeleton.handle_count() + vertex_regions;
-  std::vector<Eigen::MatrixXd> pose;
   if (!a.transforms.empty())
     pose = vtkBaryDataIO::ReadPose(a.transforms, handle_count, &skeleton);
   else
@@ -172,33 +175,42 @@ int run_deform_bbw(const DeformArgs& a)
     pose = vtkBaryLinearBlendSkinning::PoseFromJoints(
       handles, posedSet, dim, a.pseudo_edges.empty() ? Eigen::MatrixXi() : vtkBaryDataIO::ReadPseudoEdges(a.pseudo_edges));
   }
-  vtkSmartPointer<vtkDataSet> model = a.points.empty() ? nullptr : vtkBaryDataIO::Read(a.points);
+  model = a.points.empty() ? nullptr : ReadPiece(a.points);
   model = attach_weights(model, a.points, a.weights, a.parameters.weights_name,
     handle_count, "the handles '" + a.handles + "'");
-  ProgressBar bar(!a.quiet, "deform");
+  });
+  const bool lead = ProcessRank() == 0;
+  ProgressBar bar(!a.quiet && lead, "deform");
   json summary;
   bool computed = false;
-  if (a.weights.empty())
-  {
-    json weights_summary;
-    model = barylab::ComputeWeights(model, handles, a.parameters, callbacks(bar, a.quiet),
-      &weights_summary, domain);
-    summary["weights"] = weights_summary;
-    computed = true;
-  }
-  vtkPointSet* weighted = vtkPointSet::SafeDownCast(model);
-  if (!weighted)
-    throw bary::Error(bary::ErrorCode::Io, "the model does not hold a point set");
-  json skin_summary;
-  auto deformed = barylab::Skin(weighted, pose, a.parameters, {}, &skin_summary);
+  vtkSmartPointer<vtkPointSet> deformed;
+  Collective([&]() {
+    if (a.weights.empty())
+    {
+      json weights_summary;
+      model = barylab::ComputeWeights(model, handles, a.parameters,
+        callbacks(bar, a.quiet || !lead), &weights_summary, domain);
+      summary["weights"] = weights_summary;
+      computed = true;
+    }
+    vtkPointSet* weighted = vtkPointSet::SafeDownCast(model);
+    if (!weighted)
+      throw bary::Error(bary::ErrorCode::Io, "the model does not hold a point set");
+    json skin_summary;
+    deformed = barylab::Skin(weighted, pose, a.parameters, {}, &skin_summary);
+    summary["skinning"] = skin_summary;
+  });
   bar.done();
-  summary["skinning"] = skin_summary;
   summary["weights_computed"] = computed;
-  vtkBaryDataIO::Write(deformed, a.output);
+  summary["points"] = OwnedPoints(deformed)->GetNumberOfPoints();
+  summary = CombineSummaries(summary);
+  WriteData(deformed, a.output);
+  if (!lead)
+    return 0;
   if (!a.json_path.empty())
     barylab::WriteJson(summary, a.json_path);
   if (!a.quiet)
-    std::cerr << "barylab: skinned " << weighted->GetNumberOfPoints() << " points with "
+    std::cerr << "barylab: skinned " << summary["points"] << " points with "
               << pose.size() << " handle transforms ("
               << (computed ? "weights computed" : "weights from the input") << ")\n";
   return 0;
@@ -239,31 +251,45 @@ int run_deform(DeformArgs a)
                      "--transforms / --deformed-handles)");
   if (!a.transforms.empty() || !a.posed_handles.empty())
     throw UsageError("--transforms and --deformed-handles go with --method bbw --handles");
-  check_outputs(a);
   if (a.points.empty() && a.weights.empty())
     throw UsageError("give --points MODEL or --weights FILE");
-  auto cage = vtkBaryDataIO::ReadPolyData(a.cage);
-  auto posedData = vtkBaryDataIO::Read(a.posed);
-  vtkPointSet* posed = vtkPointSet::SafeDownCast(posedData);
+  vtkSmartPointer<vtkPolyData> cage;
+  vtkSmartPointer<vtkDataSet> posedData, modelData;
+  vtkPointSet* posed = nullptr;
+  vtkPointSet* model = nullptr;
+  Collective([&]() { // every process reads the same inputs, and its piece of the model
+  check_outputs(a);
+  cage = vtkBaryDataIO::ReadPolyData(a.cage);
+  posedData = vtkBaryDataIO::Read(a.posed);
+  posed = vtkPointSet::SafeDownCast(posedData);
   if (!posed)
     throw bary::Error(bary::ErrorCode::Io, "'" + a.posed + "' does not hold a point set");
 
-  vtkSmartPointer<vtkDataSet> modelData = a.points.empty() ? nullptr : vtkBaryDataIO::Read(a.points);
+  modelData = a.points.empty() ? nullptr : ReadPiece(a.points);
   modelData = attach_weights(modelData, a.points, a.weights, a.parameters.weights_name,
     cage->GetNumberOfPoints(), "the cage '" + a.cage + "'");
-  vtkPointSet* model = vtkPointSet::SafeDownCast(modelData);
+  model = vtkPointSet::SafeDownCast(modelData);
   if (!model)
     throw bary::Error(bary::ErrorCode::Io, "the model does not hold a point set");
-  ProgressBar bar(!a.quiet, "deform");
+  });
+  const bool lead = ProcessRank() == 0;
+  ProgressBar bar(!a.quiet && lead, "deform");
   json summary;
-  auto deformed =
-    barylab::Deform(model, cage, posed, a.parameters, callbacks(bar, a.quiet), &summary);
+  vtkSmartPointer<vtkPointSet> deformed;
+  Collective([&]() {
+    deformed = barylab::Deform(
+      model, cage, posed, a.parameters, callbacks(bar, a.quiet || !lead), &summary);
+  });
   bar.done();
-  vtkBaryDataIO::Write(deformed, a.output);
+  summary["points"] = OwnedPoints(deformed)->GetNumberOfPoints();
+  summary = CombineSummaries(summary);
+  WriteData(deformed, a.output);
+  if (!lead)
+    return 0;
   if (!a.json_path.empty())
     barylab::WriteJson(summary, a.json_path);
   if (!a.quiet)
-    std::cerr << "barylab: deformed " << model->GetNumberOfPoints() << " points in "
+    std::cerr << "barylab: deformed " << summary["points"] << " points in "
               << summary["seconds"].get<double>() << " s ("
               << (summary["weights_computed"].get<bool>() ? "weights computed"
                                                           : "weights from the input")

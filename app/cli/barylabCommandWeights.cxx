@@ -2,6 +2,7 @@
 
 #include "barylabCli.h"
 
+#include "barylabDistributed.h"
 #include "vtkBaryDataIO.h"
 
 #include "core/common/error.h"
@@ -51,21 +52,27 @@ int run_weights(WeightsArgs a)
   const bool mesh_based = method.domain_mesh && a.handles.empty();
   if (a.points.empty() && a.mesh.empty() && !mesh_based)
     throw UsageError("--points is required (the points to compute weights at)");
+  if (Distributed() && a.points.empty())
+    throw UsageError("a distributed run (mpirun) splits the points of --points over the "
+                     "processes: give --points");
   const std::vector<std::string> inputs = { a.cage, a.controls, a.handles, a.mesh, a.points };
-  check_output(a.output, OutputKind::Data, inputs);
-  if (!a.json_path.empty())
-    check_output(a.json_path, OutputKind::Json, inputs);
   const bool skeleton = !a.handles.empty();
-  auto cage = vtkBaryDataIO::ReadPolyData(skeleton ? a.handles : a.cage);
-  vtkSmartPointer<vtkDataSet> domain = a.mesh.empty() ? nullptr : vtkBaryDataIO::Read(a.mesh);
-  if (domain)
-    domain = with_shape_preservation(domain, a.shape_preservation, a.mesh);
-  vtkSmartPointer<vtkDataSet> points;
-  if (!a.points.empty())
-    points = vtkBaryDataIO::Read(a.points);
-  else if (domain)
+  vtkSmartPointer<vtkPolyData> cage;
+  vtkSmartPointer<vtkDataSet> domain, points;
+  Collective([&]() { // every process reads the whole cage and domain, and its piece of the points
+    check_output(a.output, OutputKind::Data, inputs);
+    if (!a.json_path.empty())
+      check_output(a.json_path, OutputKind::Json, inputs);
+    cage = vtkBaryDataIO::ReadPolyData(skeleton ? a.handles : a.cage);
+    domain = a.mesh.empty() ? nullptr : vtkBaryDataIO::Read(a.mesh);
+    if (domain)
+      domain = with_shape_preservation(domain, a.shape_preservation, a.mesh);
+    if (!a.points.empty())
+      points = ReadPiece(a.points);
+  });
+  if (!points && domain)
     points = domain;
-  else
+  else if (!points)
   {
     // the mesher's defaults are the methods' (deterministic: the same mesh again inside)
     barylab::MeshParameters mp;
@@ -77,10 +84,14 @@ int run_weights(WeightsArgs a)
     points = barylab::MeshCage(cage, nullptr, mp);
     domain = points; // used as is by the method: no second meshing
   }
-  ProgressBar bar(!a.quiet, "weights");
+  const bool lead = ProcessRank() == 0;
+  ProgressBar bar(!a.quiet && lead, "weights");
   json summary;
-  auto result = barylab::ComputeWeights(
-    points, cage, a.parameters, callbacks(bar, a.quiet), &summary, domain);
+  vtkSmartPointer<vtkDataSet> result;
+  Collective([&]() {
+    result = barylab::ComputeWeights(
+      points, cage, a.parameters, callbacks(bar, a.quiet || !lead), &summary, domain);
+  });
   bar.done();
   summary[skeleton ? "handles" : "cage"]["file"] = skeleton ? a.handles : a.cage;
   if (!a.user_weights.empty())
@@ -90,9 +101,18 @@ int run_weights(WeightsArgs a)
   summary["points"]["file"] =
     !a.points.empty() ? a.points : !a.mesh.empty() ? a.mesh : "(the domain mesh's vertices)";
   summary["output"] = a.output;
-  summary["statistics"] = barylab::WeightStatisticsJson(result, a.parameters.weights_name,
-    skeleton ? nullptr : cage.Get(), -1.0, a.parameters.cage_dimension);
-  vtkBaryDataIO::Write(result, a.output);
+  Collective([&]() {
+    // a distributed run's figures are over the points each process owns, then combined
+    vtkSmartPointer<vtkDataSet> owned = OwnedPoints(result);
+    if (Distributed())
+      summary["points"].update(PointCounts(owned, a.parameters.weights_name));
+    summary["statistics"] = barylab::WeightStatisticsJson(owned, a.parameters.weights_name,
+      skeleton ? nullptr : cage.Get(), -1.0, a.parameters.cage_dimension);
+  });
+  summary = CombineSummaries(summary);
+  WriteData(result, a.output);
+  if (!lead)
+    return 0;
   if (!a.json_path.empty())
     barylab::WriteJson(summary, a.json_path);
   if (!a.quiet)

@@ -322,7 +322,7 @@ vtkSmartPointer<vtkPointSet> Skin(vtkPointSet* weighted, const std::vector<Eigen
 }
 
 std::string WriteTimeSeries(const std::vector<vtkSmartPointer<vtkDataSet>>& frames,
-  const std::string& output_dir, const std::string& prefix, double period)
+  const std::string& output_dir, const std::string& prefix, double period, bool write_collection)
 {
   if (frames.empty())
     throw bary::Error(bary::ErrorCode::EmptyInput, "no frames to write");
@@ -337,12 +337,15 @@ std::string WriteTimeSeries(const std::vector<vtkSmartPointer<vtkDataSet>>& fram
     char name[64];
     std::snprintf(name, sizeof(name), "_%03zu.vtp", f);
     const std::string file = prefix + name;
-    vtkBaryDataIO::Write(frames[f], (fs::path(output_dir) / file).string());
+    if (frames[f]) // null: another process's frame
+      vtkBaryDataIO::Write(frames[f], (fs::path(output_dir) / file).string());
     pvd << "    <DataSet timestep=\"" << period * static_cast<double>(f) / static_cast<double>(frames.size())
         << "\" group=\"\" part=\"0\" file=\"" << file << "\"/>\n";
   }
   pvd << "  </Collection>\n</VTKFile>\n";
   const std::string path = (fs::path(output_dir) / (prefix + ".pvd")).string();
+  if (!write_collection)
+    return path;
   const std::string tmp = path + ".tmp";
   {
     std::ofstream out(tmp);
@@ -357,20 +360,26 @@ std::string WriteTimeSeries(const std::vector<vtkSmartPointer<vtkDataSet>>& fram
 
 std::string WriteAnimation(vtkPointSet* weighted, vtkPolyData* rest_cage,
   const std::vector<vtkSmartPointer<vtkPointSet>>& frames, const WeightsParameters& parameters,
-  const std::string& output_dir, const std::string& prefix, double period, nlohmann::json* summary)
+  const std::string& output_dir, const std::string& prefix, double period, nlohmann::json* summary,
+  bool write_collection)
 {
   if (frames.empty())
     throw bary::Error(bary::ErrorCode::EmptyInput, "no frames to animate");
   const auto t0 = std::chrono::steady_clock::now();
   std::vector<vtkSmartPointer<vtkDataSet>> deformed;
+  std::size_t mine = 0;
   for (const auto& frame : frames)
-    deformed.push_back(Deform(weighted, rest_cage, frame, parameters));
-  const std::string path = WriteTimeSeries(deformed, output_dir, prefix, period);
+  {
+    deformed.push_back(frame ? Deform(weighted, rest_cage, frame, parameters) : nullptr);
+    mine += frame ? 1 : 0;
+  }
+  const std::string path = WriteTimeSeries(deformed, output_dir, prefix, period, write_collection);
   if (summary)
   {
     (*summary)["frames"] = frames.size();
+    (*summary)["frames_written_here"] = mine;
     (*summary)["pvd"] = path;
-    (*summary)["seconds_per_frame"] = seconds_since(t0) / static_cast<double>(frames.size());
+    (*summary)["seconds_per_frame"] = seconds_since(t0) / static_cast<double>(std::max<std::size_t>(mine, 1));
   }
   return path;
 }

@@ -101,13 +101,18 @@ vtkSmartPointer<vtkPointSet> Deform(vtkPointSet* model, vtkPolyData* rest_cage,
 /// Returns the .pvd path; fills @p summary with the frames written and the time per frame.
 /// Writes @p frames as <prefix>_NNN.vtp in @p output_dir plus <prefix>.pvd (ParaView's
 /// collection, time = frame / #frames * @p period); returns the .pvd path.
+/// A null frame is another process's (a distributed run): listed in the .pvd, not written
+/// here; @p write_collection false leaves the .pvd to another process.
 std::string WriteTimeSeries(const std::vector<vtkSmartPointer<vtkDataSet>>& frames,
-  const std::string& output_dir, const std::string& prefix, double period = 1.0);
+  const std::string& output_dir, const std::string& prefix, double period = 1.0,
+  bool write_collection = true);
 
+/// As WriteTimeSeries, a null frame is another process's and @p write_collection says whether
+/// this process writes the .pvd.
 std::string WriteAnimation(vtkPointSet* weighted, vtkPolyData* rest_cage,
   const std::vector<vtkSmartPointer<vtkPointSet>>& frames, const WeightsParameters& parameters,
   const std::string& output_dir, const std::string& prefix, double period = 1.0,
-  nlohmann::json* summary = nullptr);
+  nlohmann::json* summary = nullptr, bool write_collection = true);
 
 /// Property statistics of the weights array @p array_name of @p data (partition of unity,
 /// min/max, negative entries, significant weights per point above @p threshold, where a
