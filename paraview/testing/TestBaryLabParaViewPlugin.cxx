@@ -554,6 +554,35 @@ void CheckWeightsAndDeformation(Pipeline& pipeline, const std::string& data)
   check(qColumn && qColumn->GetNumberOfTuples() == 72 &&
       std::abs(qColumn->GetComponent(0, 0) - 1.0) <= 1e-12,
     "locality statistics: Q has 72 rows and Q(1) = 1");
+  auto* pDefault = vtkTable::SafeDownCast(pipeline.Update(locality, nullptr, 0));
+  check(pDefault && pDefault->GetNumberOfRows() == 26, "locality statistics: 26 default t values");
+
+  // Own t values (the plugin's glue): P(t) at them, in increasing order, equal to the fraction
+  // of the dense weights with |w_i| <= t counted here (every point counts the same: the input
+  // is a curved triangle surface, not a domain mesh).
+  vtkSMSourceProxy* ownT = pipeline.Create("filters", "BaryLocalityStatistics");
+  vtkSMPropertyHelper(ownT, "Input").Set(harmonic, 0);
+  const double ts[3] = { 1.0, 0.01, 0.1 };
+  vtkSMPropertyHelper(ownT, "TValues").Set(ts, 3);
+  auto* pt = vtkTable::SafeDownCast(pipeline.Update(ownT, nullptr, 0));
+  vtkDataArray* tColumn = pt ? vtkDataArray::SafeDownCast(pt->GetColumnByName("t")) : nullptr;
+  vtkDataArray* pColumn = pt ? vtkDataArray::SafeDownCast(pt->GetColumnByName("P")) : nullptr;
+  bool ok = tColumn && pColumn && tColumn->GetNumberOfTuples() == 3;
+  double largest = 0.0;
+  for (int row = 0; ok && row < 3; ++row)
+  {
+    const double t = tColumn->GetComponent(row, 0);
+    double counted = 0.0;
+    for (vtkIdType p = 0; p < hw->GetNumberOfTuples(); ++p)
+      for (int i = 0; i < 72; ++i)
+        counted += std::abs(hw->GetComponent(p, i)) <= t ? 1.0 : 0.0;
+    counted /= static_cast<double>(hw->GetNumberOfTuples()) * 72.0;
+    largest = std::max(largest, std::abs(counted - pColumn->GetComponent(row, 0)));
+    ok = ok && t == (row == 0 ? 0.01 : row == 1 ? 0.1 : 1.0);
+  }
+  std::cout << "     locality statistics: largest |P(t) - counted| " << largest << "\n";
+  check(ok && largest <= 1e-12,
+    "locality statistics with own t values: sorted, P(t) as counted from the weights");
 }
 
 void CheckMesherAndErrors(Pipeline& pipeline, const std::string& data)
