@@ -314,13 +314,18 @@ void CheckSettingsTable(Pipeline& pipeline)
   int missing = 0, wrong_default = 0;
   for (const bary::SettingField& f : bary::weights_setting_fields())
   {
-    if (f.kind == bary::SettingField::Kind::Numbers)
-      continue; // a vtkDataArray (UserWeights), not a property
     vtkSMProperty* property = proxy->GetProperty(f.property.c_str());
     if (!property)
     {
       ++missing;
       std::cout << "     no property " << f.property << "\n";
+      continue;
+    }
+    if (f.kind == bary::SettingField::Kind::Numbers)
+    {
+      // a list (the user weights), empty by default
+      if (vtkSMPropertyHelper(property).GetNumberOfElements() != 0)
+        ++wrong_default;
       continue;
     }
     const double value = vtkSMPropertyHelper(property).GetAsDouble();
@@ -341,8 +346,14 @@ void CheckSettingsTable(Pipeline& pipeline)
   vtkSMPropertyHelper(proxy, "Method").Set(static_cast<int>(bary::MethodId::LBC));
   vtkSMPropertyHelper(proxy, "LBCPrimalTolerance").Set(2.5e-7);
   vtkSMPropertyHelper(proxy, "LBCStopping").Set(0);
+  const double userWeights[3] = { 0.5, 1.5, 2.0 };
+  vtkSMPropertyHelper(proxy, "UserWeights").Set(userWeights, 3);
   proxy->UpdateVTKObjects();
   auto* filter = vtkBaryCoordinates::SafeDownCast(proxy->GetClientSideObject());
+  vtkDataArray* given = filter ? filter->GetWeightMethod()->GetUserWeights() : nullptr;
+  check(given && given->GetNumberOfTuples() == 3 && given->GetComponent(0, 0) == 0.5 &&
+      given->GetComponent(1, 0) == 1.5 && given->GetComponent(2, 0) == 2.0,
+    "the T-celestial user weights set as a list on the proxy reach the weight method");
   check(filter && filter->GetWeightMethod()->GetMethod() == vtkBaryWeightMethod::LBC &&
       filter->GetWeightMethod()->GetLBCPrimalTolerance() == 2.5e-7 &&
       filter->GetWeightMethod()->GetLBCStopping() == vtkBaryWeightMethod::LBC_STOPPING_PAPER,
