@@ -4,17 +4,19 @@
 // client's, with no Python: python3-paraview cannot be installed beside python3-vtk9), creates
 // its proxies through vtkSMSessionProxyManager as the GUI does, updates pipelines and checks the
 // results' mathematical properties against references computed here:
-// - every proxy of the plugin's XML exists;
+// - every proxy of the plugin's XML exists, and the XML's defaults are the classes';
 // - the weight method's properties are BaryLab's settings table (core/coordinates/
 //   weight_methods.h): one property per setting, with its default, and a value set on the
 //   proxy reaches the VTK object;
+// - File > Open's reader factory picks the plugin's reader for .off and .tgf;
 // - mean value coordinates of the kidney (data/model3d.off) w.r.t. its cage (data/cage3d.obj),
 //   both read by the plugin's reader: partition of unity and linear precision to 1e-12;
-//   harmonic coordinates on a coarse mesh: partition of unity and non-negativity;
+//   harmonic coordinates on a coarse mesh: the same to 1e-9;
 // - cage deformation with the posed cage equals sum_i w_i c'_i computed here from the weights,
-//   and the rest cage reproduces the model;
-// - reduce weights (row sums 1), locality statistics (Q(1) = 1 for weights that sum to one),
-//   cage mesher (the tetrahedra's volume is the cage's, by the divergence theorem here);
+//   and the rest cage reproduces the model; linear blend skinning with one rigid motion;
+// - reduce weights (K and row sums from the dense weights), locality statistics (Q(1) = 1 for
+//   weights that sum to one; P(t) counted here), cage mesher (the tetrahedra's volume is the
+//   cage's, by the divergence theorem here);
 // - the .off writer's file reads back exactly;
 // - bad input (a missing file, an open cage) fails with an error, not a crash.
 #include "vtkAlgorithm.h"
