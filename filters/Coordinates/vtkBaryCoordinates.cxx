@@ -16,6 +16,7 @@
 #include "vtkMultiProcessController.h"
 #include "vtkMultiProcessStream.h"
 #include "vtkObjectFactory.h"
+#include "vtkPointSet.h"
 #include "vtkPoints.h"
 #include "vtkStreamingDemandDrivenPipeline.h"
 #include "vtkPointData.h"
@@ -132,8 +133,8 @@ int vtkBaryCoordinates::RequestUpdateExtent(
   return 1;
 }
 
-bary::WeightsResult vtkBaryCoordinates::ComputeShared(
-  const std::function<bary::WeightsResult(const bary::MeshWeights*)>& compute)
+bary::WeightsResult vtkBaryCoordinates::ComputeShared(vtkDataSet* input,
+  const std::function<bary::WeightsResult(vtkDataSet*, const bary::MeshWeights*)>& compute)
 {
   vtkMultiProcessController* controller = this->Controller;
   const int rank = controller->GetLocalProcessId();
@@ -144,7 +145,13 @@ bary::WeightsResult vtkBaryCoordinates::ComputeShared(
   {
     try
     {
-      result = compute(nullptr);
+      // the solve alone (no points): the others need not wait for process 0's interpolation
+      vtkSmartPointer<vtkDataSet> none;
+      none.TakeReference(input->NewInstance());
+      vtkNew<vtkPoints> noPoints;
+      if (auto* set = vtkPointSet::SafeDownCast(none))
+        set->SetPoints(noPoints);
+      result = compute(none, nullptr);
       if (!result.mesh_weights)
         throw bary::Error(bary::ErrorCode::Internal, "a mesh-based method returned no mesh weights");
       const bary::MeshWeights& m = *result.mesh_weights;
@@ -201,9 +208,7 @@ bary::WeightsResult vtkBaryCoordinates::ComputeShared(
   controller->Broadcast(m->V.data(), static_cast<vtkIdType>(m->V.size()), 0);
   controller->Broadcast(m->T.data(), static_cast<vtkIdType>(m->T.size()), 0);
   controller->Broadcast(m->W.data(), static_cast<vtkIdType>(m->W.size()), 0);
-  if (rank == 0)
-    return result;
-  return compute(m.get());
+  return compute(input, m.get()); // every process interpolates its piece
 }
 
 int vtkBaryCoordinates::RequestData(
@@ -297,11 +302,12 @@ int vtkBaryCoordinates::RequestData(
       allPoints->SetPoints(points);
       shared.AllPoints = allPoints;
     }
-    const auto compute = [&](const bary::MeshWeights* solved) {
+    const auto compute = [&](vtkDataSet* points, const bary::MeshWeights* solved) {
       shared.MeshWeights = solved;
+      warnings.clear();
       return mixed
-        ? vtkBaryMixedHandles::Compute(settings, input, cagePoly, domain, progress, solved)
-        : this->WeightMethod->Compute(input, cagePoly, domain, progress, &columns, &warnings, shared);
+        ? vtkBaryMixedHandles::Compute(settings, points, cagePoly, domain, progress, solved)
+        : this->WeightMethod->Compute(points, cagePoly, domain, progress, &columns, &warnings, shared);
     };
     const bool meshBased = bary::method_info(settings.method).domain_mesh;
     if (distributed && meshBased && settings.insert_points)
@@ -309,8 +315,9 @@ int vtkBaryCoordinates::RequestData(
         "InsertPointsIntoMesh (--insert-points) makes the mesh of all the points, but a "
         "distributed run (" + std::to_string(this->Controller->GetNumberOfProcesses()) +
           " processes) solves one mesh for all the pieces: turn it off");
-    const bary::WeightsResult result =
-      distributed && meshBased ? this->ComputeShared(compute) : compute(nullptr);
+    const bary::WeightsResult result = distributed && meshBased
+      ? this->ComputeShared(input, compute)
+      : compute(input, nullptr);
     if (mixed)
     {
       columns = vtkBaryCage(); // identity column order: handle j is component j

@@ -200,11 +200,11 @@ protected:
   /// Input 0 follows the requested piece; the cage and the domain are requested whole.
   int RequestUpdateExtent(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
 #ifndef __VTK_WRAP__
-  /// The weights of @p input (a piece) from a solve on process 0 of Controller: @p compute
-  /// (called with the mesh weights to interpolate, or null to solve) runs there first, its
-  /// error or its MeshWeights are broadcast, the other processes then interpolate.
-  bary::WeightsResult ComputeShared(
-    const std::function<bary::WeightsResult(const bary::MeshWeights*)>& compute);
+  /// The weights of @p input (a piece) from one solve on process 0 of Controller: @p compute
+  /// (points, and the mesh weights to interpolate or null to solve) runs there on no points,
+  /// its error or its MeshWeights are broadcast, then every process interpolates its piece.
+  bary::WeightsResult ComputeShared(vtkDataSet* input,
+    const std::function<bary::WeightsResult(vtkDataSet*, const bary::MeshWeights*)>& compute);
   /// Adds the weights (columns permuted by @p columns) and location arrays, keeps the counts.
   void FinishOutput(vtkDataSet* output, const bary::WeightsResult& result,
     const struct vtkBaryCage& columns);
