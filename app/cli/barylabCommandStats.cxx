@@ -136,7 +136,8 @@ int run_stats(const StatsArgs& a)
     throw UsageError("several --input files are for --locality");
   if (!a.csv_prefix.empty() || !a.json_file.empty() || a.no_measure)
     throw UsageError("--csv, --json-output and --no-measure go with --locality");
-  auto data = vtkBaryDataIO::Read(a.inputs.front());
+  // the points of a distributed run's file once each (those written in two pieces are flagged)
+  auto data = OwnedPoints(vtkBaryDataIO::Read(a.inputs.front()));
   vtkSmartPointer<vtkPolyData> cage = a.cage.empty() ? nullptr : vtkBaryDataIO::ReadPolyData(a.cage);
   json s = barylab::WeightStatisticsJson(data, a.array, cage, a.threshold, a.cage_dimension);
   if (a.json_out)

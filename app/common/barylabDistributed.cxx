@@ -320,12 +320,7 @@ vtkSmartPointer<vtkDataSet> ReadPiece(const std::string& path)
 
 vtkSmartPointer<vtkDataSet> ReadWhole(const std::string& path)
 {
-  const std::string ext = lower_extension(path);
-  if (ext == ".pvtp")
-    return read_pieces<vtkXMLPPolyDataReader>(path, 0, 1);
-  if (ext == ".pvtu")
-    return read_pieces<vtkXMLPUnstructuredGridReader>(path, 0, 1);
-  return vtkBaryDataIO::Read(path);
+  return vtkBaryDataIO::Read(path); // a .pvtp / .pvtu: all its pieces
 }
 
 vtkSmartPointer<vtkDataSet> SplitPiece(vtkDataSet* whole)

@@ -43,6 +43,8 @@
 #include "vtkUnstructuredGrid.h"
 #include "vtkWriter.h"
 #include "vtkXMLWriter.h"
+#include "vtkXMLPPolyDataReader.h"
+#include "vtkXMLPUnstructuredGridReader.h"
 #include "vtkXMLPolyDataReader.h"
 #include "vtkXMLPolyDataWriter.h"
 #include "vtkXMLUnstructuredGridReader.h"
@@ -358,6 +360,18 @@ vtkSmartPointer<vtkAlgorithm> make_reader(const std::string& ext, const std::str
     r->SetFileName(path.c_str());
     return r;
   }
+  if (ext == ".pvtp") // VTK's parallel XML: all the pieces, as one data set
+  {
+    auto r = vtkSmartPointer<vtkXMLPPolyDataReader>::New();
+    r->SetFileName(path.c_str());
+    return r;
+  }
+  if (ext == ".pvtu")
+  {
+    auto r = vtkSmartPointer<vtkXMLPUnstructuredGridReader>::New();
+    r->SetFileName(path.c_str());
+    return r;
+  }
   if (ext == ".vtk")
     return nullptr; // vtkbary::ReadLegacyVTK, not an algorithm
   if (ext == ".obj")
@@ -410,7 +424,7 @@ vtkSmartPointer<vtkDataSet> checked(vtkSmartPointer<vtkDataSet> data, const std:
   return data;
 }
 
-const char* const kReadable = ".vtp, .vtu, .vtk, .obj, .stl, .ply, .off, .mesh, .tgf";
+const char* const kReadable = ".vtp, .vtu, .pvtp, .pvtu, .vtk, .obj, .stl, .ply, .off, .mesh, .tgf";
 } // namespace
 
 std::string vtkBaryDataIO::Extension(const std::string& path)

@@ -37,7 +37,9 @@ public:
   static vtkBaryDataIO* New();
   vtkTypeMacro(vtkBaryDataIO, vtkObject);
 
-  /// Reads @p path. @throws bary::Error(Io | EmptyInput | NonFinite)
+  /// Reads @p path (a .pvtp / .pvtu: all its pieces as one data set; points that a distributed
+  /// run wrote in two pieces appear twice, flagged in vtkGhostType).
+  /// @throws bary::Error(Io | EmptyInput | NonFinite)
   static vtkSmartPointer<vtkDataSet> Read(const std::string& path);
   /// Reads @p path and requires a vtkPolyData (cages).  @throws bary::Error
   static vtkSmartPointer<vtkPolyData> ReadPolyData(const std::string& path);

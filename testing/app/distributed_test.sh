@@ -67,7 +67,15 @@ case $scenario in
       -o w.pvtp -q || fail "distributed weights"
     "${MPI[@]}" "$B" deform --method mvc --cage "$D/cage3d.obj" -d "$D/cage3d_posed.obj" \
       --weights w.pvtp -o dist2.pvtp -q || fail "distributed deform from weights"
-    compare serial.vtp dist2.pvtp Weights 0 ;;
+    compare serial.vtp dist2.pvtp Weights 0
+    # the serial commands read the pieces whole; stats counts the points flagged as another
+    # piece's duplicates once
+    "$B" stats --input w.pvtp --json > stats.json || fail "stats of a .pvtp"
+    "$PY" -c "
+import json, sys
+s = json.load(open('stats.json'))
+sys.exit(0 if s['points'] == 2562 else 'stats saw %d points, not 2562' % s['points'])" ||
+      fail "stats of a .pvtp" ;;
   animate)
     frames=("$D/cage2d_posed.obj" "$D/cage2d.obj" "$D/cage2d_posed.obj")
     "$B" animate --method harmonic --cage "$D/cage2d.obj" --frames "${frames[@]}" \
