@@ -7,7 +7,9 @@ Two layers, on the same VTK filters as the ``barylab`` command line and viewer:
   ...; also from their modules ``barylab.BaryLabFilters``, ``barylab.BaryLabIO``,
   ``barylab.BaryLabSpline``, ``barylab.BaryLabSurface``): they connect to any VTK pipeline;
 * functions with numpy arrays in and out, one per command-line job: ``weights``, ``deform``,
-  ``skin``, ``statistics``, ``locality``, ``reduce``, ``mesh``, ``read``, ``write`` (see docs/python.md).
+  ``animate``, ``skin``, ``statistics``, ``locality``, ``reduce``, ``fields``, ``mesh``,
+  ``embed``, ``average``, ``inverse_average``, ``curve``, ``remesh``, ``transfer``,
+  ``spline_create``, ``spline_deform``, ``read``, ``write`` (see docs/python.md).
   Filter errors are raised as ``BaryLabError`` with the filter's message.
 """
 
@@ -26,11 +28,16 @@ except ImportError:  # pragma: no cover
 from ._pipeline import (  # noqa: F401
     BaryLabError,
     BaryLabWarning,
+    animate,
+    animate_data,
     compute_weights,
     configure,
     deform,
     deform_data,
     dense,
+    fields,
+    gradient_norms,
+    level_sets,
     locality,
     mesh,
     method_names,
@@ -45,4 +52,29 @@ from ._pipeline import (  # noqa: F401
     statistics,
     weights,
     write,
+    write_time_series,
 )
+
+try:
+    from ._spline import spline_create, spline_deform, spline_deform_data  # noqa: F401
+except ImportError:  # pragma: no cover
+    pass
+try:
+    from ._surface import (  # noqa: F401
+        average,
+        average_data,
+        curve,
+        curve_data,
+        embed,
+        embed_data,
+        inverse_average,
+        inverse_average_data,
+        morph_frames,
+        remesh,
+        remesh_data,
+        transfer,
+        transfer_data,
+        with_embedding,
+    )
+except ImportError:  # pragma: no cover
+    pass

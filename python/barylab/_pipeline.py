@@ -16,7 +16,17 @@ from vtkmodules.util import numpy_support
 from vtkmodules.util.misc import calldata_type
 from vtkmodules.util.vtkConstants import VTK_STRING
 from vtkmodules.vtkCommonCore import vtkCommand, vtkDoubleArray, vtkIdTypeArray, vtkPoints
-from vtkmodules.vtkCommonDataModel import vtkCellArray, vtkDataSet, vtkPointSet, vtkPolyData
+from vtkmodules.vtkCommonDataModel import (
+    vtkCellArray,
+    vtkCellTypes,
+    vtkDataObject,
+    vtkDataSet,
+    vtkGenericCell,
+    vtkPointSet,
+    vtkPolyData,
+)
+from vtkmodules.vtkFiltersCore import vtkAppendPolyData, vtkContourFilter
+from vtkmodules.vtkFiltersGeneral import vtkGradientFilter
 
 from .BaryLabFilters import (
     vtkBaryCageDeformation,
@@ -318,25 +328,37 @@ def deform_data(model, rest_cage, posed_cage, method="mvc", weights=None, array_
     or an (n_controls, 2|3) array, same order). ``weights`` (n_points, n_controls), when given,
     are used as they are; otherwise the model's array ``array_name`` if it has one, else the
     method's weights are computed."""
-    filter_ = vtkBaryCageDeformation()
-    configure(filter_.GetWeightMethod(), method, **settings)
-    filter_.SetWeightsArrayName(array_name)
     model = _as_dataset(model, "model")
     rest = _as_polydata(rest_cage, "rest_cage")
     posed = _as_dataset(posed_cage, "posed_cage")
+    chosen = configure(vtkBaryWeightMethod(), method, **settings)  # bad settings raise first
     if weights is not None:
         model = _with_weights(model, weights, array_name)
-    elif (vtkBaryWeightMethod.IsPointBased(filter_.GetWeightMethod().GetMethod())
+    elif (vtkBaryWeightMethod.IsPointBased(chosen.GetMethod())
           and model.GetPointData().GetArray(array_name) is None):
         # Free control points (tcc, scc) may get hull points added to the controls (the field
         # data "AddedControlPoints", vtkBaryCoordinates): as `barylab deform` does
-        # (barylab::Deform), weights first, and the added points stay where they are.
+        # (barylab::Deform), weights first; _deform keeps the added points where they are.
         model = compute_weights(model, rest, method, array_name=array_name, **settings)
-        added = model.GetFieldData().GetArray("AddedControlPoints")
-        if added is not None and added.GetNumberOfTuples() > 0:
-            fixed = numpy_support.vtk_to_numpy(added).reshape(-1, 3)
-            rest = polydata(np.vstack([points_of(rest), fixed]))
-            posed = polydata(np.vstack([points_of(posed), fixed]))
+    return _deform(model, rest, posed, method, array_name, settings)
+
+
+def _deform(model, rest, posed, method, array_name, settings):
+    """vtkBaryCageDeformation of ``model`` (a data set, with or without the weights array)
+    from ``rest`` to ``posed``; the added control points of the model's field data
+    "AddedControlPoints" (celestial hull points) are appended to both, unmoved, when the weights
+    have their columns (as barylab::Deform)."""
+    added = model.GetFieldData().GetArray("AddedControlPoints")
+    given = model.GetPointData().GetArray(array_name)
+    if (added is not None and given is not None and added.GetNumberOfTuples() > 0
+            and given.GetNumberOfComponents()
+            == rest.GetNumberOfPoints() + added.GetNumberOfTuples()):
+        fixed = numpy_support.vtk_to_numpy(added).reshape(-1, 3)
+        rest = polydata(np.vstack([points_of(rest), fixed]))
+        posed = polydata(np.vstack([points_of(posed), fixed]))
+    filter_ = vtkBaryCageDeformation()
+    configure(filter_.GetWeightMethod(), method, **settings)
+    filter_.SetWeightsArrayName(array_name)
     filter_.SetInputData(0, model)
     filter_.SetRestCageData(rest)
     filter_.SetDeformedCageData(posed)
@@ -469,4 +491,169 @@ def locality(data, weights=None, threshold=-1.0, use_mesh_measure=True, array_na
     result["max_support"] = filter_.GetMaxSupport()
     result["threshold"] = filter_.GetThresholdUsed()
     result["measure"] = filter_.GetMeasureUsedAsString()
+    return result
+
+
+# --- time series and animation ----------------------------------------------------------------
+
+def write_time_series(frames, output_dir, prefix, period=1.0):
+    """Writes data sets as ``output_dir/prefix_000.vtp``, ``_001``, ... (vtkBaryFileWriter) and
+    the ParaView collection ``output_dir/prefix.pvd`` (time step of frame f: period * f / #frames;
+    written last, atomically), the layout of ``barylab animate`` and ``transfer --morph``.
+    Returns the .pvd's path."""
+    frames = list(frames)
+    if not frames:
+        raise BaryLabError("no frames to write")
+    prefix = str(prefix)
+    if not prefix or "/" in prefix or "\\" in prefix or prefix in (".", ".."):
+        raise BaryLabError("the prefix must be a file name without '/' (the frames are written "
+                           "inside the output folder)")
+    output_dir = os.fspath(output_dir)
+    try:
+        os.makedirs(output_dir, exist_ok=True)
+    except OSError as error:
+        raise BaryLabError(f"cannot create the folder '{output_dir}': {error.strerror}") from None
+    lines = ['<?xml version="1.0"?>',
+             '<VTKFile type="Collection" version="0.1" byte_order="LittleEndian">',
+             "  <Collection>"]
+    for f, frame in enumerate(frames):
+        name = f"{prefix}_{f:03d}.vtp"
+        write(frame, os.path.join(output_dir, name))
+        lines.append(f'    <DataSet timestep="{float(period) * f / len(frames):g}" group="" '
+                     f'part="0" file="{name}"/>')
+    lines += ["  </Collection>", "</VTKFile>", ""]
+    path = os.path.join(output_dir, prefix + ".pvd")
+    try:
+        with open(path + ".tmp", "w") as out:
+            out.write("\n".join(lines))
+        os.replace(path + ".tmp", path)
+    except OSError:
+        raise BaryLabError(f"cannot write '{path}'") from None
+    return path
+
+
+def animate_data(model, rest_cage, frames, method="mvc", array_name="Weights", **settings):
+    """The ``barylab animate`` job as a list of VTK data sets, one per frame: the weights of
+    ``model`` w.r.t. ``rest_cage`` computed once (vtkBaryCoordinates), then the model deformed
+    by each moved cage of ``frames`` (a sequence of point sets, files or (n_controls, 2|3)
+    arrays, the rest cage's points moved, same order) with vtkBaryCageDeformation, as
+    ``barylab animate`` does. Skeletons (bbw) are refused, as by the command line."""
+    frames = list(frames)
+    if not frames:
+        raise BaryLabError("no frames to animate")
+    chosen = configure(vtkBaryWeightMethod(), method, **settings)
+    if chosen.GetMethod() == vtkBaryWeightMethod.BBW:
+        raise BaryLabError("animate moves cages or control points; for skeletons use "
+                           "deform(..., method='bbw') per pose")
+    rest = _as_polydata(rest_cage, "rest_cage")
+    posed = []
+    for f, frame in enumerate(frames):
+        data = _as_dataset(frame, f"frame {f}")
+        if (not isinstance(data, vtkPointSet)
+                or data.GetNumberOfPoints() != rest.GetNumberOfPoints()):
+            raise BaryLabError(f"frame {f} must hold the {rest.GetNumberOfPoints()} points of the "
+                               f"rest cage, moved (same order)")
+        posed.append(data)
+    weighted = compute_weights(model, rest, method, array_name=array_name, **settings)
+    return [_deform(weighted, rest, p, method, array_name, settings) for p in posed]
+
+
+def animate(model, rest_cage, frames, method="mvc", output_dir=None, prefix="animation",
+            period=1.0, array_name="Weights", **settings):
+    """The deformed model's points of every frame as an (n_frames, n_points, 3) array (see
+    animate_data). With ``output_dir``, the frames are also written as ``barylab animate
+    --output-dir --prefix --period`` writes them: ``prefix_000.vtp``, ... and ``prefix.pvd``."""
+    if output_dir is not None and period is not None and not (np.isfinite(period) and period > 0):
+        raise BaryLabError(f"period must be a finite number > 0, not {period}")
+    deformed = animate_data(model, rest_cage, frames, method, array_name, **settings)
+    if output_dir is not None:
+        write_time_series(deformed, output_dir, prefix, period)
+    return np.stack([points_of(d) for d in deformed])
+
+
+# --- weight fields ----------------------------------------------------------------------------
+
+def _max_cell_dimension(data):
+    types = vtkCellTypes()
+    data.GetCellTypes(types)
+    dimension = 0
+    for i in range(types.GetNumberOfTypes()):
+        cell = vtkGenericCell()
+        cell.SetCellType(types.GetCellType(i))
+        dimension = max(dimension, cell.GetCellDimension())
+    return dimension
+
+
+def gradient_norms(data, weights=None, array_name="Weights"):
+    """|grad w_i| at every point of a mesh carrying weights (``data`` with ``array_name``, or a
+    mesh with ``weights`` (n_points, n_controls)): an (n_points, n_controls) array, from VTK's
+    vtkGradientFilter, as ``barylab fields --output`` (its ``<array>GradientNorm``). A point
+    cloud has no gradient: BaryLabError."""
+    data = _as_dataset(data) if weights is None else _with_weights(data, weights, array_name)
+    if data.GetPointData().GetArray(array_name) is None:
+        raise BaryLabError(f"the data set has no point-data array '{array_name}'")
+    if _max_cell_dimension(data) < 2:
+        raise BaryLabError(f"gradient norms need a mesh (triangles, polygons or 3D cells); the "
+                           f"data set has {data.GetNumberOfCells()} cells of dimension < 2")
+    gradient = vtkGradientFilter()
+    gradient.SetInputData(data)
+    gradient.SetInputScalars(vtkDataObject.FIELD_ASSOCIATION_POINTS, array_name)
+    gradient.SetResultArrayName("barylab_weight_gradient")
+    run(gradient)
+    G = point_array(gradient.GetOutputDataObject(0), "barylab_weight_gradient")
+    return np.sqrt((G.reshape(G.shape[0], -1, 3) ** 2).sum(axis=2))
+
+
+def level_sets(data, control=0, levels=None, weights=None, array_name="Weights"):
+    """Level sets {w_control = level} of one weight as a vtkPolyData (lines in 2D, surfaces in
+    3D) with the cell array ``level``, from VTK's vtkContourFilter, one per level, appended
+    (vtkAppendPolyData), as ``barylab fields --level-sets``. ``levels`` default: 1e-3 /
+    n_controls."""
+    data = _as_dataset(data) if weights is None else _with_weights(data, weights, array_name)
+    W = point_array(data, array_name)
+    if not 0 <= int(control) < W.shape[1]:
+        raise BaryLabError(f"control {control} does not exist (the weights have {W.shape[1]} "
+                           f"components)")
+    levels = [1e-3 / W.shape[1]] if levels is None else list(np.atleast_1d(levels))
+    single = data.NewInstance()
+    single.CopyStructure(data)
+    values = numpy_support.numpy_to_vtk(np.ascontiguousarray(W[:, int(control)]), deep=True)
+    values.SetName("weight")
+    single.GetPointData().SetScalars(values)
+    append = vtkAppendPolyData()
+    for level in levels:
+        if not np.isfinite(level):
+            raise BaryLabError("a level value is not finite")
+        contour = vtkContourFilter()
+        contour.SetInputData(single)
+        contour.SetValue(0, float(level))
+        contour.SetComputeScalars(True)
+        run(contour)
+        piece = vtkPolyData()
+        piece.ShallowCopy(contour.GetOutput())
+        tag = numpy_support.numpy_to_vtk(np.full(piece.GetNumberOfCells(), float(level)), deep=True)
+        tag.SetName("level")
+        piece.GetCellData().AddArray(tag)
+        append.AddInputData(piece)
+    run(append)
+    result = vtkPolyData()
+    result.ShallowCopy(append.GetOutput())
+    return result
+
+
+def fields(data, weights=None, control=0, levels=None, array_name="Weights", output=None,
+           level_sets_output=None):
+    """The ``barylab fields`` job: a dict with "gradient_norm" (gradient_norms), its per-control
+    "max" and "mean", and "level_sets" (level_sets of ``control`` at ``levels``). ``output``
+    writes a copy of the data with ``<array>GradientNorm``, ``level_sets_output`` the level
+    sets, as ``--output`` and ``--level-sets``."""
+    data = _as_dataset(data) if weights is None else _with_weights(data, weights, array_name)
+    norms = gradient_norms(data, array_name=array_name)
+    result = {"gradient_norm": norms, "max": norms.max(axis=0) if len(norms) else norms[:0],
+              "mean": norms.mean(axis=0) if len(norms) else norms[:0],
+              "level_sets": level_sets(data, control, levels, array_name=array_name)}
+    if output is not None:
+        write(_with_weights(data, norms, array_name + "GradientNorm"), output)
+    if level_sets_output is not None:
+        write(result["level_sets"], level_sets_output)
     return result
