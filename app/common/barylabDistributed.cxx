@@ -214,8 +214,9 @@ void write_pieces(vtkDataSet* piece, const std::string& path, int rank, int K)
   writer->SetController(controller());
   // on for every process (the default): the writer gathers the pieces' flags and process 0
   // alone writes the summary
-  writer->SetDataModeToAppended();
-  writer->SetCompressorTypeToZLib();
+  writer->SetDataModeToAppended(); // as vtkBaryDataIO::Write: raw appended data, LZ4
+  writer->EncodeAppendedDataOff();
+  writer->SetCompressorTypeToLZ4();
   vtkNew<vtkBaryErrorObserver> errors;
   errors->Observe(writer);
   const int ok = writer->Write();

@@ -849,7 +849,8 @@ TEST(vtkBaryDataIO, SizesAFileCannotHoldAreRefusedBeforeAllocating)
   }
 }
 
-/// A .vtp with appended, zlib-compressed data as vtkBaryDataIO writes it, whose first data
+/// A .vtp with appended, zlib-compressed, base64-encoded data (VTK's options; vtkBaryDataIO
+/// writes raw LZ4, whose blocks have the same header), whose first data
 /// array's compression header (three 32-bit words: blocks, block size, last block size) is
 /// changed by @p edit.
 std::string CompressedWithHeader(const fs::path& path, const std::function<void(std::uint32_t*)>& edit)

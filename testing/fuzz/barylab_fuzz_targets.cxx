@@ -280,10 +280,11 @@ void xml_seeds(vtkDataObject* data, const std::string& ext, std::vector<std::str
     w->SetCompressorTypeToLZ4();
     w->SetHeaderTypeToUInt32();
   }));
-  // what vtkBaryDataIO::Write writes: appended, zlib
+  // what vtkBaryDataIO::Write writes: appended raw, LZ4
   seeds.push_back(write_with<XMLWriter>(data, ext, [](XMLWriter* w) {
     w->SetDataModeToAppended();
-    w->SetCompressorTypeToZLib();
+    w->EncodeAppendedDataOff();
+    w->SetCompressorTypeToLZ4();
   }));
 }
 
