@@ -61,8 +61,9 @@ std::string lower_extension(const std::string& path)
 }
 
 /// The process owning each point of @p whole: K slabs of (nearly) equal counts along the
-/// longest side of its bounding box (points sorted by that coordinate, ties by id), so that a
-/// piece's cells bring few points of other pieces.
+/// longest side of its bounding box (points ordered by that coordinate, ties by id; NaN
+/// coordinates as 0, for the readers refuse them anyway), so that a piece's cells bring few
+/// points of other pieces.
 std::vector<int> slab_owners(vtkDataSet* whole, int K)
 {
   const vtkIdType n = whole->GetNumberOfPoints();
@@ -72,20 +73,26 @@ std::vector<int> slab_owners(vtkDataSet* whole, int K)
   for (int k = 1; k < 3; ++k)
     if (b[2 * k + 1] - b[2 * k] > b[2 * axis + 1] - b[2 * axis])
       axis = k;
-  std::vector<double> x(static_cast<std::size_t>(n));
+  // the K - 1 quantiles by selection (O(n log K), not a sort): (coordinate, id) pairs order
+  // every point uniquely, so the slabs do not depend on the file's point order within ties
+  std::vector<std::pair<double, vtkIdType>> keys(static_cast<std::size_t>(n));
   for (vtkIdType p = 0; p < n; ++p)
-    x[static_cast<std::size_t>(p)] = whole->GetPoint(p)[axis];
-  std::vector<vtkIdType> order(static_cast<std::size_t>(n));
-  for (vtkIdType p = 0; p < n; ++p)
-    order[static_cast<std::size_t>(p)] = p;
-  std::sort(order.begin(), order.end(), [&x](vtkIdType a, vtkIdType b) {
-    const double xa = x[static_cast<std::size_t>(a)], xb = x[static_cast<std::size_t>(b)];
-    return xa < xb || (!(xb < xa) && a < b); // NaN coordinates: any consistent place
-  });
-  std::vector<int> owners(static_cast<std::size_t>(n));
-  for (vtkIdType k = 0; k < n; ++k)
-    owners[static_cast<std::size_t>(order[static_cast<std::size_t>(k)])] =
-      static_cast<int>((k * K) / n);
+  {
+    const double x = whole->GetPoint(p)[axis];
+    keys[static_cast<std::size_t>(p)] = { std::isnan(x) ? 0.0 : x, p };
+  }
+  std::vector<int> owners(static_cast<std::size_t>(n), 0);
+  auto begin = keys.begin();
+  for (int r = 1; r < K; ++r)
+  {
+    auto at = keys.begin() + static_cast<std::ptrdiff_t>((static_cast<vtkIdType>(r) * n) / K);
+    std::nth_element(begin, at, keys.end());
+    for (auto it = begin; it != at; ++it)
+      owners[static_cast<std::size_t>(it->second)] = r - 1;
+    begin = at;
+  }
+  for (auto it = begin; it != keys.end(); ++it)
+    owners[static_cast<std::size_t>(it->second)] = K - 1;
   return owners;
 }
 
