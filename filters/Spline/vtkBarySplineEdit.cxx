@@ -4,7 +4,9 @@
 #include "vtkBaryFilterErrors.h"
 #include "vtkBarySplineData.h"
 
+#include "vtkDataArray.h"
 #include "vtkDoubleArray.h"
+#include "vtkIdTypeArray.h"
 #include "vtkFieldData.h"
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
@@ -19,6 +21,55 @@ void vtkBarySplineEdit::SetEdits(const std::vector<Edit>& edits)
 {
   this->Edits = edits;
   this->Modified();
+}
+
+void vtkBarySplineEdit::AddEdit(Edit edit, vtkIdTypeArray* anchors, vtkDataArray* near)
+{
+  for (vtkIdType i = 0; anchors && i < anchors->GetNumberOfTuples(); ++i)
+    edit.edit.anchors.push_back(static_cast<bary::Index>(anchors->GetValue(i)));
+  for (vtkIdType i = 0; near && i < near->GetNumberOfTuples(); ++i)
+    edit.edit.near.emplace_back(
+      near->GetComponent(i, 0), near->GetNumberOfComponents() > 1 ? near->GetComponent(i, 1) : 0.0);
+  this->Edits.push_back(std::move(edit));
+  this->Modified();
+}
+
+void vtkBarySplineEdit::AddTranslateEdit(
+  int target, vtkIdTypeArray* anchors, vtkDataArray* near, double dx, double dy, int deltaMax)
+{
+  Edit e;
+  e.target = target;
+  e.edit.op = bary::SplineEditOp::Translate;
+  if (target == XY)
+    e.edit.by = Eigen::Vector2d(dx, dy);
+  else
+    e.edit.by = Eigen::VectorXd::Constant(1, dx); // a surface's height
+  e.edit.delta_max = deltaMax;
+  this->AddEdit(std::move(e), anchors, near);
+}
+
+void vtkBarySplineEdit::AddRotateEdit(int target, vtkIdTypeArray* anchors, vtkDataArray* near,
+  double centerX, double centerY, double angleDegrees, int deltaMax)
+{
+  Edit e;
+  e.target = target;
+  e.edit.op = bary::SplineEditOp::Rotate;
+  e.edit.center = Eigen::Vector2d(centerX, centerY);
+  e.edit.angle_degrees = angleDegrees;
+  e.edit.delta_max = deltaMax;
+  this->AddEdit(std::move(e), anchors, near);
+}
+
+void vtkBarySplineEdit::AddScaleEdit(int target, vtkIdTypeArray* anchors, vtkDataArray* near,
+  double centerX, double centerY, double factor, int deltaMax)
+{
+  Edit e;
+  e.target = target;
+  e.edit.op = bary::SplineEditOp::Scale;
+  e.edit.center = Eigen::Vector2d(centerX, centerY);
+  e.edit.factor = factor;
+  e.edit.delta_max = deltaMax;
+  this->AddEdit(std::move(e), anchors, near);
 }
 
 void vtkBarySplineEdit::ClearEdits()

@@ -22,6 +22,9 @@
 #include <vector>
 #endif
 
+class vtkDataArray;
+class vtkIdTypeArray;
+
 class BARYLABSPLINE_EXPORT vtkBarySplineEdit : public vtkUnstructuredGridAlgorithm
 {
 public:
@@ -50,12 +53,29 @@ public:
 #endif
   void ClearEdits();
 
+  ///@{
+  /// One edit appended to the edits (the wrapped form of SetEdits, for Python's spline_edit;
+  /// the fields of `barylab spline edit`'s EDITS.json): the anchors are the control points of
+  /// the indices in @p anchors and those nearest to the positions in @p near (2 components a
+  /// tuple); either may be null, not both. @p target XY, BOTTOM or TOP; a translation of BOTTOM
+  /// or TOP moves by @p dx alone (a height). Checked when applied (the request then fails,
+  /// naming the edit).
+  void AddTranslateEdit(
+    int target, vtkIdTypeArray* anchors, vtkDataArray* near, double dx, double dy, int deltaMax);
+  void AddRotateEdit(int target, vtkIdTypeArray* anchors, vtkDataArray* near, double centerX,
+    double centerY, double angleDegrees, int deltaMax);
+  void AddScaleEdit(int target, vtkIdTypeArray* anchors, vtkDataArray* near, double centerX,
+    double centerY, double factor, int deltaMax);
+  ///@}
+
 protected:
   vtkBarySplineEdit() = default;
   ~vtkBarySplineEdit() override = default;
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
 
 #ifndef __VTK_WRAP__
+  /// Appends @p edit with its anchors from @p anchors and @p near (AddTranslateEdit ...).
+  void AddEdit(Edit edit, vtkIdTypeArray* anchors, vtkDataArray* near);
   std::vector<Edit> Edits;
   std::vector<bary::SplineEditReport> Reports;
 #endif

@@ -9,7 +9,7 @@ Two layers, on the same VTK filters as the ``barylab`` command line and viewer:
 * functions with numpy arrays in and out, one per command-line job: ``weights``, ``deform``,
   ``animate``, ``skin``, ``statistics``, ``locality``, ``reduce``, ``fields``, ``mesh``,
   ``embed``, ``average``, ``inverse_average``, ``curve``, ``remesh``, ``transfer``,
-  ``spline_create``, ``spline_deform``, ``read``, ``write`` (see docs/python.md).
+  ``spline_create``, ``spline_edit``, ``spline_deform``, ``read``, ``write`` (see docs/python.md).
   Filter errors are raised as ``BaryLabError`` with the filter's message.
 """
 
@@ -56,7 +56,8 @@ from ._pipeline import (  # noqa: F401
 )
 
 try:
-    from ._spline import spline_create, spline_deform, spline_deform_data  # noqa: F401
+    from ._spline import (spline_create, spline_deform, spline_deform_data,  # noqa: F401
+                          spline_edit, spline_edit_data)
 except ImportError:  # pragma: no cover
     pass
 try:

@@ -11,7 +11,9 @@ by its barycentric coordinates (it lies on the surface); the identity spline def
 bad input raises BaryLabError.
 """
 
+import json
 import os
+import subprocess
 import xml.etree.ElementTree as ElementTree
 
 import numpy as np
@@ -19,6 +21,9 @@ import pytest
 from vtkmodules.util import numpy_support
 
 import barylab
+
+vtk_to_numpy = numpy_support.vtk_to_numpy
+BARYLAB = os.environ.get("BARYLAB_EXE")  # the command line, when built (ctest sets it)
 
 DATA = os.environ.get("BARYLAB_DATA_DIR",
                       os.path.join(os.path.dirname(__file__), "..", "..", "data"))
@@ -257,3 +262,48 @@ def test_spline_jobs_refuse_bad_input():
         barylab.spline_create(data("spline_domain.obj"), fit_from=[[0, 0, 0]])
     with pytest.raises(barylab.BaryLabError):
         barylab.spline_create(data("spline_domain.obj"), degree=3)
+
+
+def test_spline_edit_moves_the_anchor_exactly_and_keeps_c1(tmp_path):
+    # DECLeS (§4): the anchor moves by exactly the given displacement, a few neighbours follow,
+    # the C1 conditions still hold; the same edits through the command line's JSON parser give
+    # the same spline, bit for bit
+    grid = barylab.spline_create(data("spline_domain.obj"))
+    X = barylab.points_of(grid)
+    i = int(np.argmin(np.linalg.norm(X[:, :2], axis=1)))
+    edits = [{"op": "translate", "index": i, "by": [0.05, -0.02], "delta_max": 2},
+             {"op": "rotate", "near": list(X[i, :2]), "center": [0.0, 0.0],
+              "angle_degrees": 3.0}]
+    edited = barylab.spline_edit_data(grid, edits[:1])
+    Y = barylab.points_of(edited)
+    np.testing.assert_allclose(Y[i] - X[i], [0.05, -0.02, 0.0], atol=1e-15)
+    moved = np.abs(Y - X).max(axis=1) > 0
+    assert 1 < moved.sum() < len(X) // 10, moved.sum()
+    assert vtk_to_numpy(edited.GetFieldData().GetArray("Residual"))[0] < 1e-9
+    # a rotation by 0 degrees is the identity
+    np.testing.assert_allclose(
+        barylab.spline_edit(grid, [dict(edits[1], angle_degrees=0.0)]), X, atol=1e-15)
+    # against `barylab spline edit` with the same EDITS.json
+    if BARYLAB is None:
+        pytest.skip("no barylab executable (BARYLAB_EXE) to compare with")
+    spline_file, edits_file = tmp_path / "s.vtu", tmp_path / "e.json"
+    barylab.write(grid, str(spline_file))
+    edits_file.write_text(json.dumps({"edits": edits}))
+    out = tmp_path / "cli.vtu"
+    subprocess.run([BARYLAB, "spline", "edit", "--spline", str(spline_file), "--edits",
+                    str(edits_file), "--output", str(out), "-q"], check=True)
+    np.testing.assert_array_equal(barylab.spline_edit(grid, str(edits_file)),
+                                  barylab.points_of(barylab.read(str(out))))
+
+
+def test_spline_edit_refuses_bad_edits():
+    grid = barylab.spline_create(data("spline_domain.obj"))
+    for edit, message in [({"op": "twist", "index": 0}, "op"),
+                          ({"op": "translate", "index": 0, "by": [1, 0], "colour": 1}, "unknown key"),
+                          ({"op": "translate", "by": [1, 0]}, "names no anchor"),
+                          ({"op": "scale", "index": 0, "center": [0, 0]}, "needs"),
+                          ({"op": "translate", "index": 0, "by": [0.1], "spline": "top"},
+                           "not a 2.5D"),
+                          ({"op": "translate", "index": 10 ** 9, "by": [0.1, 0]}, "edit 0")]:
+        with pytest.raises(barylab.BaryLabError, match=message):
+            barylab.spline_edit(grid, [edit])
