@@ -44,12 +44,7 @@ def spline_create(domain, degree=None, target_triangles=None, prism=None, fit_fr
         source.SetFitFromData(_as_dataset(fit_from, "fit_from"))
         source.SetFitToData(_as_dataset(fit_to, "fit_to"))
     source.SetPinBorder(bool(pin_border))
-    run(source)
-    grid = source.GetOutput().NewInstance()
-    grid.ShallowCopy(source.GetOutput())
-    if output is not None:
-        write(grid, output)
-    return grid
+    return _run_to_output(source, output)
 
 
 def spline_deform_data(spline, model, output=None):
@@ -60,12 +55,7 @@ def spline_deform_data(spline, model, output=None):
     filter_ = vtkBarySplineDeform()
     filter_.SetInputData(0, _as_dataset(model, "model"))
     filter_.SetSplineData(_as_dataset(spline, "spline"))
-    run(filter_)
-    result = filter_.GetOutputDataObject(0).NewInstance()
-    result.ShallowCopy(filter_.GetOutputDataObject(0))
-    if output is not None:
-        write(result, output)
-    return result
+    return _run_to_output(filter_, output)
 
 
 def spline_deform(spline, model):
@@ -73,6 +63,17 @@ def spline_deform(spline, model):
     each point, (n_points,) (see spline_deform_data)."""
     data = spline_deform_data(spline, model)
     return points_of(data), point_array(data, "SplineJacobian")[:, 0]
+
+
+def _run_to_output(algorithm, output=None):
+    """Runs ``algorithm`` (errors raised) and returns a copy of its output, written to
+    ``output`` when a path is given."""
+    run(algorithm)
+    result = algorithm.GetOutputDataObject(0).NewInstance()
+    result.ShallowCopy(algorithm.GetOutputDataObject(0))
+    if output is not None:
+        write(result, output)
+    return result
 
 
 _EDIT_KEYS = {"op", "near", "index", "by", "center", "angle_degrees", "factor", "delta_max",
@@ -159,12 +160,7 @@ def spline_edit_data(spline, edits, output=None):
     filter_.SetInputData(0, _as_dataset(spline, "spline"))
     for k, e in enumerate(edits):
         _add_edit(filter_, k, e)
-    run(filter_)
-    result = filter_.GetOutputDataObject(0).NewInstance()
-    result.ShallowCopy(filter_.GetOutputDataObject(0))
-    if output is not None:
-        write(result, output)
-    return result
+    return _run_to_output(filter_, output)
 
 
 def spline_edit(spline, edits):
