@@ -18,6 +18,12 @@
 //   weights that sum to one; P(t) counted here), cage mesher (the tetrahedra's volume is the
 //   cage's, by the divergence theorem here);
 // - the .off writer's file reads back exactly;
+// - weighted average (the weights from its Weights input's array, point data or a table's
+//   rows): indicator weights give back their anchors (1e-9), the properties reach the filter, a
+//   missing weights array is an error;
+// - spline edit (one edit as properties; two in a chain): a translated anchor moves by exactly
+//   `by`, a rotated one (named by its near position) lands on its rotation, the C1 residual
+//   (field data Residual) stays below 1e-9, an edit naming no anchor is an error;
 // - bad input (a missing file, an open cage) fails with an error, not a crash.
 #include "vtkAlgorithm.h"
 #include "vtkCallbackCommand.h"
@@ -27,12 +33,15 @@
 #include "vtkCellArray.h"
 #include "vtkCommand.h"
 #include "vtkDataArray.h"
+#include "vtkDoubleArray.h"
+#include "vtkFieldData.h"
 #include "vtkDataSet.h"
 #include "vtkIdList.h"
 #include "vtkInitializationHelper.h"
 #include "vtkNew.h"
 #include "vtkPointData.h"
 #include "vtkPointSet.h"
+#include "vtkPoints.h"
 #include "vtkPolyData.h"
 #include "vtkProcessModule.h"
 #include "vtkSMParaViewPipelineController.h"
@@ -52,12 +61,16 @@
 #include "vtkTable.h"
 #include "vtkTetra.h"
 #include "vtkUnstructuredGrid.h"
+#include "vtkXMLPolyDataWriter.h"
 
 #include "vtkBaryCoordinates.h"
+#include "vtkBaryPVSplineEdit.h"
+#include "vtkBaryPVWeightedAverage.h"
 #include "vtkBaryWeightMethod.h"
 
 #include "core/coordinates/weight_methods.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <iostream>
@@ -76,7 +89,8 @@ const char* const kProxies[][2] = { { "filters", "BaryCoordinates" },
   { "filters", "BaryLinearBlendSkinning" }, { "filters", "BarySurfaceEmbedding" }, { "filters", "BarySurfaceWeights" },
   { "filters", "BarySurfaceCurve" }, { "filters", "BarySurfaceRemesh" },
   { "filters", "BarySurfaceCorrespondence" }, { "filters", "BarySplineSource" },
-  { "filters", "BarySplineDeform" }, { "sources", "BaryFileReader" },
+  { "filters", "BarySplineDeform" }, { "filters", "BaryWeightedAverage" },
+  { "filters", "BarySplineEdit" }, { "sources", "BaryFileReader" },
   { "writers", "BaryOFFWriter" }, { "barylab_weight_methods", "WeightMethod" } };
 
 void check(bool ok, const std::string& what)
@@ -89,9 +103,13 @@ void check(bool ok, const std::string& what)
 struct ErrorCounter
 {
   int errors = 0;
-  static void Count(vtkObject*, unsigned long, void* clientData, void*)
+  std::string messages; ///< the errors' texts
+  static void Count(vtkObject*, unsigned long, void* clientData, void* callData)
   {
-    ++static_cast<ErrorCounter*>(clientData)->errors;
+    auto* self = static_cast<ErrorCounter*>(clientData);
+    ++self->errors;
+    if (callData)
+      self->messages += static_cast<const char*>(callData);
   }
 };
 
@@ -598,6 +616,228 @@ void CheckWeightsAndDeformation(Pipeline& pipeline, const std::string& data)
     "locality statistics with own t values: sorted, P(t) as counted from the weights");
 }
 
+/// Weighted average: a sphere embedded by Surface Embedding (all its 130 vertices landmarks),
+/// four of its vertices as anchors and indicator weights, all from a .vtp file written here
+/// (the anchors' points, point data IndicatorWeights: row q = e_{3-q}, and a decoy Weights: row
+/// q = e_q) read by ParaView's XML reader.
+/// Query q is then anchor 3 - q itself (Panozzo et al. 2013, §3.1: the weighted average of an
+/// anchor's indicator weights is the anchor).
+void CheckWeightedAverage(Pipeline& pipeline)
+{
+  vtkSMSourceProxy* sphere = pipeline.Create("sources", "SphereSource");
+  vtkSMPropertyHelper(sphere, "ThetaResolution").Set(16);
+  vtkSMPropertyHelper(sphere, "PhiResolution").Set(10);
+  auto* sphereData = vtkPolyData::SafeDownCast(pipeline.Update(sphere));
+  vtkSMSourceProxy* embed = pipeline.Create("filters", "BarySurfaceEmbedding");
+  vtkSMPropertyHelper(embed, "Input").Set(sphere, 0);
+  vtkSMPropertyHelper(embed, "Dimension").Set(4);
+  pipeline.Update(embed);
+  if (!sphereData || sphereData->GetNumberOfPoints() != 130)
+  {
+    check(false, "weighted average: the sphere source's 130 points");
+    return;
+  }
+  const vtkIdType ids[4] = { 3, 40, 77, 120 };
+  vtkNew<vtkPoints> points;
+  points->SetDataTypeToDouble();
+  vtkNew<vtkDoubleArray> indicator;
+  indicator->SetName("IndicatorWeights");
+  indicator->SetNumberOfComponents(4);
+  indicator->SetNumberOfTuples(4);
+  indicator->Fill(0.0);
+  for (int q = 0; q < 4; ++q)
+  {
+    points->InsertNextPoint(sphereData->GetPoint(ids[q]));
+    indicator->SetComponent(q, 3 - q, 1.0);
+  }
+  // a decoy first: the identity (row q = e_q), named as the property's default; the filter must
+  // take the array chosen by WeightsArrayName
+  vtkNew<vtkDoubleArray> decoy;
+  decoy->SetName("Weights");
+  decoy->SetNumberOfComponents(4);
+  decoy->SetNumberOfTuples(4);
+  decoy->Fill(0.0);
+  for (int q = 0; q < 4; ++q)
+    decoy->SetComponent(q, q, 1.0);
+  vtkNew<vtkPolyData> anchors;
+  anchors->SetPoints(points);
+  anchors->GetPointData()->AddArray(decoy);
+  anchors->GetPointData()->AddArray(indicator);
+  const std::string file = outputDir + "/weighted_average_anchors.vtp";
+  vtkNew<vtkXMLPolyDataWriter> writer;
+  writer->SetInputData(anchors);
+  writer->SetFileName(file.c_str());
+  writer->Write();
+  vtkSMSourceProxy* reader = pipeline.Create("sources", "XMLPolyDataReader");
+  vtkSMPropertyHelper(reader, "FileName").Set(file.c_str());
+  pipeline.Update(reader);
+
+  vtkSMSourceProxy* average = pipeline.Create("filters", "BaryWeightedAverage");
+  vtkSMPropertyHelper(average, "Input").Set(embed, 0);
+  vtkSMPropertyHelper(average, "Anchors").Set(reader, 0);
+  vtkSMPropertyHelper(average, "Weights").Set(reader, 0);
+  vtkSMPropertyHelper(average, "WeightsArrayName").Set("IndicatorWeights");
+  vtkSMPropertyHelper(average, "WarmStart").Set(1);
+  vtkSMPropertyHelper(average, "SurfaceTolerance").Set(0.002);
+  ErrorCounter errors;
+  auto* result = vtkPolyData::SafeDownCast(pipeline.Update(average, &errors));
+  auto* filter = vtkBaryPVWeightedAverage::SafeDownCast(average->GetClientSideObject());
+  check(filter && std::string(filter->GetWeightsArrayName()) == "IndicatorWeights" &&
+      filter->GetWarmStart() && filter->GetSurfaceTolerance() == 0.002,
+    "weighted average: properties set on the proxy reach the filter");
+  double deviation = result && result->GetNumberOfPoints() == 4 && errors.errors == 0 ? 0.0 : 1.0;
+  for (int q = 0; deviation < 1.0 && q < 4; ++q)
+  {
+    double x[3], a[3];
+    result->GetPoint(q, x);
+    points->GetPoint(3 - q, a);
+    for (int k = 0; k < 3; ++k)
+      deviation = std::max(deviation, std::abs(x[k] - a[k]));
+  }
+  std::cout << "     weighted average: largest distance of an indicator's average from its anchor "
+            << deviation << "\n";
+  check(deviation <= 1e-9,
+    "weighted average: an anchor's indicator weights give back the anchor (1e-9)");
+
+  // The same weights as a table's rows (ParaView's Extract Attributes makes the point data a
+  // vtkTable), as a weights file read into a table would give them.
+  vtkSMSourceProxy* table = pipeline.Create("filters", "AttributeDataToTableFilter");
+  vtkSMPropertyHelper(table, "Input").Set(reader, 0);
+  auto* tableData = vtkTable::SafeDownCast(pipeline.Update(table));
+  vtkSMSourceProxy* fromTable = pipeline.Create("filters", "BaryWeightedAverage");
+  vtkSMPropertyHelper(fromTable, "Input").Set(embed, 0);
+  vtkSMPropertyHelper(fromTable, "Anchors").Set(reader, 0);
+  vtkSMPropertyHelper(fromTable, "Weights").Set(table, 0);
+  vtkSMPropertyHelper(fromTable, "WeightsArrayName").Set("IndicatorWeights");
+  ErrorCounter tableErrors;
+  auto* tableResult = vtkPolyData::SafeDownCast(pipeline.Update(fromTable, &tableErrors));
+  deviation = tableData && tableResult && tableResult->GetNumberOfPoints() == 4 &&
+      tableErrors.errors == 0 ? 0.0 : 1.0;
+  for (int q = 0; deviation < 1.0 && q < 4; ++q)
+  {
+    double x[3], a[3];
+    tableResult->GetPoint(q, x);
+    points->GetPoint(3 - q, a);
+    for (int k = 0; k < 3; ++k)
+      deviation = std::max(deviation, std::abs(x[k] - a[k]));
+  }
+  check(deviation <= 1e-9,
+    "weighted average: the same indicator weights as a table's rows give back the anchors (1e-9)");
+
+  if (!filter)
+    return;
+  // the same proxy again, as a change in its panel and Apply do
+  vtkSMPropertyHelper(average, "WeightsArrayName").Set("NoSuchArray");
+  average->UpdateVTKObjects();
+  ErrorCounter missing;
+  vtkNew<vtkCallbackCommand> observer;
+  observer->SetCallback(&ErrorCounter::Count);
+  observer->SetClientData(&missing);
+  filter->AddObserver(vtkCommand::ErrorEvent, observer);
+  average->UpdatePipeline();
+  filter->RemoveObserver(observer);
+  auto* none = vtkPolyData::SafeDownCast(filter->GetOutputDataObject(0));
+  check(missing.errors > 0 && missing.messages.find("'NoSuchArray'") != std::string::npos &&
+      (!none || none->GetNumberOfPoints() == 0),
+    "weighted average: a weights array the Weights input lacks is an error naming it");
+}
+
+/// Spline edit: the identity spline of data/spline_domain.obj; a translation of the control point
+/// nearest the origin (by its index, delta_max 2), then, in a second filter of the chain, a
+/// rotation by 3 degrees about the origin of the control point nearest its new position (by
+/// NearPositions). DECLeS moves anchors exactly (Rodrigues et al. 2014, §4) and keeps C1.
+void CheckSplineEdit(Pipeline& pipeline, const std::string& data)
+{
+  vtkSMSourceProxy* domain = Reader(pipeline, data + "/spline_domain.obj");
+  pipeline.Update(domain);
+  vtkSMSourceProxy* source = pipeline.Create("filters", "BarySplineSource");
+  vtkSMPropertyHelper(source, "Input").Set(domain, 0);
+  auto* grid = vtkPointSet::SafeDownCast(pipeline.Update(source));
+  if (!grid || grid->GetNumberOfPoints() == 0)
+  {
+    check(false, "spline edit: a spline grid");
+    return;
+  }
+  int i = 0;
+  double best = 1e300, x0[3];
+  for (vtkIdType p = 0; p < grid->GetNumberOfPoints(); ++p)
+  {
+    double x[3];
+    grid->GetPoint(p, x);
+    if (x[0] * x[0] + x[1] * x[1] < best)
+    {
+      best = x[0] * x[0] + x[1] * x[1];
+      i = static_cast<int>(p);
+    }
+  }
+  grid->GetPoint(i, x0);
+
+  vtkSMSourceProxy* translate = pipeline.Create("filters", "BarySplineEdit");
+  vtkSMPropertyHelper(translate, "Input").Set(source, 0);
+  vtkSMPropertyHelper(translate, "AnchorIndices").Set(&i, 1);
+  const double by[2] = { 0.05, -0.02 };
+  vtkSMPropertyHelper(translate, "By").Set(by, 2);
+  vtkSMPropertyHelper(translate, "DeltaMax").Set(2);
+  ErrorCounter errors;
+  auto* moved = vtkPointSet::SafeDownCast(pipeline.Update(translate, &errors));
+  auto* filter = vtkBaryPVSplineEdit::SafeDownCast(translate->GetClientSideObject());
+  check(filter && filter->GetOperation() == vtkBaryPVSplineEdit::TRANSLATE &&
+      filter->GetTarget() == vtkBarySplineEdit::XY && filter->GetDeltaMax() == 2 &&
+      filter->GetBy()[0] == 0.05 && filter->GetBy()[1] == -0.02,
+    "spline edit: properties set on the proxy reach the filter");
+  auto residual = [](vtkPointSet* out) {
+    vtkDataArray* r = out ? out->GetFieldData()->GetArray("Residual") : nullptr;
+    return r && r->GetNumberOfTuples() == 1 ? r->GetComponent(0, 0) : 1.0;
+  };
+  double x1[3] = { 0, 0, 0 };
+  int count = 0;
+  if (moved && moved->GetNumberOfPoints() == grid->GetNumberOfPoints())
+  {
+    moved->GetPoint(i, x1);
+    for (vtkIdType p = 0; p < grid->GetNumberOfPoints(); ++p)
+    {
+      double a[3], b[3];
+      grid->GetPoint(p, a);
+      moved->GetPoint(p, b);
+      count += (a[0] != b[0] || a[1] != b[1] || a[2] != b[2]) ? 1 : 0;
+    }
+  }
+  const double error = std::max({ std::abs(x1[0] - x0[0] - by[0]),
+    std::abs(x1[1] - x0[1] - by[1]), std::abs(x1[2] - x0[2]) });
+  std::cout << "     spline edit: anchor " << i << " moved off by " << error << " from (0.05, -0.02); "
+            << count << " of " << grid->GetNumberOfPoints() << " control points moved; residual "
+            << residual(moved) << "\n";
+  check(errors.errors == 0 && error <= 1e-15 && count > 1 && count < grid->GetNumberOfPoints() / 10,
+    "spline edit: the anchor moves by exactly `by`, a few neighbours follow");
+  check(residual(moved) < 1e-9, "spline edit: C1 residual below 1e-9");
+
+  vtkSMSourceProxy* rotate = pipeline.Create("filters", "BarySplineEdit");
+  vtkSMPropertyHelper(rotate, "Input").Set(translate, 0);
+  vtkSMPropertyHelper(rotate, "Operation").Set(vtkBaryPVSplineEdit::ROTATE);
+  const double near[2] = { x1[0], x1[1] };
+  vtkSMPropertyHelper(rotate, "NearPositions").Set(near, 2);
+  vtkSMPropertyHelper(rotate, "Angle").Set(3.0);
+  auto* turned = vtkPointSet::SafeDownCast(pipeline.Update(rotate, &errors));
+  const double a = 3.0 * M_PI / 180.0;
+  double x2[3] = { 0, 0, 0 };
+  if (turned && turned->GetNumberOfPoints() == grid->GetNumberOfPoints())
+    turned->GetPoint(i, x2);
+  const double turnError = std::max(std::abs(x2[0] - (std::cos(a) * x1[0] - std::sin(a) * x1[1])),
+    std::abs(x2[1] - (std::sin(a) * x1[0] + std::cos(a) * x1[1])));
+  std::cout << "     spline edit: rotated anchor off its rotation by " << turnError
+            << "; residual " << residual(turned) << "\n";
+  check(errors.errors == 0 && turnError <= 1e-12 && residual(turned) < 1e-9,
+    "spline edit chained: the anchor nearest NearPositions turns by Angle about Center, C1 kept");
+
+  vtkSMSourceProxy* nothing = pipeline.Create("filters", "BarySplineEdit");
+  vtkSMPropertyHelper(nothing, "Input").Set(source, 0);
+  ErrorCounter noAnchor;
+  pipeline.Update(nothing, &noAnchor);
+  std::cout << "     spline edit with no anchor: " << noAnchor.messages << "\n";
+  check(noAnchor.errors > 0 && noAnchor.messages.find("at least one anchor") != std::string::npos,
+    "spline edit: an edit naming no anchor is an error saying so");
+}
+
 void CheckMesherAndErrors(Pipeline& pipeline, const std::string& data)
 {
   vtkSMSourceProxy* cage = Reader(pipeline, data + "/cage3d.obj");
@@ -683,6 +923,8 @@ int main(int argc, char* argv[])
     CheckSettingsTable(pipeline);
     CheckWeightsAndDeformation(pipeline, argv[2]);
     CheckMesherAndErrors(pipeline, argv[2]);
+    CheckWeightedAverage(pipeline);
+    CheckSplineEdit(pipeline, argv[2]);
     pxm->UnRegisterProxies();
   }
   vtkInitializationHelper::Finalize();
