@@ -44,28 +44,27 @@ void vtkBaryPVSplineEdit::SetAnchor(int index, vtkIdType anchor)
   this->Modified();
 }
 
-void vtkBaryPVSplineEdit::SetNumberOfNearValues(int count)
+void vtkBaryPVSplineEdit::SetNumberOfNearPositions(int count)
 {
-  if (count < 0 || count % 2 != 0)
+  if (count < 0)
   {
-    vtkErrorMacro(<< "near positions: " << count
-                  << " values is not a whole number of positions (x y pairs)");
+    vtkErrorMacro(<< "near positions: a negative number (" << count << ")");
     return;
   }
-  this->Near->SetNumberOfTuples(count / 2);
+  this->Near->SetNumberOfTuples(count);
   this->Near->Fill(0.0);
   this->Modified();
 }
 
-void vtkBaryPVSplineEdit::SetNearValue(int index, double value)
+void vtkBaryPVSplineEdit::SetNearPosition(int index, double x, double y)
 {
-  if (index < 0 || index >= this->Near->GetNumberOfValues())
+  if (index < 0 || index >= this->Near->GetNumberOfTuples())
   {
-    vtkErrorMacro(<< "near value " << index
-                  << " is out of range (set the number of values first: 2 per position)");
+    vtkErrorMacro(<< "near position " << index
+                  << " is out of range (set the number of positions first)");
     return;
   }
-  this->Near->SetValue(index, value);
+  this->Near->SetTuple2(index, x, y);
   this->Modified();
 }
 

@@ -9,7 +9,7 @@
  * or top surface), ROTATE (by Angle degrees about Center) or SCALE (by Factor about Center).
  * Target: vtkBarySplineEdit::XY, BOTTOM or TOP. The anchors: the control points of the indices
  * set with SetNumberOfAnchors / SetAnchor and those nearest to the positions set with
- * SetNumberOfNearValues / SetNearValue (x y pairs); an edit with neither, or with bad values, is
+ * SetNumberOfNearPositions / SetNearPosition; an edit with neither, or with bad values, is
  * the filter's error naming it. DeltaMax: slaves within this net distance. Several edits:
  * several filters in a chain. The defaults are bary::SplineEdit's.
  *
@@ -57,10 +57,10 @@ public:
   /// index (out of range is an error).
   void SetNumberOfAnchors(int count);
   void SetAnchor(int index, vtkIdType anchor);
-  /// The near positions, x y pairs: the number of values (even; resets them to 0) and value @p
-  /// index (position index / 2, coordinate index % 2).
-  void SetNumberOfNearValues(int count);
-  void SetNearValue(int index, double value);
+  /// The near positions: their number (resets them to (0, 0); negative is an error) and
+  /// position @p index (out of range is an error).
+  void SetNumberOfNearPositions(int count);
+  void SetNearPosition(int index, double x, double y);
 
 protected:
   vtkBaryPVSplineEdit();
