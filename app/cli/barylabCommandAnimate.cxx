@@ -65,7 +65,7 @@ int run_animate(AnimateArgs a)
             " points of '" + a.cage + "', moved (same order)");
       frames[f] = set;
     }
-    model = ReadWhole(a.points);
+    model = vtkBaryDataIO::Read(a.points); // a .pvtp / .pvtu: all its pieces
     piece = SplitPiece(model);
   });
   const bool lead = rank == 0;

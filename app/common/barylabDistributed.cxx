@@ -326,11 +326,6 @@ vtkSmartPointer<vtkDataSet> ReadPiece(const std::string& path)
   return SplitPiece(vtkBaryDataIO::Read(path));
 }
 
-vtkSmartPointer<vtkDataSet> ReadWhole(const std::string& path)
-{
-  return vtkBaryDataIO::Read(path); // a .pvtp / .pvtu: all its pieces
-}
-
 vtkSmartPointer<vtkDataSet> SplitPiece(vtkDataSet* whole)
 {
   const int rank = ProcessRank(), K = ProcessCount();

@@ -73,9 +73,6 @@ vtkSmartPointer<vtkDataSet> ReadPiece(const std::string& path);
 /// process's piece (@p whole itself in a serial run).
 vtkSmartPointer<vtkDataSet> SplitPiece(vtkDataSet* whole);
 
-/// The whole data set in @p path on every process (a .pvtp / .pvtu: all its pieces).
-vtkSmartPointer<vtkDataSet> ReadWhole(const std::string& path);
-
 /// @p whole with the point arrays that the filters added to the split pieces (SplitPiece; each
 /// process's @p piece) gathered from the owned points of every process, in the whole's point
 /// order, on every process, and the piece's field data. Collective. Serial: @p piece.
