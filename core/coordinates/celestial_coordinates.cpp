@@ -3,12 +3,8 @@
 #include "core/detail/constants.h"
 #include "core/detail/format.h"
 #include "core/detail/parallel_for.h"
+#include "core/detail/cgal_convex_hull.h"
 #include "core/common/error.h"
-
-#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
-#include <CGAL/Surface_mesh.h>
-#include <CGAL/convex_hull_2.h>
-#include <CGAL/convex_hull_3.h>
 
 #include <Eigen/Cholesky>
 #include <Eigen/Geometry>
@@ -441,8 +437,6 @@ std::vector<Index> hilbert_order(const Eigen::MatrixXd& X, int threads)
 // a facet, a vertex) in its own orthonormal coordinates, with the planes bounding it there and
 // the node of the face on each plane.
 
-using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
-
 struct HullNode
 {
   int dim = 0;
@@ -595,16 +589,14 @@ void CelestialCoordinates::Impl::build_planes(int index)
   }
   else if (k == 2)
   {
-    using P2 = Kernel::Point_2;
-    std::vector<P2> pts;
+    std::vector<std::array<double, 2>> pts;
     for (Index j = 0; j < m; ++j)
-      pts.emplace_back(L(0, j), L(1, j));
-    std::vector<P2> hull;
-    CGAL::convex_hull_2(pts.begin(), pts.end(), std::back_inserter(hull)); // counterclockwise
+      pts.push_back({ L(0, j), L(1, j) });
+    const std::vector<int> hull = detail::convex_hull_2d(pts); // counterclockwise
     for (std::size_t e = 0; e < hull.size(); ++e)
     {
-      const P2& a = hull[e];
-      const P2& b = hull[(e + 1) % hull.size()];
+      const Eigen::Vector2d a = L.col(hull[e]);
+      const Eigen::Vector2d b = L.col(hull[(e + 1) % hull.size()]);
       Eigen::VectorXd n(2);
       n << b.y() - a.y(), a.x() - b.x(); // outward for a counterclockwise polygon
       n.normalize();
@@ -614,28 +606,13 @@ void CelestialCoordinates::Impl::build_planes(int index)
   }
   else
   {
-    using P3 = Kernel::Point_3;
-    std::vector<P3> pts;
-    std::map<std::array<double, 3>, Index> where;
+    std::vector<std::array<double, 3>> pts;
     for (Index j = 0; j < m; ++j)
-    {
-      pts.emplace_back(L(0, j), L(1, j), L(2, j));
-      where.emplace(std::array<double, 3>{ L(0, j), L(1, j), L(2, j) }, j);
-    }
-    CGAL::Surface_mesh<P3> hull;
-    CGAL::convex_hull_3(pts.begin(), pts.end(), hull);
+      pts.push_back({ L(0, j), L(1, j), L(2, j) });
+    const std::vector<std::array<int, 3>> hull = detail::convex_hull_3d(pts);
     const Eigen::Vector3d centroid = L.rowwise().mean();
-    for (auto f : hull.faces())
+    for (const std::array<int, 3>& t : hull)
     {
-      std::array<Index, 3> t{};
-      int c = 0;
-      for (auto v : CGAL::vertices_around_face(hull.halfedge(f), hull))
-      {
-        const P3& pt = hull.point(v);
-        if (c < 3)
-          t[static_cast<std::size_t>(c)] = where.at({ pt.x(), pt.y(), pt.z() });
-        ++c;
-      }
       const Eigen::Vector3d a = L.col(t[0]), b = L.col(t[1]), cc = L.col(t[2]);
       Eigen::Vector3d n = (b - a).cross(cc - a).normalized();
       std::vector<Index> on = on_plane(n, n.dot(a));
