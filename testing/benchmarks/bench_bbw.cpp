@@ -15,6 +15,8 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <cstdlib>
+#include <numeric>
 #include <random>
 #include <sstream>
 
@@ -218,31 +220,67 @@ void BBWHand(benchmark::State& state) { bind_igl(state, "hand", 0.0); }
 BENCHMARK(BBWKnight)->ArgsProduct({ { 0, 1 }, { 0, 1 } })->Unit(benchmark::kMillisecond)->MeasureProcessCPUTime()->Iterations(1);
 BENCHMARK(BBWHand)->ArgsProduct({ { 0, 1 }, { 0, 1 } })->Unit(benchmark::kMillisecond)->MeasureProcessCPUTime()->Iterations(1);
 
-/// Pose time: linear blend skinning of range(0) points by range(1) handles, dense weights.
+/// Pose time: linear blend skinning of range(0) points by range(1) handles, dense weights, or
+/// sparse weights with range(2) stored entries per point (range(2) = 0: dense). The points are
+/// uniform in the unit cube, the weights uniform in [0, 1) (on range(2) distinct handles per
+/// point when sparse, chosen uniformly) and normalised per point, the transforms random affine
+/// maps; the same generator as the libigl driver in docs/benchmarks.md ("Skinning"), so both
+/// pose the same data. One thread unless BARYLAB_BENCH_THREADS says otherwise.
 void Skinning(benchmark::State& state)
 {
   const auto np = static_cast<Eigen::Index>(state.range(0));
   const auto m = static_cast<Eigen::Index>(state.range(1));
+  const auto k = static_cast<Eigen::Index>(state.range(2));
   std::mt19937 rng(1);
   std::uniform_real_distribution<double> u(0.0, 1.0);
   bary::Points X(np, 3);
-  bary::DenseWeights W(np, m);
+  bary::DenseWeights W = bary::DenseWeights::Zero(np, m);
+  std::vector<int> handles(static_cast<std::size_t>(m));
   for (Eigen::Index p = 0; p < np; ++p)
   {
-    for (int k = 0; k < 3; ++k)
-      X(p, k) = u(rng);
-    for (Eigen::Index j = 0; j < m; ++j)
-      W(p, j) = u(rng);
+    for (int c = 0; c < 3; ++c)
+      X(p, c) = u(rng);
+    if (k == 0)
+      for (Eigen::Index j = 0; j < m; ++j)
+        W(p, j) = u(rng);
+    else
+    {
+      std::iota(handles.begin(), handles.end(), 0);
+      for (Eigen::Index i = 0; i < k; ++i) // the first k of a random permutation
+      {
+        const auto r = i + static_cast<Eigen::Index>(u(rng) * static_cast<double>(m - i));
+        std::swap(handles[static_cast<std::size_t>(i)], handles[static_cast<std::size_t>(r)]);
+        W(p, handles[static_cast<std::size_t>(i)]) = u(rng);
+      }
+    }
     W.row(p) /= W.row(p).sum();
   }
-  bary::AffineTransforms T(static_cast<std::size_t>(m), Eigen::MatrixXd::Identity(3, 4));
-  for (auto _ : state)
-    benchmark::DoNotOptimize(bary::linear_blend_skinning(X, W, T).data());
+  bary::AffineTransforms T(static_cast<std::size_t>(m));
+  for (auto& t : T)
+    t = Eigen::MatrixXd::NullaryExpr(3, 4, [&] { return u(rng) - 0.5; }) +
+      Eigen::MatrixXd::Identity(3, 4);
+  const char* env = std::getenv("BARYLAB_BENCH_THREADS");
+  const int threads = env ? std::atoi(env) : 1;
+  if (k == 0)
+    for (auto _ : state)
+      benchmark::DoNotOptimize(bary::linear_blend_skinning(X, W, T, threads).data());
+  else
+  {
+    const bary::SparseWeights S = W.sparseView();
+    for (auto _ : state)
+      benchmark::DoNotOptimize(bary::linear_blend_skinning(X, S, T, threads).data());
+  }
   state.counters["points"] = static_cast<double>(np);
   state.counters["handles"] = static_cast<double>(m);
+  state.counters["per_point"] = static_cast<double>(k == 0 ? m : k);
+  state.counters["threads"] = threads;
   state.SetItemsProcessed(state.iterations() * np);
 }
-BENCHMARK(Skinning)->Args({ 10000, 8 })->Args({ 10000, 20 })->Args({ 100000, 8 })->Args({ 100000, 20 })->Args({ 1000000, 20 })->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(Skinning)
+  ->ArgsProduct({ { 7234, 100000, 1000000 }, { 20 }, { 0, 4 } })
+  ->Args({ 100000, 8, 0 })
+  ->Unit(benchmark::kMillisecond)
+  ->UseRealTime();
 } // namespace
 
 BENCHMARK_MAIN();

@@ -2,6 +2,7 @@
 // and transforms, and the §3.4 rotations inferred from pseudo-edges.
 #include "core/common/error.h"
 #include "core/deformation/linear_blend_skinning.h"
+#include "core/detail/simd.h"
 #include "error_matchers.h"
 
 #include <Eigen/Geometry>
@@ -95,6 +96,76 @@ TEST(LinearBlendSkinning, SparseEqualsDenseAndThreadsDoNotMatter)
   }
 }
 
+/// Eq. (1) term by term, for every stored weight: the independent reference for the kernels.
+Points term_by_term(const Points& X, const DenseWeights& W, const AffineTransforms& transforms)
+{
+  const Index dim = X.cols();
+  Points Y = Points::Zero(X.rows(), dim);
+  for (Index p = 0; p < X.rows(); ++p)
+    for (Index j = 0; j < W.cols(); ++j)
+    {
+      const Eigen::MatrixXd& T = transforms[static_cast<std::size_t>(j)];
+      Y.row(p) += W(p, j) * (T.leftCols(dim) * X.row(p).transpose() + T.col(dim)).transpose();
+    }
+  return Y;
+}
+
+TEST(LinearBlendSkinning, KernelsMatchEquationOneTermByTermAtEverySimdLevel)
+{
+  // The 2D/3D kernels accumulate sum_j w_j [A_j | t_j] first (vector multiply-adds, even and
+  // odd weights apart) and apply it once; the reference sums w_j (A_j x + t_j). Both are
+  // sums of ~#handles products of magnitude <= ~4 here, so they agree to a few units of
+  // rounding: 1e-14. Odd and even handle counts (the kernels' tail), 1D through the generic
+  // path, dense and sparse weights, the AVX2 and the portable build of the kernels.
+  const detail::SimdLevel supported = detail::supported_simd_level();
+  for (const int dim : { 1, 2, 3 })
+    for (const int m : { 1, 5, 20 })
+    {
+      Points X;
+      DenseWeights W;
+      random_setup(301, m, dim, X, W);
+      AffineTransforms transforms;
+      for (int j = 0; j < m; ++j)
+        transforms.push_back(
+          affine(Eigen::MatrixXd::Random(dim, dim), Eigen::VectorXd::Random(dim)));
+      const Points expected = term_by_term(X, W, transforms);
+      const SparseWeights S = W.sparseView();
+      Points at_level[2];
+      for (const auto level : { detail::SimdLevel::Portable, detail::SimdLevel::AVX2 })
+      {
+        if (detail::set_simd_level(level) != level)
+          continue; // this CPU has no AVX2
+        const Points dense = linear_blend_skinning(X, W, transforms, 1);
+        const Points sparse = linear_blend_skinning(X, S, transforms, 1);
+        EXPECT_LE((dense - expected).cwiseAbs().maxCoeff(), 1e-14) << dim << "D, " << m;
+        EXPECT_LE((sparse - expected).cwiseAbs().maxCoeff(), 1e-14) << dim << "D, " << m;
+        // the thread that computes a point does not change it
+        EXPECT_TRUE((linear_blend_skinning(X, W, transforms, 2).array() == dense.array()).all());
+        EXPECT_TRUE((linear_blend_skinning(X, S, transforms, 2).array() == sparse.array()).all());
+        at_level[static_cast<int>(level)] = dense;
+      }
+      detail::set_simd_level(supported);
+      if (at_level[1].size() > 0)
+      { // the levels differ by the fused multiply-adds only
+        EXPECT_LE((at_level[0] - at_level[1]).cwiseAbs().maxCoeff(), 1e-14);
+      }
+    }
+}
+
+TEST(LinearBlendSkinning, LargePointSetsAreSplitOverThreadsWithoutChangingAPoint)
+{
+  // 20,000 points: the kernels hand blocks of points to two threads (under 2,048, one).
+  Points X;
+  DenseWeights W;
+  random_setup(20000, 7, 3, X, W);
+  AffineTransforms transforms;
+  for (int j = 0; j < 7; ++j)
+    transforms.push_back(affine(Eigen::MatrixXd::Random(3, 3), Eigen::VectorXd::Random(3)));
+  const Points one = linear_blend_skinning(X, W, transforms, 1);
+  EXPECT_TRUE((linear_blend_skinning(X, W, transforms, 2).array() == one.array()).all());
+  EXPECT_LE((one - term_by_term(X, W, transforms)).cwiseAbs().maxCoeff(), 1e-14);
+}
+
 TEST(LinearBlendSkinning, Errors)
 {
   Points X(2, 2);
@@ -120,7 +191,16 @@ TEST(LinearBlendSkinning, Errors)
   W_nan(0, 1) = std::nan("");
   EXPECT_TRUE(throws_error([&] { linear_blend_skinning(X, W_nan, two); }, ErrorCode::NonFinite, { "point 0" }));
   const SparseWeights S_nan = W_nan.sparseView(0.0, 0.0);
-  EXPECT_TRUE(throws_error([&] { linear_blend_skinning(X, S_nan, two); }, ErrorCode::NonFinite));
+  EXPECT_TRUE(throws_error([&] { linear_blend_skinning(X, S_nan, two); }, ErrorCode::NonFinite, { "point 0" }));
+  DenseWeights W_inf = W;
+  W_inf(1, 0) = INFINITY;
+  EXPECT_TRUE(throws_error([&] { linear_blend_skinning(X, W_inf, two); }, ErrorCode::NonFinite, { "point 1" }));
+  // finite input whose blend overflows: named, not returned as infinity
+  const AffineTransforms huge(2, affine(1e308 * Eigen::Matrix2d::Identity(), Eigen::Vector2d::Zero()));
+  Points X_big = X;
+  X_big(1, 0) = 10.0;
+  EXPECT_TRUE(throws_error([&] { linear_blend_skinning(X_big, W, huge); }, ErrorCode::NonFinite,
+    { "point 1", "overflows" }));
   EXPECT_TRUE(throws_error([&] { linear_blend_skinning(X, W, two, -1); }, ErrorCode::InvalidArgument, { "threads" }));
 }
 
