@@ -3,6 +3,7 @@
 #include "core/detail/constants.h"
 #include "core/detail/format.h"
 #include "core/detail/parallel_for.h"
+#include "core/detail/simd.h"
 #include "core/detail/cgal_convex_hull.h"
 #include "core/common/error.h"
 
@@ -20,6 +21,13 @@
 #include <numeric>
 #include <string>
 #include <utility>
+
+#if BARY_HAVE_AVX2_DISPATCH
+#include <immintrin.h>
+#endif
+#if defined(__linux__)
+#include <sys/mman.h>
+#endif
 
 // Notation: p the query point, v_i the controls, d_i = |v_i - p|, q_i = (v_i - p) / d_i.
 //
@@ -57,11 +65,283 @@ constexpr Index kChunk = 256;      // points per warm-start chunk (independent o
 constexpr int kMaxBacktracks = 50; // halvings of the Newton step before giving up
 constexpr double kArmijo = 1e-4;
 constexpr double kResidualSwitch = 1e-6; // below: also accept residual-norm decrease
+constexpr double kPredictedResidual = 1e-3; // above: a predicted start is compared with the plain
 
 /// m(a) = a + sqrt(a^2 + 1) without cancellation; r = sqrt(a^2 + 1).
 inline double m_of(double a, double r)
 {
   return a >= 0.0 ? a + r : 1.0 / (r - a);
+}
+
+/// Asks Linux for transparent huge pages (2 MiB) under [data, data + bytes) before the first
+/// touch. W's rows are written in curve order, which for unordered points is at random: with
+/// 4 KiB pages nearly every row cost a TLB miss, and each 4 KiB a page fault. A hint only.
+void advise_huge_pages(void* data, std::size_t bytes)
+{
+#if defined(__linux__) && defined(MADV_HUGEPAGE)
+  const std::uintptr_t huge = std::uintptr_t(1) << 21;
+  const std::uintptr_t at = reinterpret_cast<std::uintptr_t>(data);
+  const std::uintptr_t begin = (at + huge - 1) & ~(huge - 1), end = (at + bytes) & ~(huge - 1);
+  if (end > begin)
+    madvise(reinterpret_cast<void*>(begin), end - begin, MADV_HUGEPAGE);
+#else
+  (void)data;
+  (void)bytes;
+#endif
+}
+
+/// Prefetches [data, data + bytes) into the cache (for writing if @p write).
+inline void prefetch(const void* data, std::size_t bytes, bool write)
+{
+#if defined(__GNUC__)
+  const char* c = static_cast<const char*>(data);
+  for (std::size_t b = 0; b < bytes + 63; b += 64)
+    if (write)
+      __builtin_prefetch(c + std::min(b, bytes - 1), 1);
+    else
+      __builtin_prefetch(c + std::min(b, bytes - 1), 0);
+#else
+  (void)data;
+  (void)bytes;
+  (void)write;
+#endif
+}
+
+/// Stride of the per-control arrays (q's components, betas, 1 / d_i): #C rounded up to a
+/// multiple of 4, the lanes past #C zero (q) or finite, so that a kernel runs whole vectors.
+inline Index padded(Index n)
+{
+  return (n + 3) / 4 * 4;
+}
+
+// ------------------------------------------------------------------------------------------
+// AVX2 + FMA kernels of the per-point work (runtime dispatch, core/detail/simd.h): the control
+// directions q_i and 1 / d_i, the S scheme's F, J, Phi and sum beta (Newton::eval) and the
+// weights of Eq. (3). Four controls per vector; the same formulas as the portable code below
+// them, with a * b + c fused and the sums over controls in four lanes (added in a fixed order):
+// the results agree with the portable ones to rounding, and Newton's converged solutions to
+// the tolerance (tested). On other machines, and with BARYLAB_SIMD=portable, the portable code.
+#if BARY_HAVE_AVX2_DISPATCH
+using detail::v4d;
+
+BARY_TARGET_AVX2 BARY_ALWAYS_INLINE double lane_sum(const v4d& v)
+{
+  return (v[0] + v[1]) + (v[2] + v[3]);
+}
+
+/// Lanes i .. i + 3 that are controls (< n): all ones, else zero.
+BARY_TARGET_AVX2 BARY_ALWAYS_INLINE void lane_mask(Index i, Index n, v4d& valid)
+{
+  const v4d lane = { 0.0, 1.0, 2.0, 3.0 };
+  const v4d one = { 1.0, 1.0, 1.0, 1.0 }, zero = { 0.0, 0.0, 0.0, 0.0 };
+  valid = BARY_SELECT(lane + static_cast<double>(i) < static_cast<double>(n), one, zero);
+}
+
+/// q_i = (v_i - p) / d_i and 1 / d_i (zero in the padding lanes). @p v: the controls as D
+/// padded rows (v[k * ld + i]).
+template<int D>
+BARY_TARGET_AVX2 BARY_NOINLINE void directions_avx2(
+  const double* v, Index n, Index ld, const double* p, double* q, double* inv_d)
+{
+  const v4d zero = { 0.0, 0.0, 0.0, 0.0 };
+  for (Index i = 0; i < ld; i += 4)
+  {
+    v4d e[D], d2 = zero;
+    for (int k = 0; k < D; ++k)
+    {
+      e[k] = BARY_LOAD4(v + k * ld + i) - p[k];
+      d2 += e[k] * e[k];
+    }
+    v4d inv = 1.0 / v4d(_mm256_sqrt_pd(d2));
+    if (i + 4 > n)
+    {
+      v4d valid;
+      lane_mask(i, n, valid);
+      inv = BARY_SELECT(valid > zero, inv, zero);
+    }
+    BARY_STORE4(inv_d + i, inv);
+    for (int k = 0; k < D; ++k)
+      BARY_STORE4(q + k * ld + i, e[k] * inv);
+  }
+}
+
+/// The accumulators of scc_eval_avx2, one lane per control of each vector (named variables:
+/// an array of them was zeroed through memory and spilled).
+struct SccSums
+{
+  v4d phi, sb, f0, f1, f2, j00, j01, j02, j11, j12, j22;
+};
+
+/// One vector of controls of scc_eval_avx2; @p valid masks Phi and sum beta (the padding lanes
+/// have q = 0, so their F and J terms vanish by themselves). J's terms without the factor 2
+/// (applied to the sums: exact).
+template<int D, bool Tail>
+BARY_TARGET_AVX2 BARY_ALWAYS_INLINE void scc_terms(const double* q, Index ld, Index i,
+  const v4d (&x)[D], const v4d& valid, double* beta, double* slope, SccSums& acc)
+{
+  v4d qk[D];
+  qk[0] = BARY_LOAD4(q + i);
+  v4d a = x[0] * qk[0];
+  for (int k = 1; k < D; ++k)
+  {
+    qk[k] = BARY_LOAD4(q + k * ld + i);
+    a += x[k] * qk[k];
+  }
+  const v4d zero = { 0.0, 0.0, 0.0, 0.0 };
+  const v4d t = _mm256_sqrt_pd(a * a + 1.0); // r
+  const v4d tma = t - a;
+  const v4d inv = 1.0 / (t * tma); // 1 / (r (r - a))
+  const v4d m = BARY_SELECT(a >= zero, a + t, t * inv);
+  v4d b = m * m;
+  const v4d w = b * tma * inv; // m^2 / r
+  BARY_STORE4(beta + i, b);
+  BARY_STORE4(slope + i, w);
+  v4d e = m * (b * (1.0 / 6.0) + 0.5);
+  if constexpr (Tail)
+  {
+    e *= valid;
+    b *= valid;
+  }
+  acc.phi += e;
+  acc.sb += b;
+  const v4d w0 = w * qk[0];
+  acc.f0 += b * qk[0];
+  acc.j00 += w0 * qk[0];
+  if constexpr (D > 1)
+  {
+    const v4d w1 = w * qk[1];
+    acc.f1 += b * qk[1];
+    acc.j01 += w0 * qk[1];
+    acc.j11 += w1 * qk[1];
+    if constexpr (D > 2)
+    {
+      acc.f2 += b * qk[2];
+      acc.j02 += w0 * qk[2];
+      acc.j12 += w1 * qk[2];
+      acc.j22 += w * qk[2] * qk[2];
+    }
+  }
+}
+
+/// The lane sums of four vectors, each (l0 + l1) + (l2 + l3), into out[0..3].
+BARY_TARGET_AVX2 BARY_ALWAYS_INLINE void lane_sums4(
+  const v4d& a, const v4d& b, const v4d& c, const v4d& d, double* out)
+{
+  const __m256d ab = _mm256_hadd_pd(a, b), cd = _mm256_hadd_pd(c, d); // a0+a1 b0+b1 a2+a3 b2+b3
+  const __m256d lo = _mm256_permute2f128_pd(ab, cd, 0x20), hi = _mm256_permute2f128_pd(ab, cd, 0x31);
+  _mm256_storeu_pd(out, _mm256_add_pd(lo, hi));
+}
+
+/// The S scheme at y = x (Newton::eval): beta_i = m(q_i . y)^2 into beta and m_i^2 / r_i
+/// (half of d beta_i / d a_i) into slope (ld entries each), and out = { Phi, sum beta,
+/// F_0..F_2, J_00, J_01, J_02, J_11, J_12, J_22 } (12 entries; the last is scratch).
+template<int D>
+BARY_TARGET_AVX2 BARY_NOINLINE void scc_eval_avx2(
+  const double* q, Index n, Index ld, const double* x, double* beta, double* slope, double* out)
+{
+  const v4d zero = { 0.0, 0.0, 0.0, 0.0 };
+  SccSums acc{ zero, zero, zero, zero, zero, zero, zero, zero, zero, zero, zero };
+  v4d xk[D];
+  for (int k = 0; k < D; ++k)
+    xk[k] = zero + x[k];
+  const Index full = n / 4 * 4;
+  const v4d valid = { 1.0, 1.0, 1.0, 1.0 };
+  for (Index i = 0; i < full; i += 4)
+    scc_terms<D, false>(q, ld, i, xk, valid, beta, slope, acc);
+  if (full < n)
+  {
+    v4d tail;
+    lane_mask(full, n, tail);
+    scc_terms<D, true>(q, ld, full, xk, tail, beta, slope, acc);
+  }
+  lane_sums4(acc.phi, acc.sb, acc.f0, acc.f1, out);
+  lane_sums4(acc.f2, acc.j00 + acc.j00, acc.j01 + acc.j01, acc.j02 + acc.j02, out + 4);
+  lane_sums4(acc.j11 + acc.j11, acc.j12 + acc.j12, acc.j22 + acc.j22, zero, out + 8);
+}
+
+/// w_i = (beta_i / d_i) / sum_j (beta_j / d_j), Eq. (3), into w (n entries).
+BARY_TARGET_AVX2 BARY_NOINLINE void weights_avx2(
+  const double* beta, const double* inv_d, Index n, Index ld, double* w)
+{
+  v4d sum = { 0.0, 0.0, 0.0, 0.0 };
+  for (Index i = 0; i < ld; i += 4) // padding: inv_d = 0, beta finite
+    sum += BARY_LOAD4(beta + i) * BARY_LOAD4(inv_d + i);
+  const double inv = 1.0 / lane_sum(sum);
+  Index i = 0;
+  for (; i + 4 <= n; i += 4)
+    BARY_STORE4(w + i, BARY_LOAD4(beta + i) * BARY_LOAD4(inv_d + i) * inv);
+  for (; i < n; ++i)
+    w[i] = beta[i] * inv_d[i] * inv;
+}
+
+/// The weights as weights_avx2 (the same operations: the same bits) and, in the same pass, the
+/// sums of the warm-start predictor (Predictor) at the converged y = x:
+/// out = { s, g_0..g_2, M_00, M_01, M_02, M_11, M_12, M_22 } (12 entries; the last is scratch)
+/// with s = sum_i beta_i / d_i, g = sum_i (beta'_i / d_i) q_i, M = sum_i c_i q_i q_i^T,
+/// c_i = (beta'_i a_i + beta_i) / d_i, beta'_i = 2 slope_i, a_i = q_i . y.
+template<int D>
+BARY_TARGET_AVX2 BARY_NOINLINE void scc_finish_avx2(const double* q, Index n, Index ld,
+  const double* x, const double* beta, const double* slope, const double* inv_d, double* w,
+  double* out)
+{
+  const v4d zero = { 0.0, 0.0, 0.0, 0.0 };
+  v4d xk[D];
+  for (int k = 0; k < D; ++k)
+    xk[k] = zero + x[k];
+  v4d sum = zero, g0 = zero, g1 = zero, g2 = zero, m00 = zero, m01 = zero, m02 = zero,
+      m11 = zero, m12 = zero, m22 = zero;
+  for (Index i = 0; i < ld; i += 4) // padding: inv_d = 0, beta and slope finite
+  {
+    const v4d b = BARY_LOAD4(beta + i), id = BARY_LOAD4(inv_d + i);
+    sum += b * id;
+    v4d qk[D];
+    qk[0] = BARY_LOAD4(q + i);
+    v4d a = xk[0] * qk[0];
+    for (int k = 1; k < D; ++k)
+    {
+      qk[k] = BARY_LOAD4(q + k * ld + i);
+      a += xk[k] * qk[k];
+    }
+    const v4d ds = BARY_LOAD4(slope + i) * id; // beta' / (2 d)
+    const v4d c = ((ds + ds) * a + b * id);
+    const v4d c0 = c * qk[0];
+    g0 += ds * qk[0];
+    m00 += c0 * qk[0];
+    if constexpr (D > 1)
+    {
+      const v4d c1 = c * qk[1];
+      g1 += ds * qk[1];
+      m01 += c0 * qk[1];
+      m11 += c1 * qk[1];
+      if constexpr (D > 2)
+      {
+        g2 += ds * qk[2];
+        m02 += c0 * qk[2];
+        m12 += c1 * qk[2];
+        m22 += c * qk[2] * qk[2];
+      }
+    }
+  }
+  lane_sums4(sum, g0 + g0, g1 + g1, g2 + g2, out);
+  lane_sums4(m00, m01, m02, m11, out + 4);
+  lane_sums4(m12, m22, zero, zero, out + 8);
+  const double inv = 1.0 / out[0];
+  Index i = 0;
+  for (; i + 4 <= n; i += 4)
+    BARY_STORE4(w + i, BARY_LOAD4(beta + i) * BARY_LOAD4(inv_d + i) * inv);
+  for (; i < n; ++i)
+    w[i] = beta[i] * inv_d[i] * inv;
+}
+#endif
+
+/// Whether the kernels above run (AVX2 and FMA available and not switched off).
+inline bool use_avx2()
+{
+#if BARY_HAVE_AVX2_DISPATCH
+  return detail::simd_level() == detail::SimdLevel::AVX2;
+#else
+  return false;
+#endif
 }
 
 // ------------------------------------------------------------------------------------------
@@ -100,6 +380,48 @@ Eigen::Matrix<double, D, 1> solve_spd(
   return x;
 }
 
+/// The same system by A = L diag(d) L^T: no square roots and three divisions instead of three
+/// square roots and nine (the kernels' path, where the Cholesky's chain of them was a tenth of
+/// the time). NaN if a pivot is not positive.
+template<int D>
+Eigen::Matrix<double, D, 1> solve_spd_ldlt(
+  const Eigen::Matrix<double, D, D>& A, const Eigen::Matrix<double, D, 1>& b)
+{
+  Eigen::Matrix<double, D, 1> x;
+  const double d0 = A(0, 0);
+  if constexpr (D == 1)
+  {
+    x[0] = d0 > 0.0 ? b[0] / d0 : kNaN;
+    return x;
+  }
+  else if constexpr (D == 2)
+  {
+    const double r0 = 1.0 / d0, l10 = A(1, 0) * r0;
+    const double d1 = A(1, 1) - l10 * A(1, 0);
+    if (!(d0 > 0.0 && d1 > 0.0))
+      return Eigen::Matrix<double, D, 1>::Constant(kNaN);
+    const double z1 = b[1] - l10 * b[0];
+    x[1] = z1 / d1;
+    x[0] = b[0] * r0 - l10 * x[1];
+  }
+  else
+  {
+    const double r0 = 1.0 / d0, l10 = A(1, 0) * r0, l20 = A(2, 0) * r0;
+    const double d1 = A(1, 1) - l10 * A(1, 0);
+    const double e21 = A(2, 1) - l20 * A(1, 0); // l21 d1
+    const double r1 = 1.0 / d1, l21 = e21 * r1;
+    const double d2 = A(2, 2) - l20 * A(2, 0) - l21 * e21;
+    if (!(d0 > 0.0 && d1 > 0.0 && d2 > 0.0))
+      return Eigen::Matrix<double, D, 1>::Constant(kNaN);
+    const double z1 = b[1] - l10 * b[0];
+    const double z2 = b[2] - l20 * b[0] - l21 * z1;
+    x[2] = z2 / d2;
+    x[1] = z1 * r1 - l21 * x[2];
+    x[0] = b[0] * r0 - l10 * x[1] - l20 * x[2];
+  }
+  return x;
+}
+
 struct SolveStats
 {
   int iterations = 0;
@@ -114,21 +436,26 @@ public:
   using Vec = Eigen::Matrix<double, D, 1>;
   using Mat = Eigen::Matrix<double, D, D>;
 
-  /// @param q D * n doubles, q[k * n + i] = component k of q_i; @param s n user weights or
-  /// nullptr (TCC only); @param scratch 6 n doubles (the betas of the current and the trial
-  /// iterate, and four work arrays). Not thread-safe: one per thread.
+  /// @param q D * ld doubles, q[k * ld + i] = component k of q_i, ld = padded(n), zero for
+  /// i >= n; @param s n user weights or nullptr (TCC only); @param scratch 6 ld doubles, finite
+  /// (the betas of the current and the trial iterate, and four work arrays). Not thread-safe:
+  /// one per thread.
   Newton(CelestialScheme scheme, const double* q, const double* s, Index n, double* scratch)
     : scheme_(scheme)
     , q_(q)
     , s_(s)
     , n_(n)
-    , a_(scratch + 2 * n)
-    , t_(scratch + 3 * n)
-    , m_(scratch + 4 * n)
-    , w_(scratch + 5 * n)
+    , ld_(padded(n))
+    , a_(scratch + 2 * ld_)
+    , t_(scratch + 3 * ld_)
+    , m_(scratch + 4 * ld_)
+    , w_(scratch + 5 * ld_)
+    , avx2_(use_avx2())
   {
     cur_.beta = scratch;
-    next_.beta = scratch + n;
+    next_.beta = scratch + ld_;
+    cur_.slope = a_; // the S kernel's; a_ and t_ serve the other evals only
+    next_.slope = t_;
     rs_.setZero();
     s_sum_ = 0.0;
     if (scheme_ == CelestialScheme::T && s_ != nullptr)
@@ -159,11 +486,27 @@ public:
     return c0 / std::sqrt(lambda * lambda + 2.0 * lambda * c0.norm());
   }
 
-  /// Newton from x (updated in place). After it, beta() holds the betas at x.
-  SolveStats solve(Vec& x, double tol, int max_iterations)
+  /// Newton from x (updated in place). After it, beta() holds the betas at x. With @p fallback
+  /// (x is then a prediction), Newton starts from whichever of x and *fallback has the smaller
+  /// relative residual when x's exceeds kPredictedResidual (a prediction far off, e.g. across
+  /// a fold of the solution near the hull).
+  SolveStats solve(Vec& x, double tol, int max_iterations, const Vec* fallback = nullptr)
   {
     SolveStats stats;
     eval(x, cur_);
+    if (fallback != nullptr)
+    {
+      const double rho = cur_.finite ? cur_.F.norm() / cur_.sb : kNaN;
+      if (!(rho <= kPredictedResidual))
+      {
+        eval(*fallback, next_);
+        if (next_.finite && !(next_.F.norm() / next_.sb >= rho))
+        {
+          x = *fallback;
+          std::swap(cur_, next_);
+        }
+      }
+    }
     if (!cur_.finite)
       return stats;
     for (;;)
@@ -181,7 +524,7 @@ public:
       }
       if (stats.iterations >= max_iterations)
         return stats;
-      Vec d = -solve_spd<D>(cur_.J, cur_.F);
+      Vec d = avx2_ ? Vec(-solve_spd_ldlt<D>(cur_.J, cur_.F)) : Vec(-solve_spd<D>(cur_.J, cur_.F));
       if constexpr (D > 1)
         if (!d.allFinite()) // a rounded pivot <= 0 (J nearly singular, very near the hull)
           d = -cur_.J.ldlt().solve(cur_.F);
@@ -216,6 +559,10 @@ public:
   /// beta_i at the last x solve() was given or returned (SCC: up to the common factor K,
   /// which cancels in Eq. 3).
   const double* beta() const { return cur_.beta; }
+  /// m_i^2 / r_i at that x (S scheme through scc_eval_avx2 only).
+  const double* slope() const { return cur_.slope; }
+  /// F's Jacobian at that x.
+  const Mat& jacobian() const { return cur_.J; }
 
 private:
   struct State
@@ -224,14 +571,15 @@ private:
     Mat J;
     double phi = 0.0, sb = 0.0;
     bool finite = false;
-    double* beta = nullptr; // n
+    double* beta = nullptr;  // n
+    double* slope = nullptr; // n: m_i^2 / r_i (scc_eval_avx2)
   };
 
   Vec qi(Index i) const
   {
     Vec v;
     for (int k = 0; k < D; ++k)
-      v[k] = q_[k * n_ + i];
+      v[k] = q_[k * ld_ + i];
     return v;
   }
 
@@ -241,10 +589,36 @@ private:
   // sums with scalar accumulators, vectorized by omp simd. Results do not depend on threads.
   void eval(const Vec& x, State& st) const
   {
+#if BARY_HAVE_AVX2_DISPATCH
+    if (scheme_ == CelestialScheme::S && avx2_)
+    {
+      double sums[12];
+      scc_eval_avx2<D>(q_, n_, ld_, x.data(), st.beta, st.slope, sums);
+      st.phi = sums[0];
+      st.sb = sums[1];
+      for (int k = 0; k < D; ++k)
+        st.F[k] = sums[2 + k];
+      st.J(0, 0) = sums[5];
+      if constexpr (D > 1)
+      {
+        st.J(0, 1) = st.J(1, 0) = sums[6];
+        st.J(1, 1) = sums[8];
+      }
+      if constexpr (D > 2)
+      {
+        st.J(0, 2) = st.J(2, 0) = sums[7];
+        st.J(1, 2) = st.J(2, 1) = sums[9];
+        st.J(2, 2) = sums[10];
+      }
+      st.finite =
+        std::isfinite(st.phi) && std::isfinite(st.sb) && st.F.allFinite() && st.J.allFinite();
+      return;
+    }
+#endif
     const Index n = n_;
     const double* q0 = q_;
-    const double* q1 = q_ + (D > 1 ? n : 0);
-    const double* q2 = q_ + (D > 2 ? 2 * n : 0);
+    const double* q1 = q_ + (D > 1 ? ld_ : 0);
+    const double* q2 = q_ + (D > 2 ? 2 * ld_ : 0);
     using Array = Eigen::Array<double, Eigen::Dynamic, 1>;
     Eigen::Map<Array> a(a_, n), t(t_, n);
     if constexpr (D == 1)
@@ -357,47 +731,71 @@ private:
   const double* q_;
   const double* s_;
   Index n_;
+  Index ld_;           // padded(n): stride of q and of the scratch arrays
   double* a_;          // n: a_i = x . q_i
   double* t_;          // n: exp(a_i) (TCC) or sqrt(a_i^2 + 1) (SCC)
   double* m_;          // n: m(a_i) (SCC)
   double* w_;          // n: 2 m_i^2 / r_i (SCC)
   Vec rs_;             // sum_i s_i q_i (TCC)
   double s_sum_ = 0.0; // sum_i s_i (TCC)
+  bool avx2_;          // the S scheme's eval runs scc_eval_avx2
   State cur_, next_;
 };
 
 // ------------------------------------------------------------------------------------------
 // Hilbert curve order (Skilling, "Programming the Hilbert curve", AIP Conf. Proc. 707, 2004).
 
+/// Bit b of x (b < 16) moved to bit D b.
+template<int D>
+std::uint64_t spread_bits(std::uint32_t x)
+{
+  std::uint64_t v = x & 0xffffu;
+  if constexpr (D == 2)
+  {
+    v = (v | (v << 8)) & 0x00ff00ffULL;
+    v = (v | (v << 4)) & 0x0f0f0f0fULL;
+    v = (v | (v << 2)) & 0x33333333ULL;
+    v = (v | (v << 1)) & 0x55555555ULL;
+  }
+  else
+  {
+    v = (v | (v << 16)) & 0x0000ff0000ffULL;
+    v = (v | (v << 8)) & 0x00f00f00f00fULL;
+    v = (v | (v << 4)) & 0x0c30c30c30c3ULL;
+    v = (v | (v << 2)) & 0x249249249249ULL;
+  }
+  return v;
+}
+
 template<int D>
 std::uint64_t hilbert_key(std::array<std::uint32_t, D> X, int bits)
 {
+  // Without branches on the bits (they are data: a branch would be mispredicted half the time).
   const std::uint32_t M = 1u << (bits - 1);
   for (std::uint32_t Q = M; Q > 1; Q >>= 1)
   {
     const std::uint32_t P = Q - 1;
     for (int i = 0; i < D; ++i)
-      if (X[i] & Q)
-        X[0] ^= P;
-      else
-      {
-        const std::uint32_t t = (X[0] ^ X[i]) & P;
-        X[0] ^= t;
-        X[i] ^= t;
-      }
+    {
+      // bit set: X[0] ^= P; else exchange the low bits of X[0] and X[i]
+      const std::uint32_t set = 0u - ((X[i] & Q) != 0 ? 1u : 0u);
+      const std::uint32_t t = (X[0] ^ X[i]) & P & ~set;
+      X[0] ^= (P & set) | t;
+      X[i] ^= t;
+    }
   }
   for (int i = 1; i < D; ++i)
     X[i] ^= X[i - 1];
   std::uint32_t t = 0;
   for (std::uint32_t Q = M; Q > 1; Q >>= 1)
-    if (X[D - 1] & Q)
-      t ^= Q - 1;
+    t ^= (Q - 1) & (0u - ((X[D - 1] & Q) != 0 ? 1u : 0u));
   for (int i = 0; i < D; ++i)
     X[i] ^= t;
+  // Interleave, most significant bit first, X[0]'s bit before X[1]'s: bit b of X[i] goes to
+  // bit b D + D - 1 - i of the key.
   std::uint64_t key = 0;
-  for (int b = bits - 1; b >= 0; --b)
-    for (int i = 0; i < D; ++i)
-      key = (key << 1) | ((X[i] >> b) & 1u);
+  for (int i = 0; i < D; ++i)
+    key |= spread_bits<D>(X[i]) << (D - 1 - i);
   return key;
 }
 
@@ -425,7 +823,22 @@ std::vector<Index> hilbert_order(const Eigen::MatrixXd& X, int threads)
       dim == 2 ? hilbert_key<2>({ c[0], c[1] }, bits) : hilbert_key<3>({ c[0], c[1], c[2] }, bits);
     keys[static_cast<std::size_t>(p)] = { key, p };
   }
-  std::sort(keys.begin(), keys.end());
+  // Sorted by (key, index): a stable least-significant-digit radix sort on the key (16 bits a
+  // pass; the indices come ascending), the order std::sort of the pairs gives.
+  std::vector<std::pair<std::uint64_t, Index>> other(keys.size());
+  std::vector<std::size_t> count(std::size_t(1) << 16);
+  for (int shift = 0; shift < dim * bits; shift += 16)
+  {
+    std::fill(count.begin(), count.end(), 0);
+    for (const auto& k : keys)
+      ++count[(k.first >> shift) & 0xffffu];
+    std::size_t sum = 0;
+    for (std::size_t& c : count)
+      sum += std::exchange(c, sum);
+    for (const auto& k : keys)
+      other[count[(k.first >> shift) & 0xffffu]++] = k;
+    keys.swap(other);
+  }
   std::vector<Index> order(static_cast<std::size_t>(np));
   for (Index p = 0; p < np; ++p)
     order[static_cast<std::size_t>(p)] = keys[static_cast<std::size_t>(p)].second;
@@ -832,17 +1245,20 @@ CelestialLocation CelestialCoordinates::Impl::classify(const double* p) const
 {
   const Index n = V.rows();
   const double tol2 = tol * tol;
+  // the nearest control's squared distance, without an early exit (so that it vectorizes)
+  const double* v0 = V.col(0).data();
+  const double* v1 = V.col(1).data();
+  const double* v2 = V.col(dim > 2 ? 2 : 1).data();
+  const double p2 = dim > 2 ? p[2] : 0.0;
+  double nearest = std::numeric_limits<double>::infinity();
+#pragma omp simd reduction(min : nearest)
   for (Index i = 0; i < n; ++i)
   {
-    double d2 = 0.0;
-    for (int k = 0; k < dim; ++k)
-    {
-      const double e = V(i, k) - p[k];
-      d2 += e * e;
-    }
-    if (d2 <= tol2)
-      return CelestialLocation::AtControl;
+    const double e0 = v0[i] - p[0], e1 = v1[i] - p[1], e2 = dim > 2 ? v2[i] - p2 : 0.0;
+    nearest = std::min(nearest, e0 * e0 + e1 * e1 + e2 * e2);
   }
+  if (nearest <= tol2)
+    return CelestialLocation::AtControl;
   // the root's basis is the identity: local coordinates are p - origin
   const HullNode& root = nodes.front();
   double x[3] = { 0.0, 0.0, 0.0 };
@@ -907,16 +1323,16 @@ SolveStats CelestialCoordinates::Impl::solve_on_face(int index, const double* p,
 
   // Solve in the face.
   const int k = node->dim;
-  const Index m = static_cast<Index>(node->ids.size());
-  std::vector<double> q(static_cast<std::size_t>(k * m)), inv_d(static_cast<std::size_t>(m)), sf,
-    beta(static_cast<std::size_t>(m)), scratch(static_cast<std::size_t>(6 * m));
+  const Index m = static_cast<Index>(node->ids.size()), ld = padded(m);
+  std::vector<double> q(static_cast<std::size_t>(k * ld)), inv_d(static_cast<std::size_t>(m)), sf,
+    beta(static_cast<std::size_t>(m)), scratch(static_cast<std::size_t>(6 * ld));
   for (Index j = 0; j < m; ++j)
   {
     const Eigen::VectorXd e = node->local.col(j) - x;
     const double d = e.norm();
     inv_d[static_cast<std::size_t>(j)] = 1.0 / d;
     for (int c = 0; c < k; ++c)
-      q[static_cast<std::size_t>(c * m + j)] = e[c] / d;
+      q[static_cast<std::size_t>(c * ld + j)] = e[c] / d;
   }
   if (!s.empty())
     for (Index id : node->ids)
@@ -1061,6 +1477,20 @@ Points CelestialCoordinates::Impl::hull_points_for(const Points& X) const
 namespace
 {
 
+/// First-order prediction of a neighbour's solution (the kernels' path, S scheme): at a
+/// solved point p with solution y, F(p, y) = 0 gives dy/dp = -J^-1 dF/dp, and with
+/// dq_i/dp = -(I - q_i q_i^T) / d_i, -dF/dp = B = g y^T + s I - M (sums of scc_finish_avx2).
+/// A neighbour p' starts from y + J^-1 B (p' - p) instead of y: its first residual is O(h^2)
+/// instead of O(h), which saves about one Newton iteration a point. The solution it converges
+/// to is the same (to the tolerance): only the start moves.
+template<int D>
+struct Predictor
+{
+  Eigen::Matrix<double, D, D> B, J;
+  Eigen::Matrix<double, D, 1> p; // where it was taken
+  bool valid = false;
+};
+
 /// The solve of the Inside points of one chunk, for a fixed dimension.
 template<int D>
 struct ChunkSolver
@@ -1070,7 +1500,9 @@ struct ChunkSolver
   const CelestialOptions& options;
   const double* s; // user weights or nullptr
   const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>& X;
-  std::vector<double> q, inv_d, scratch;
+  const Index ld;   // padded(#C)
+  const bool avx2;  // directions_avx2, weights_avx2 and (S scheme) scc_finish_avx2
+  std::vector<double> v, q, inv_d, scratch; // v: the controls as D padded rows (AVX2)
 
   ChunkSolver(const Points& V_, const CelestialOptions& options_, const double* s_,
     const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>& X_)
@@ -1078,35 +1510,54 @@ struct ChunkSolver
     , options(options_)
     , s(s_)
     , X(X_)
-    , q(static_cast<std::size_t>(D * V_.rows()))
-    , inv_d(static_cast<std::size_t>(V_.rows()))
-    , scratch(static_cast<std::size_t>(6 * V_.rows()))
+    , ld(padded(V_.rows()))
+    , avx2(use_avx2())
+    , v(static_cast<std::size_t>(D * ld), 0.0)
+    , q(static_cast<std::size_t>(D * ld), 0.0)
+    , inv_d(static_cast<std::size_t>(ld), 0.0)
+    , scratch(static_cast<std::size_t>(6 * ld), 0.0)
   {
+    for (int k = 0; k < D; ++k)
+      for (Index i = 0; i < V.rows(); ++i)
+        v[static_cast<std::size_t>(k * ld + i)] = V(i, k);
   }
 
-  /// Solves point p from *warm (or cold if null); writes W's row on success, and y (the
-  /// Newton unknown). Returns the stats of the last attempt; total counts every iteration.
-  SolveStats solve(Index p, const Vec* warm, Vec& y, double* w, long long& total, bool& restarted)
+  /// Solves point p from *warm (or cold if null), moved by *predict when that is given and
+  /// valid; writes W's row on success, y (the Newton unknown) and (S scheme, kernels' path)
+  /// *made, the prediction from p's solution for its neighbours (else made->valid = false).
+  /// Returns the stats of the last attempt; total counts every iteration.
+  SolveStats solve(Index p, const Vec* warm, Vec& y, double* w, long long& total, bool& restarted,
+    const Predictor<D>* predict = nullptr, Predictor<D>* made = nullptr)
   {
+    if (made != nullptr)
+      made->valid = false;
     const Index n = V.rows();
     const double* x = X.row(p).data();
     double* qd = q.data();
     double* id = inv_d.data();
-    const double* v[3] = { V.col(0).data(), V.col(D > 1 ? 1 : 0).data(),
-      V.col(D > 2 ? 2 : 0).data() };
-#pragma omp simd
-    for (Index i = 0; i < n; ++i)
+#if BARY_HAVE_AVX2_DISPATCH
+    if (avx2)
+      directions_avx2<D>(v.data(), n, ld, x, qd, id);
+    else
+#endif
     {
-      double e[D], d2 = 0.0;
-      for (int k = 0; k < D; ++k)
+      const double* vc[3] = { V.col(0).data(), V.col(D > 1 ? 1 : 0).data(),
+        V.col(D > 2 ? 2 : 0).data() };
+      const Index stride = ld;
+#pragma omp simd
+      for (Index i = 0; i < n; ++i)
       {
-        e[k] = v[k][i] - x[k];
-        d2 += e[k] * e[k];
+        double e[D], d2 = 0.0;
+        for (int k = 0; k < D; ++k)
+        {
+          e[k] = vc[k][i] - x[k];
+          d2 += e[k] * e[k];
+        }
+        const double inv = 1.0 / std::sqrt(d2);
+        id[i] = inv;
+        for (int k = 0; k < D; ++k)
+          qd[k * stride + i] = e[k] * inv;
       }
-      const double inv = 1.0 / std::sqrt(d2);
-      id[i] = inv;
-      for (int k = 0; k < D; ++k)
-        qd[k * n + i] = e[k] * inv;
     }
     Newton<D> newton(options.scheme, qd, s, n, scratch.data());
     restarted = false;
@@ -1114,7 +1565,18 @@ struct ChunkSolver
     if (warm != nullptr)
     {
       y = *warm;
-      stats = newton.solve(y, options.tolerance, options.max_iterations);
+      bool predicted = false;
+      if (predict != nullptr && predict->valid)
+      {
+        Vec dp;
+        for (int k = 0; k < D; ++k)
+          dp[k] = x[k] - predict->p[k];
+        const Vec dy = solve_spd_ldlt<D>(predict->J, Vec(predict->B * dp));
+        predicted = dy.allFinite();
+        if (predicted)
+          y += dy;
+      }
+      stats = newton.solve(y, options.tolerance, options.max_iterations, predicted ? warm : nullptr);
       total += stats.iterations;
       restarted = !stats.converged;
     }
@@ -1127,6 +1589,39 @@ struct ChunkSolver
     if (!stats.converged)
       return stats;
     const double* beta = newton.beta();
+#if BARY_HAVE_AVX2_DISPATCH
+    if (avx2 && made != nullptr && options.scheme == CelestialScheme::S)
+    {
+      double sums[12];
+      scc_finish_avx2<D>(qd, n, ld, y.data(), beta, newton.slope(), id, w, sums);
+      const Eigen::Map<const Vec> g(sums + 1);
+      Eigen::Matrix<double, D, D> M; // sums: s, g_0..g_2, M_00, M_01, M_02, M_11, M_12, M_22
+      M(0, 0) = sums[4];
+      if constexpr (D > 1)
+      {
+        M(0, 1) = M(1, 0) = sums[5];
+        M(1, 1) = sums[7];
+      }
+      if constexpr (D > 2)
+      {
+        M(0, 2) = M(2, 0) = sums[6];
+        M(1, 2) = M(2, 1) = sums[8];
+        M(2, 2) = sums[9];
+      }
+      made->B = g * y.transpose() - M;
+      made->B.diagonal().array() += sums[0];
+      made->J = newton.jacobian();
+      for (int k = 0; k < D; ++k)
+        made->p[k] = x[k];
+      made->valid = made->B.allFinite() && made->J.allFinite();
+      return stats;
+    }
+    if (avx2)
+    {
+      weights_avx2(beta, id, n, ld, w);
+      return stats;
+    }
+#endif
     double sum = 0.0;
     for (Index i = 0; i < n; ++i)
       sum += beta[i] * id[i];
@@ -1328,6 +1823,7 @@ CelestialResult CelestialCoordinates::Impl::compute(const Points& Xin,
 
   CelestialResult result;
   result.W.resize(np, nc); // every row is written below (a zero fill is a pass over #P x #C)
+  advise_huge_pages(result.W.data(), static_cast<std::size_t>(result.W.size()) * sizeof(double));
   result.hull_location.assign(static_cast<std::size_t>(np), CelestialLocation::Inside);
   result.iterations.setZero(np);
   result.residual.setConstant(np, kNaN);
@@ -1429,6 +1925,7 @@ CelestialResult CelestialCoordinates::Impl::compute(const Points& Xin,
       ChunkSolver<D> solver;
       std::vector<Vec> ys;
       std::vector<char> solved;
+      std::vector<Predictor<D>> predictors; // of the chunk's solved points (kernels' path)
       long long iterations = 0;
       Index warm = 0, restarts = 0;
       Vec given = Vec::Zero(); // the start from `initial`
@@ -1439,13 +1936,24 @@ CelestialResult CelestialCoordinates::Impl::compute(const Points& Xin,
       [&] {
         return ThreadState{ ChunkSolver<D>(im.V, opt, s, X),
           std::vector<Vec>(static_cast<std::size_t>(kChunk)),
-          std::vector<char>(static_cast<std::size_t>(kChunk)) };
+          std::vector<char>(static_cast<std::size_t>(kChunk)),
+          std::vector<Predictor<D>>(static_cast<std::size_t>(kChunk)) };
       },
       [&](ThreadState& t, Index begin, Index end) {
         std::fill(t.solved.begin(), t.solved.end(), 0);
         Index last = -1; // last solved position in this chunk
         for (Index k = begin; k < end; ++k)
         {
+          if (k + 2 < end) // the point after next: its memory, at random places in curve order
+          {
+            const Index a = order[static_cast<std::size_t>(k + 2)];
+            prefetch(X.row(a).data(), D * sizeof(double), false);
+            prefetch(result.W.row(a).data(), static_cast<std::size_t>(nc) * sizeof(double), true);
+            prefetch(&result.iterations[a], sizeof(int), true);
+            prefetch(&result.residual[a], sizeof(double), true);
+            for (int d = 0; d < D; ++d)
+              prefetch(&result.solution(a, d), sizeof(double), true);
+          }
           const Index p = order[static_cast<std::size_t>(k)];
           double* w = result.W.row(p).data();
           const CelestialLocation loc = result.hull_location[static_cast<std::size_t>(p)];
@@ -1466,6 +1974,7 @@ CelestialResult CelestialCoordinates::Impl::compute(const Points& Xin,
             continue;
           }
           const Vec* warm = nullptr;
+          const Predictor<D>* predict = nullptr;
           if (initial != nullptr && initial->row(p).allFinite())
           {
             // psi as given; for SCC y = c / sqrt(lambda^2 + 2 lambda |c|) (the inverse of
@@ -1501,12 +2010,14 @@ CelestialResult CelestialCoordinates::Impl::compute(const Points& Xin,
             if (from >= 0)
             {
               warm = &t.ys[static_cast<std::size_t>(from - begin)];
+              predict = &t.predictors[static_cast<std::size_t>(from - begin)];
               ++t.warm;
             }
           }
           Vec& y = t.ys[static_cast<std::size_t>(k - begin)];
           bool restarted = false;
-          const SolveStats st = t.solver.solve(p, warm, y, w, t.iterations, restarted);
+          const SolveStats st = t.solver.solve(p, warm, y, w, t.iterations, restarted, predict,
+            &t.predictors[static_cast<std::size_t>(k - begin)]);
           t.restarts += restarted ? 1 : 0;
           result.iterations[p] = st.iterations;
           result.residual[p] = st.residual;
