@@ -65,7 +65,11 @@ constexpr Index kChunk = 256;      // points per warm-start chunk (independent o
 constexpr int kMaxBacktracks = 50; // halvings of the Newton step before giving up
 constexpr double kArmijo = 1e-4;
 constexpr double kResidualSwitch = 1e-6; // below: also accept residual-norm decrease
-constexpr double kPredictedResidual = 1e-3; // above: a predicted start is compared with the plain
+// Above this relative residual a predicted start is compared with the plain one (Newton::solve).
+// Interior predictions have residuals of 1e-5 .. 1e-2 and are better than the plain start;
+// with 1e-3, 45% of 1e6 points paid an extra evaluation for nothing, with 0.1 0.2%; the far-off
+// predictions near the hull (residual ~1 and more) are still caught.
+constexpr double kPredictedResidual = 0.1;
 
 /// m(a) = a + sqrt(a^2 + 1) without cancellation; r = sqrt(a^2 + 1).
 inline double m_of(double a, double r)
@@ -1480,9 +1484,10 @@ namespace
 /// First-order prediction of a neighbour's solution (the kernels' path, S scheme): at a
 /// solved point p with solution y, F(p, y) = 0 gives dy/dp = -J^-1 dF/dp, and with
 /// dq_i/dp = -(I - q_i q_i^T) / d_i, -dF/dp = B = g y^T + s I - M (sums of scc_finish_avx2).
-/// A neighbour p' starts from y + J^-1 B (p' - p) instead of y: its first residual is O(h^2)
-/// instead of O(h), which saves about one Newton iteration a point. The solution it converges
-/// to is the same (to the tolerance): only the start moves.
+/// A neighbour p' starts from y + J^-1 B (p' - p) instead of y (the error of the start drops
+/// from O(h) to O(h^2), h = |p' - p|): 2.47 Newton iterations a point instead of 3.38 on the
+/// benchmark's 1e6 random points. The solution it converges to is the same (to the
+/// tolerance): only the start moves.
 template<int D>
 struct Predictor
 {
