@@ -19,6 +19,8 @@
 ///   vtk_omp_2t    VTK, 2 threads through an OpenMP loop (the same scheduling BaryLab uses)
 ///   barylab_1t    BaryLab, MeanValueOptions::threads = 1
 ///   barylab_2t    BaryLab, MeanValueOptions::threads = 2
+///   barylab_1t_portable  BaryLab, 1 thread, the batch kernel's portable path (SSE2 on x86-64;
+///                 what a CPU without AVX2 and FMA runs), chosen with detail::set_simd_level
 ///
 /// Fairness: VTK writes into an output buffer allocated once before the timed loop, whereas
 /// BaryLab's evaluate() allocates and returns a new #P x #C matrix (plus the location vector)
@@ -43,6 +45,7 @@
 #include "core/common/cage.h"
 #include "core/coordinates/green_coordinates.h"
 #include "core/coordinates/mean_value_coordinates.h"
+#include "core/detail/simd.h"
 
 #include <Eigen/Geometry>
 #include <benchmark/benchmark.h>
@@ -426,7 +429,7 @@ void bm_vtk_smp(benchmark::State& state, Case* c)
   finish(state, *c);
 }
 
-void bm_barylab(benchmark::State& state, Case* c, int threads)
+void bm_barylab(benchmark::State& state, Case* c, int threads, bool portable)
 {
   if (!setup(state, *c))
     return;
@@ -434,12 +437,15 @@ void bm_barylab(benchmark::State& state, Case* c, int threads)
   options.threads = threads;
   const bary::MeanValueCoordinates mvc(c->cage, options); // validation: untimed (and it passed
                                                           // in setup(), so this does not throw)
+  if (portable)
+    bary::detail::set_simd_level(bary::detail::SimdLevel::Portable);
   for (auto _ : state)
   {
     bary::MeanValueResult result = mvc.evaluate(c->P);
     benchmark::DoNotOptimize(result.W.data());
     benchmark::ClobberMemory();
   }
+  bary::detail::set_simd_level(bary::detail::supported_simd_level());
   finish(state, *c);
 }
 
@@ -564,8 +570,10 @@ int main(int argc, char** argv)
            benchmark::RegisterBenchmark((prefix + "vtk_1t").c_str(), bm_vtk_serial, c),
            benchmark::RegisterBenchmark((prefix + "vtk_smp_2t").c_str(), bm_vtk_smp, c),
            benchmark::RegisterBenchmark((prefix + "vtk_omp_2t").c_str(), bm_vtk_omp, c, 2),
-           benchmark::RegisterBenchmark((prefix + "barylab_1t").c_str(), bm_barylab, c, 1),
-           benchmark::RegisterBenchmark((prefix + "barylab_2t").c_str(), bm_barylab, c, 2),
+           benchmark::RegisterBenchmark((prefix + "barylab_1t").c_str(), bm_barylab, c, 1, false),
+           benchmark::RegisterBenchmark((prefix + "barylab_2t").c_str(), bm_barylab, c, 2, false),
+           benchmark::RegisterBenchmark(
+             (prefix + "barylab_1t_portable").c_str(), bm_barylab, c, 1, true),
            benchmark::RegisterBenchmark(("green3d/" + c->name + "/barylab_1t").c_str(), bm_green, c, 1) })
       b->Unit(benchmark::kMillisecond)
         ->UseRealTime()
@@ -595,6 +603,8 @@ int main(int argc, char** argv)
     return 1;
   benchmark::AddCustomContext("load_average_at_start", load_average());
   benchmark::AddCustomContext("vtk_version", vtkVersion::GetVTKVersion());
+  benchmark::AddCustomContext("barylab_simd",
+    bary::detail::simd_level() == bary::detail::SimdLevel::AVX2 ? "avx2+fma" : "portable");
   benchmark::AddCustomContext("vtk_smp_backend", vtkSMPTools::GetBackend());
   benchmark::AddCustomContext(
     "vtk_smp_threads", std::to_string(vtkSMPTools::GetEstimatedNumberOfThreads()));
