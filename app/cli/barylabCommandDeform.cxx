@@ -42,7 +42,18 @@ struct DeformArgs
   std::string handles, mesh, transforms, posed_handles, pseudo_edges, shape_preservation;
   std::string points, weights, output, json_path;
   bool quiet = false;
+  bool drop_weights = false;
 };
+
+/// --drop-weights: the deformed model without its weights (the array @p name, or the compact
+/// pair name + "Indices" / "Values" with the count in field data): a model of N points and C
+/// controls otherwise writes N x C numbers beside its 3 N coordinates.
+void drop_weights(vtkPointSet* deformed, const std::string& name)
+{
+  for (const std::string& array : { name, name + "Indices", name + "Values" })
+    deformed->GetPointData()->RemoveArray(array.c_str());
+  deformed->GetFieldData()->RemoveArray((name + "NumberOfControlPoints").c_str());
+}
 
 /// The model to deform with the weights read from @p weights_path attached (checked against
 /// @p model when both are given), or @p model alone.
@@ -204,6 +215,8 @@ int run_deform_bbw(const DeformArgs& a)
   summary["weights_computed"] = computed;
   summary["points"] = OwnedPoints(deformed)->GetNumberOfPoints();
   summary = CombineSummaries(summary);
+  if (a.drop_weights)
+    drop_weights(deformed, a.parameters.weights_name);
   WriteData(deformed, a.output);
   if (!lead)
     return 0;
@@ -283,6 +296,8 @@ int run_deform(DeformArgs a)
   bar.done();
   summary["points"] = OwnedPoints(deformed)->GetNumberOfPoints();
   summary = CombineSummaries(summary);
+  if (a.drop_weights)
+    drop_weights(deformed, a.parameters.weights_name);
   WriteData(deformed, a.output);
   if (!lead)
     return 0;
@@ -328,6 +343,8 @@ void AddDeformCommand(Subcommands& subcommands)
     "written by 'barylab reduce' (then --points is optional)");
   command->add_option("--output,-o", a->output, "output file")->required();
   command->add_option("--json", a->json_path, "write a JSON summary");
+  command->add_flag("--drop-weights", a->drop_weights,
+    "write the deformed model without its weights array (smaller files, faster writes)");
   command->add_flag("--quiet,-q", a->quiet, "no progress bar, summary or warnings (errors still)");
   add_method_options(command, a->parameters);
 }

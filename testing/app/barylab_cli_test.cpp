@@ -239,6 +239,44 @@ TEST_F(CLI, DeformMatchesAffineMapAndReusesWeights)
   EXPECT_GT(moved, 1e-2) << "the posed cage must actually move the model";
 }
 
+TEST_F(CLI, DeformDropWeightsWritesTheSamePointsWithoutTheWeights)
+{
+  // By default the deformed model carries its weights; --drop-weights writes the same points
+  // without them (dense array, and the compact pair of 'barylab reduce').
+  const std::string common = "deform --cage " + data("cage3d.obj") + " --deformed-cage " +
+    data("cage3d_posed.obj") + " --points " + data("model3d.off") + " -q --output ";
+  ASSERT_EQ(run(common + out("kept.vtp")).code, 0);
+  const CommandResult r = run(common + out("dropped.vtp") + " --drop-weights");
+  ASSERT_EQ(r.code, 0) << r.output;
+  auto kept = vtkBaryDataIO::Read(out("kept.vtp"));
+  auto dropped = vtkBaryDataIO::Read(out("dropped.vtp"));
+  EXPECT_NE(kept->GetPointData()->GetArray("Weights"), nullptr);
+  EXPECT_EQ(dropped->GetPointData()->GetArray("Weights"), nullptr);
+  ASSERT_EQ(kept->GetNumberOfPoints(), dropped->GetNumberOfPoints());
+  for (vtkIdType i = 0; i < kept->GetNumberOfPoints(); ++i)
+  {
+    double x[3], y[3];
+    kept->GetPoint(i, x);
+    dropped->GetPoint(i, y);
+    ASSERT_TRUE(x[0] == y[0] && x[1] == y[1] && x[2] == y[2]) << "point " << i;
+  }
+  EXPECT_LT(fs::file_size(out("dropped.vtp")), fs::file_size(out("kept.vtp")));
+  // the compact pair from 'barylab reduce'
+  ASSERT_EQ(run("weights --cage " + data("cage3d.obj") + " --points " + data("model3d.off") +
+              " --output " + out("w.vtp") + " -q").code, 0);
+  ASSERT_EQ(run("reduce --input " + out("w.vtp") + " --output " + out("r.vtp")).code, 0);
+  ASSERT_EQ(run("deform --cage " + data("cage3d.obj") + " --deformed-cage " +
+              data("cage3d_posed.obj") + " --weights " + out("r.vtp") + " -q --drop-weights --output " +
+              out("rd.vtp")).code, 0);
+  auto rd = vtkBaryDataIO::Read(out("rd.vtp"));
+  auto reduced = vtkBaryDataIO::Read(out("r.vtp"));
+  EXPECT_NE(reduced->GetPointData()->GetArray("WeightsIndices"), nullptr);
+  for (int i = 0; i < rd->GetPointData()->GetNumberOfArrays(); ++i)
+    EXPECT_NE(std::string(rd->GetPointData()->GetArrayName(i)).rfind("Weights", 0), 0u)
+      << rd->GetPointData()->GetArrayName(i);
+  EXPECT_EQ(rd->GetFieldData()->GetArray("WeightsNumberOfControlPoints"), nullptr);
+}
+
 TEST_F(CLI, DeformRejectsWeightsForOtherPoints)
 {
   ASSERT_EQ(run("weights --cage " + data("cage2d.obj") + " --points " + data("model2d.obj") +
