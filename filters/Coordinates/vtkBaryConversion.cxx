@@ -9,6 +9,7 @@
 #include "vtkCellType.h"
 #include "vtkCellTypes.h"
 #include "vtkDoubleArray.h"
+#include "vtkFloatArray.h"
 #include "vtkIdTypeArray.h"
 #include "vtkIntArray.h"
 #include "vtkPointData.h"
@@ -26,7 +27,9 @@
 #include <array>
 #include <cmath>
 #include <sstream>
+#include <cstring>
 #include <string>
+#include <type_traits>
 
 vtkStandardNewMacro(vtkBaryConversion);
 
@@ -335,9 +338,32 @@ bary::DenseWeights vtkBaryConversion::FromArray(vtkDataArray* array, const vtkBa
       "the weights array has " + std::to_string(array ? array->GetNumberOfComponents() : 0) +
         " components but the cage has " + std::to_string(nc) + " control points");
   bary::DenseWeights W(array->GetNumberOfTuples(), nc);
-  for (vtkIdType p = 0; p < W.rows(); ++p)
-    for (vtkIdType k = 0; k < nc; ++k)
-      W(p, k) = array->GetComponent(p, static_cast<int>(cage.ControlPointIds[static_cast<std::size_t>(k)]));
+  const auto& ids = cage.ControlPointIds;
+  bool identity = true;
+  for (vtkIdType k = 0; k < nc; ++k)
+    identity = identity && ids[static_cast<std::size_t>(k)] == k;
+  // Double and float arrays are read through their memory (tuples are rows, as in W): a
+  // virtual GetComponent per weight took 2/3 of the time of deforming 10^6 points by given
+  // weights (72 controls).
+  const auto copy = [&](const auto* values) {
+    if constexpr (std::is_same_v<std::decay_t<decltype(*values)>, double>)
+      if (identity)
+      {
+        std::memcpy(W.data(), values, sizeof(double) * static_cast<std::size_t>(W.size()));
+        return;
+      }
+    for (vtkIdType p = 0; p < W.rows(); ++p)
+      for (vtkIdType k = 0; k < nc; ++k)
+        W(p, k) = static_cast<double>(values[p * nc + ids[static_cast<std::size_t>(k)]]);
+  };
+  if (auto* d = vtkDoubleArray::FastDownCast(array))
+    copy(d->GetPointer(0));
+  else if (auto* f = vtkFloatArray::FastDownCast(array))
+    copy(f->GetPointer(0));
+  else
+    for (vtkIdType p = 0; p < W.rows(); ++p)
+      for (vtkIdType k = 0; k < nc; ++k)
+        W(p, k) = array->GetComponent(p, static_cast<int>(ids[static_cast<std::size_t>(k)]));
   if (!W.allFinite())
     throw Error(ErrorCode::NonFinite, "the weights array contains NaN or infinite values");
   return W;
@@ -345,18 +371,21 @@ bary::DenseWeights vtkBaryConversion::FromArray(vtkDataArray* array, const vtkBa
 
 void vtkBaryConversion::SetPoints(vtkPointSet* data, const Eigen::MatrixXd& X)
 {
-  vtkNew<vtkPoints> points;
-  points->SetDataTypeToDouble();
-  points->SetNumberOfPoints(X.rows());
+  vtkNew<vtkDoubleArray> coordinates;
+  coordinates->SetNumberOfComponents(3);
+  coordinates->SetNumberOfTuples(X.rows());
+  double* out = coordinates->GetPointer(0); // written directly: no virtual call per point
   for (vtkIdType i = 0; i < X.rows(); ++i)
   {
-    double x[3] = { 0.0, 0.0, 0.0 };
+    double* x = out + 3 * i;
+    x[2] = 0.0;
     if (X.cols() == 2)
       data->GetPoint(i, x);
     for (int k = 0; k < X.cols(); ++k)
       x[k] = X(i, k);
-    points->SetPoint(i, x);
   }
+  vtkNew<vtkPoints> points;
+  points->SetData(coordinates);
   data->SetPoints(points);
 }
 

@@ -185,8 +185,46 @@ std::uint64_t word(const std::string& bytes, std::size_t k, std::size_t width, b
 
 void CheckXMLCompression(const std::string& path, std::uintmax_t size)
 {
+  // The markup: the file up to the '_' that opens its appended data, or all of it when it has
+  // none (inline data). Read in blocks and never past that point: a file of appended arrays
+  // (what BaryLab writes: 600 MB for 10^6 points x 72 weights) is not read here beyond the
+  // compression headers of its arrays, read at their offsets below.
   std::ifstream in(path, std::ios::binary);
-  const std::string file((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  std::string file;
+  {
+    std::vector<char> block(1 << 16);
+    std::size_t searched = 0, tag = std::string::npos;
+    while (in)
+    {
+      in.read(block.data(), static_cast<std::streamsize>(block.size()));
+      file.append(block.data(), static_cast<std::size_t>(in.gcount()));
+      if (tag == std::string::npos)
+      {
+        tag = file.find("<AppendedData", searched);
+        searched = file.size() > 16 ? file.size() - 16 : 0;
+      }
+      if (tag != std::string::npos)
+      {
+        const std::size_t tag_end = file.find('>', tag);
+        const std::size_t underscore =
+          tag_end == std::string::npos ? std::string::npos : file.find('_', tag_end);
+        if (underscore != std::string::npos)
+        {
+          file.resize(underscore + 1);
+          break;
+        }
+      }
+    }
+  }
+  // n bytes of the file from @p start (fewer at its end)
+  const auto bytes_at = [&path](std::size_t start, std::size_t n) {
+    std::ifstream f(path, std::ios::binary);
+    std::string bytes(n, '\0');
+    f.seekg(static_cast<std::streamoff>(start));
+    f.read(bytes.data(), static_cast<std::streamsize>(n));
+    bytes.resize(f ? n : static_cast<std::size_t>(std::max<std::streamsize>(f.gcount(), 0)));
+    return bytes;
+  };
   const std::size_t root = file.find("<VTKFile");
   if (root == std::string::npos)
     return; // the XML reader refuses it
@@ -261,9 +299,17 @@ void CheckXMLCompression(const std::string& path, std::uintmax_t size)
         static_cast<std::uintmax_t>(offset) >= size - std::min<std::uintmax_t>(size, appended))
         throw refuse("the data array '" + Printable(name) + "' has no offset inside the appended data");
       const std::size_t start = appended + static_cast<std::size_t>(offset);
-      if (appended_base64)
-        return base64_prefix(file, start, bytes);
-      return file.substr(start, bytes);
+      if (!appended_base64)
+        return bytes_at(start, bytes);
+      // base64: 4 characters per 3 bytes, more where the text has whitespace
+      const std::size_t least = 4 * (bytes / 3 + 2) + 64;
+      for (std::size_t chars = least;; chars *= 2)
+      {
+        const std::string text = bytes_at(start, chars);
+        std::string decoded = base64_prefix(text, 0, bytes);
+        if (decoded.size() >= bytes || text.size() < chars || chars >= 16 * least)
+          return decoded; // complete, the file's end, or not base64 (padding, other text)
+      }
     };
     if (format != "binary" && format != "appended")
       continue;
