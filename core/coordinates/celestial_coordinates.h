@@ -33,10 +33,14 @@
 /// - Points are solved in neighbour order (Hilbert curve, or breadth-first over mesh edges)
 ///   with warm starts, in fixed chunks of 256 points run in parallel: bitwise independent of
 ///   the number of threads.
+/// - Where the CPU has AVX2 and FMA (chosen at run time), the per-point work runs in vector
+///   kernels and SCC's warm starts are moved by a first-order prediction (dy/dp); elsewhere
+///   the portable code. Both converge to the same solutions to the tolerance.
 ///
 /// Measured (docs/celestial-coordinates.md; AMD EPYC, 2 shared cores, SSE2): 1e6 points with
 /// 30 controls in 3D, SCC: 1.7 s, 3.4 Newton iterations per point (6.3 cold); partition of
-/// unity <= 3e-15, reproduction <= 5e-13 of the diameter with the default tolerance.
+/// unity <= 3e-15, reproduction <= 5e-13 of the diameter with the default tolerance. With the
+/// AVX2 kernels on a loaded Intel Xeon: 1.9x less CPU time, 2.5 iterations per point.
 ///
 /// Properties (measured values in docs/celestial-coordinates.md): inside the convex hull the
 /// weights are positive, sum to 1, reproduce p up to tolerance times the hull's diameter, are
