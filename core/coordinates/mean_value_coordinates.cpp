@@ -3,6 +3,7 @@
 #include "core/detail/parallel_for.h"
 #include "core/common/error.h"
 #include "core/detail/constants.h"
+#include "core/detail/huge_pages.h"
 #include "core/detail/simd.h"
 
 #include <Eigen/Geometry>
@@ -18,9 +19,6 @@
 #if defined(__GNUC__) && (defined(__x86_64__) || defined(__i386__))
 #include <immintrin.h>
 #endif
-#if defined(__linux__)
-#include <sys/mman.h>
-#endif
 
 namespace bary
 {
@@ -35,25 +33,6 @@ std::vector<double>& scratch(std::size_t size)
   if (buffer.size() < size)
     buffer.resize(size);
   return buffer;
-}
-
-/// Asks Linux for transparent huge pages (2 MiB) under [data, data + bytes) before the first
-/// touch: the batch call's W (#P x #C doubles, 103 MB for 20,000 points and 642 controls) is
-/// new on every call, and with 4 KiB pages its first touch cost a page fault every 4 KiB
-/// (measured: a fifth of a one-thread call on a 1,280-face cage once the kernel was vectorised).
-/// A hint only (the kernel's madvise setting decides).
-void mvc_advise_huge_pages(void* data, std::size_t bytes)
-{
-#if defined(__linux__) && defined(MADV_HUGEPAGE)
-  const std::uintptr_t huge = std::uintptr_t(1) << 21;
-  const std::uintptr_t at = reinterpret_cast<std::uintptr_t>(data);
-  const std::uintptr_t begin = (at + huge - 1) & ~(huge - 1), end = (at + bytes) & ~(huge - 1);
-  if (end > begin)
-    madvise(reinterpret_cast<void*>(begin), end - begin, MADV_HUGEPAGE);
-#else
-  (void)data;
-  (void)bytes;
-#endif
 }
 
 /// Normalises raw weights; returns false (and fills NaN) if their sum is too small to divide by.
@@ -632,7 +611,7 @@ MeanValueResult MeanValueCoordinates::evaluate(const Points& P, const ProgressCa
   const Index np = P.rows(), nc = num_controls();
   MeanValueResult result;
   result.W.resize(np, nc);
-  mvc_advise_huge_pages(result.W.data(), sizeof(double) * static_cast<std::size_t>(result.W.size()));
+  detail::advise_huge_pages(result.W.data(), sizeof(double) * static_cast<std::size_t>(result.W.size()));
   result.location.assign(static_cast<std::size_t>(np), PointLocation::Inside);
 
   // Points are handed out in small chunks (load balance: a per-block region with coarse chunks

@@ -262,67 +262,65 @@ void check_result(const Points& X, const Points& Y, const CheckWeights& check_we
           " overflows (finite weights and transforms, but too large)");
 }
 
+/// Eq. (1) with either kind of weights: kernel(avx2, dim, packed transforms, Y, begin, end)
+/// over blocks of points in 2D and 3D, term by term in any other dimension, then the result's
+/// check (check_weights names a non-finite weight).
+template <typename Weights, typename Kernel, typename CheckWeights>
+Points skin(const Points& X, const Weights& W, const AffineTransforms& transforms, int threads,
+  const Kernel& kernel, const CheckWeights& check_weights)
+{
+  const Index dim = validate(X, W.rows(), W.cols(), transforms, threads);
+  Points Y(X.rows(), dim);
+  if (dim == 2 || dim == 3)
+  {
+    const bool avx2 = detail::simd_level() == detail::SimdLevel::AVX2;
+    const std::vector<double> T = pack_transforms(transforms, static_cast<int>(dim));
+    for_blocks(X.rows(), threads,
+      [&](Index begin, Index end) { kernel(avx2, dim, T.data(), Y.data(), begin, end); });
+  }
+  else
+    skin_generic(X, W, transforms, threads, Y);
+  check_result(X, Y, check_weights);
+  return Y;
+}
+
 } // namespace
 
 Points linear_blend_skinning(
   const Points& X, const DenseWeights& W, const AffineTransforms& transforms, int threads)
 {
-  const Index dim = validate(X, W.rows(), W.cols(), transforms, threads);
-  const Index np = X.rows(), m = W.cols();
-  Points Y(np, dim);
-  const bool avx2 = detail::simd_level() == detail::SimdLevel::AVX2;
-  if (dim == 2 || dim == 3)
-  {
-    const std::vector<double> T = pack_transforms(transforms, static_cast<int>(dim));
-    for_blocks(np, threads, [&](Index begin, Index end) {
-      if (dim == 2)
-        (avx2 ? skin_dense_avx2<2> : skin_dense_portable<2>)(
-          X.data(), np, W.data(), m, T.data(), Y.data(), begin, end);
-      else
-        (avx2 ? skin_dense_avx2<3> : skin_dense_portable<3>)(
-          X.data(), np, W.data(), m, T.data(), Y.data(), begin, end);
-    });
-  }
-  else
-    skin_generic(X, W, transforms, threads, Y);
-  check_result(X, Y, [&] {
+  const auto kernel = [&](bool avx2, Index dim, const double* T, double* Y, Index begin, Index end) {
+    if (dim == 2)
+      (avx2 ? skin_dense_avx2<2> : skin_dense_portable<2>)(
+        X.data(), X.rows(), W.data(), W.cols(), T, Y, begin, end);
+    else
+      (avx2 ? skin_dense_avx2<3> : skin_dense_portable<3>)(
+        X.data(), X.rows(), W.data(), W.cols(), T, Y, begin, end);
+  };
+  return skin(X, W, transforms, threads, kernel, [&] {
     for (Index p = 0; p < W.rows(); ++p)
       if (!W.row(p).allFinite())
         throw Error(ErrorCode::NonFinite,
           "the weights of point " + std::to_string(p) + " are not finite");
   });
-  return Y;
 }
 
 Points linear_blend_skinning(
   const Points& X, const SparseWeights& W, const AffineTransforms& transforms, int threads)
 {
-  const Index dim = validate(X, W.rows(), W.cols(), transforms, threads);
-  const Index np = X.rows();
-  Points Y(np, dim);
-  const bool avx2 = detail::simd_level() == detail::SimdLevel::AVX2;
-  if (dim == 2 || dim == 3)
-  {
-    const std::vector<double> T = pack_transforms(transforms, static_cast<int>(dim));
-    for_blocks(np, threads, [&](Index begin, Index end) {
-      if (dim == 2)
-        (avx2 ? skin_sparse_avx2<2> : skin_sparse_portable<2>)(
-          X.data(), np, W, T.data(), Y.data(), begin, end);
-      else
-        (avx2 ? skin_sparse_avx2<3> : skin_sparse_portable<3>)(
-          X.data(), np, W, T.data(), Y.data(), begin, end);
-    });
-  }
-  else
-    skin_generic(X, W, transforms, threads, Y);
-  check_result(X, Y, [&] {
+  const auto kernel = [&](bool avx2, Index dim, const double* T, double* Y, Index begin, Index end) {
+    if (dim == 2)
+      (avx2 ? skin_sparse_avx2<2> : skin_sparse_portable<2>)(X.data(), X.rows(), W, T, Y, begin, end);
+    else
+      (avx2 ? skin_sparse_avx2<3> : skin_sparse_portable<3>)(X.data(), X.rows(), W, T, Y, begin, end);
+  };
+  return skin(X, W, transforms, threads, kernel, [&] {
     for (Index p = 0; p < W.outerSize(); ++p)
       for (SparseWeights::InnerIterator it(W, p); it; ++it)
         if (!std::isfinite(it.value()))
           throw Error(ErrorCode::NonFinite,
             "the weights of point " + std::to_string(p) + " are not finite");
   });
-  return Y;
 }
 
 AffineTransforms transforms_from_pseudo_edges(
