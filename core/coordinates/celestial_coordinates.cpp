@@ -5,6 +5,7 @@
 #include "core/detail/parallel_for.h"
 #include "core/detail/simd.h"
 #include "core/detail/cgal_convex_hull.h"
+#include "core/detail/huge_pages.h"
 #include "core/common/error.h"
 
 #include <Eigen/Cholesky>
@@ -24,9 +25,6 @@
 
 #if BARY_HAVE_AVX2_DISPATCH
 #include <immintrin.h>
-#endif
-#if defined(__linux__)
-#include <sys/mman.h>
 #endif
 
 // Notation: p the query point, v_i the controls, d_i = |v_i - p|, q_i = (v_i - p) / d_i.
@@ -75,23 +73,6 @@ constexpr double kPredictedResidual = 0.1;
 inline double m_of(double a, double r)
 {
   return a >= 0.0 ? a + r : 1.0 / (r - a);
-}
-
-/// Asks Linux for transparent huge pages (2 MiB) under [data, data + bytes) before the first
-/// touch. W's rows are written in curve order, which for unordered points is at random: with
-/// 4 KiB pages nearly every row cost a TLB miss, and each 4 KiB a page fault. A hint only.
-void advise_huge_pages(void* data, std::size_t bytes)
-{
-#if defined(__linux__) && defined(MADV_HUGEPAGE)
-  const std::uintptr_t huge = std::uintptr_t(1) << 21;
-  const std::uintptr_t at = reinterpret_cast<std::uintptr_t>(data);
-  const std::uintptr_t begin = (at + huge - 1) & ~(huge - 1), end = (at + bytes) & ~(huge - 1);
-  if (end > begin)
-    madvise(reinterpret_cast<void*>(begin), end - begin, MADV_HUGEPAGE);
-#else
-  (void)data;
-  (void)bytes;
-#endif
 }
 
 /// Prefetches [data, data + bytes) into the cache (for writing if @p write).
@@ -1828,7 +1809,7 @@ CelestialResult CelestialCoordinates::Impl::compute(const Points& Xin,
 
   CelestialResult result;
   result.W.resize(np, nc); // every row is written below (a zero fill is a pass over #P x #C)
-  advise_huge_pages(result.W.data(), static_cast<std::size_t>(result.W.size()) * sizeof(double));
+  detail::advise_huge_pages(result.W.data(), static_cast<std::size_t>(result.W.size()) * sizeof(double));
   result.hull_location.assign(static_cast<std::size_t>(np), CelestialLocation::Inside);
   result.iterations.setZero(np);
   result.residual.setConstant(np, kNaN);
