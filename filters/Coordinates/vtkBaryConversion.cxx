@@ -365,7 +365,11 @@ bary::DenseWeights vtkBaryConversion::FromArray(vtkDataArray* array, const vtkBa
       for (vtkIdType k = 0; k < nc; ++k)
         W(p, k) = array->GetComponent(p, static_cast<int>(ids[static_cast<std::size_t>(k)]));
   if (!W.allFinite())
-    throw Error(ErrorCode::NonFinite, "the weights array contains NaN or infinite values");
+    for (vtkIdType p = 0; p < W.rows(); ++p)
+      if (!W.row(p).allFinite())
+        throw Error(ErrorCode::NonFinite,
+          "the weights array contains NaN or infinite values (first at point " +
+            std::to_string(p) + ")");
   return W;
 }
 

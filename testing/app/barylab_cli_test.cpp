@@ -290,6 +290,20 @@ TEST_F(CLI, DeformRejectsWeightsForOtherPoints)
   EXPECT_FALSE(fs::exists(out("d.vtp")));
 }
 
+TEST_F(CLI, DeformRefusesANaNInGivenWeightsNamingThePoint)
+{
+  ASSERT_EQ(run("weights --cage " + data("cage3d.obj") + " --points " + data("model3d.off") +
+              " --output " + out("w.vtp") + " -q").code, 0);
+  auto weighted = vtkBaryDataIO::Read(out("w.vtp"));
+  weighted->GetPointData()->GetArray("Weights")->SetComponent(5, 3, std::nan(""));
+  vtkBaryDataIO::Write(weighted, out("w_nan.vtp"));
+  const CommandResult r = run("deform --cage " + data("cage3d.obj") + " --deformed-cage " +
+    data("cage3d_posed.obj") + " --weights " + out("w_nan.vtp") + " --drop-weights --output " +
+    out("d_nan.vtp"));
+  ExpectError(r, "NaN or infinite values (first at point 5)");
+  EXPECT_FALSE(fs::exists(out("d_nan.vtp")));
+}
+
 TEST_F(CLI, StatsJsonAndText)
 {
   ASSERT_EQ(run("weights --cage " + data("cage2d.obj") + " --points " + data("model2d.obj") +
