@@ -19,7 +19,7 @@ PACKAGES=(
   cmake ninja-build g++ pkg-config
   libvtk9-dev libvtk9-qt-dev qtbase5-dev libqt5charts5-dev
   libeigen3-dev libcgal-dev libgmp-dev libmpfr-dev libtet1.5-dev libsuitesparse-dev libomp-dev
-  libgtest-dev libbenchmark-dev libcli11-dev nlohmann-json3-dev
+  libgtest-dev libbenchmark-dev libcli11-dev nlohmann-json3-dev libinsighttoolkit5-dev
   python3-numpy python3-pytest
   xvfb xauth
 )
