@@ -12,6 +12,7 @@ exactly what is written.  Any failed check raises AssertionError and nothing is
 written.  See data/README.md for what each file is.
 """
 
+import gzip
 import math
 import os
 import sys
@@ -54,6 +55,36 @@ STAR_SIDE_HEIGHT = 0.7      # half-height of the side and armpit vertices / the 
 STAR_MODEL_THETA = 80       # model: lat-long sphere, 80 longitudes x 10 latitudes + 2 poles
 STAR_MODEL_LAT = 10
 STAR_MIN_CLEARANCE = 0.02   # asserted minimum distance model vertex -> cage face
+
+# Organ workflow (issue 15): a liver-like label map and landmarks, in LPS millimetres -------------
+ORGAN_DIMS = (112, 96, 72)            # voxels (i: patient's left, j: posterior, k: superior)
+ORGAN_SPACING = (1.75, 1.75, 2.5)     # mm: thinner in-plane pixels than axial slices
+ORGAN_ORIGIN = (-166.125, -83.375, -205.0)  # LPS mm of voxel (0, 0, 0) (float32-exact)
+ORGAN_CENTRE = (-69.0, -0.25, -116.25)   # LPS mm: the grid's centre; the organ's offsets from it
+ORGAN_LOBES = (                       # ellipsoids (centre offset, radii) in mm, blended
+    ((-28.0, 5.0, 5.0), (52.0, 54.0, 60.0)),     # right lobe (patient's right: -x)
+    ((-41.0, -7.0, -39.0), (30.0, 37.0, 25.0)),  # inferior tip of the right lobe
+    ((37.0, -16.0, 21.0), (44.0, 30.0, 23.0)),    # left lobe: anterior (-y), superior, flatter
+    ((5.0, 21.0, 5.0), (25.0, 23.0, 30.0)))       # caudate, posterior (+y)
+ORGAN_BLEND_MM = 9.0                  # smooth-union width (mm)
+ORGAN_NOTCH = ((9.0, 30.0, -41.0), (34.0, 28.0, 28.0))  # carved from the visceral side
+ORGAN_LOBULATION_MM = 2.5             # amplitude of the surface's gentle undulation
+ORGAN_LESION = ((-32.0, 0.0, 14.0), (12.0, 11.0, 10.0))  # label 2, inside the right lobe
+ORGAN_LESION_DEPTH_MM = 5.0           # asserted: every lesion voxel this deep in the organ
+ORGAN_BORDER_VOXELS = 3               # asserted: no label this close to the image border
+ORGAN_BOUND_MM = 130.0                # no organ beyond this distance from the centre (asserted)
+ORGAN_DESCRIPTION = "BaryLab synthetic liver: 1 organ, 2 lesion (data/generate.py)"
+ORGAN_RAY_START = (-11.0, 5.0, 0.0)   # inside the organ: surface landmarks are seen from here
+ORGAN_LANDMARK_RAYS = (               # (label, description, direction in LPS)
+    ("dome", "superior dome of the right lobe", (-0.35, 0.1, 1.0)),
+    ("inferior-tip", "inferior tip of the right lobe", (-0.45, -0.1, -1.0)),
+    ("right-lateral", "lateral edge of the right lobe", (-1.0, 0.05, 0.1)),
+    ("left-tip", "tip of the left lobe", (1.0, -0.35, 0.25)),
+    ("anterior", "anterior surface", (0.0, -1.0, 0.05)),
+    ("posterior", "posterior surface (bare area)", (-0.2, 1.0, 0.2)),
+    ("visceral", "visceral surface near the hilum", (0.25, 0.35, -1.0)))
+ORGAN_BREATH_SHIFT_MM = (12.0, 18.0)  # caudal shift at the inferior-most / superior-most landmark
+ORGAN_BREATH_ANTERIOR_MM = 3.0        # anterior shift at the superior-most landmark
 
 DECIMALS = 6
 
@@ -1535,6 +1566,362 @@ def check_spline_picture(rows, stats):
     return corners
 
 
+# ---------------------------------------------------------------------------
+# Organ workflow (issue 15): a liver-like label map (NIfTI-1) and landmarks (3D Slicer markups)
+# ---------------------------------------------------------------------------
+# Physical space: LPS millimetres (x to the patient's left, y posterior, z superior), as ITK and
+# 3D Slicer's markups files use it. The NIfTI header stores the same grid in RAS, as NIfTI
+# requires (qform = sform = diag(-sx, -sy, sz) with the origin's x and y negated).
+
+def organ_fields(u, v, w):
+    """The organ's implicit function at local LPS offsets (u, v, w) mm from ORGAN_CENTRE:
+    negative inside, about a signed distance in mm near the surface. A smooth union of four
+    ellipsoids (right lobe, inferior tip of the right lobe, left lobe, caudate), minus a smooth
+    notch on the visceral (inferior, posterior, medial) side, with a gentle lobulation."""
+    k = ORGAN_BLEND_MM
+    total = 0.0
+    for (cu, cv, cw), (ru, rv, rw) in ORGAN_LOBES:
+        du, dv, dw = (u - cu) / ru, (v - cv) / rv, (w - cw) / rw
+        d = (math.sqrt(du * du + dv * dv + dw * dw) - 1.0) * min(ru, rv, rw)
+        total += math.exp(-d / k)
+    f = -k * math.log(total) if total > 0.0 else 1e9
+    (cu, cv, cw), (ru, rv, rw) = ORGAN_NOTCH
+    du, dv, dw = (u - cu) / ru, (v - cv) / rv, (w - cw) / rw
+    g = (math.sqrt(du * du + dv * dv + dw * dw) - 1.0) * min(ru, rv, rw)
+    # smooth max(f, -g): outside the notch
+    a, b = f / k, -g / k
+    m = max(a, b)
+    f = k * (m + math.log(math.exp(a - m) + math.exp(b - m)))
+    f += ORGAN_LOBULATION_MM * math.sin(u / 17.0) * math.sin(v / 13.0 + 0.5) * math.cos(w / 19.0)
+    return f
+
+
+def lesion_field(u, v, w):
+    (cu, cv, cw), (ru, rv, rw) = ORGAN_LESION
+    du, dv, dw = (u - cu) / ru, (v - cv) / rv, (w - cw) / rw
+    return (math.sqrt(du * du + dv * dv + dw * dw) - 1.0) * min(ru, rv, rw)
+
+
+def organ_voxel_centre(i, j, k):
+    """LPS position of voxel (i, j, k): origin + index * spacing (identity direction)."""
+    return tuple(ORGAN_ORIGIN[a] + (i, j, k)[a] * ORGAN_SPACING[a] for a in range(3))
+
+
+def organ_label_map():
+    """Labels in NIfTI order (i fastest): 1 organ, 2 lesion (inside the organ), 0 background;
+    also the organ's minimum field value over the lesion's voxels."""
+    nx, ny, nz = ORGAN_DIMS
+    cx, cy, cz = ORGAN_CENTRE
+    labels = bytearray(nx * ny * nz)
+    deepest_lesion = -1e9  # the largest (least deep) organ field value on a lesion voxel
+    reach = 0.0  # the largest distance of an organ voxel from ORGAN_CENTRE
+    xs = [ORGAN_ORIGIN[0] + i * ORGAN_SPACING[0] - cx for i in range(nx)]
+    for k in range(nz):
+        w = ORGAN_ORIGIN[2] + k * ORGAN_SPACING[2] - cz
+        for j in range(ny):
+            v = ORGAN_ORIGIN[1] + j * ORGAN_SPACING[1] - cy
+            row = (k * ny + j) * nx
+            for i, u in enumerate(xs):
+                # quick rejection: far outside every lobe's bounding sphere
+                if u * u + v * v + w * w > ORGAN_BOUND_MM ** 2:
+                    continue
+                f = organ_fields(u, v, w)
+                if f <= 0.0:
+                    reach = max(reach, u * u + v * v + w * w)
+                    if lesion_field(u, v, w) <= 0.0:
+                        labels[row + i] = 2
+                        deepest_lesion = max(deepest_lesion, f)
+                    else:
+                        labels[row + i] = 1
+    # the quick rejection cut nothing off: the organ ends well inside the bounding sphere
+    assert math.sqrt(reach) <= ORGAN_BOUND_MM - 10.0, "organ_label: reaches %.1f mm" % math.sqrt(reach)
+    return labels, deepest_lesion
+
+
+def components6(labels, dims, member):
+    """Number of 6-connected components of the voxels whose label satisfies member(label), and
+    the size of the largest."""
+    nx, ny, nz = dims
+    seen = bytearray(len(labels))
+    count, largest = 0, 0
+    for start in range(len(labels)):
+        if seen[start] or not member(labels[start]):
+            continue
+        count += 1
+        size = 0
+        seen[start] = 1
+        stack = [start]
+        while stack:
+            n = stack.pop()
+            size += 1
+            i = n % nx
+            j = (n // nx) % ny
+            k = n // (nx * ny)
+            for m, ok in ((n - 1, i > 0), (n + 1, i < nx - 1), (n - nx, j > 0),
+                          (n + nx, j < ny - 1), (n - nx * ny, k > 0), (n + nx * ny, k < nz - 1)):
+                if ok and not seen[m] and member(labels[m]):
+                    seen[m] = 1
+                    stack.append(m)
+        largest = max(largest, size)
+    return count, largest
+
+
+def check_organ_label_map(labels, deepest_lesion):
+    """The label map is what the workflow needs: one organ (labels 1 and 2 together one
+    6-connected component, the background one component: no cavity, so a closed surface), one
+    lesion strictly inside it (every lesion voxel at least ORGAN_LESION_DEPTH_MM deep), no label
+    within ORGAN_BORDER_VOXELS of the image border, about the size of a liver, and not an
+    ellipsoid (the ellipsoid of the same second moments differs by at least 10% of the volume)."""
+    nx, ny, nz = ORGAN_DIMS
+    voxel = ORGAN_SPACING[0] * ORGAN_SPACING[1] * ORGAN_SPACING[2]
+    organ = [n for n in range(len(labels)) if labels[n]]
+    lesion = sum(1 for n in organ if labels[n] == 2)
+    volume = len(organ) * voxel / 1000.0  # mL
+    assert 700.0 <= volume <= 2200.0, "organ_label: volume %.1f mL is not liver-like" % volume
+    assert 1500 <= lesion * voxel <= 12000, "organ_label: lesion of %.0f mm^3" % (lesion * voxel)
+    b = ORGAN_BORDER_VOXELS
+    for n in organ:
+        i, j, k = n % nx, (n // nx) % ny, n // (nx * ny)
+        assert b <= i < nx - b and b <= j < ny - b and b <= k < nz - b, \
+            "organ_label: voxel (%d, %d, %d) within %d voxels of the border" % (i, j, k, b)
+    assert components6(labels, ORGAN_DIMS, lambda l: l != 0) == (1, len(organ)), \
+        "organ_label: the organ is not one 6-connected component"
+    assert components6(labels, ORGAN_DIMS, lambda l: l == 0)[0] == 1, \
+        "organ_label: the background is not connected (the organ has a cavity)"
+    assert components6(labels, ORGAN_DIMS, lambda l: l == 2) == (1, lesion), \
+        "organ_label: the lesion is not one component"
+    assert deepest_lesion <= -ORGAN_LESION_DEPTH_MM, \
+        "organ_label: a lesion voxel is only %.2f mm inside the organ" % -deepest_lesion
+    # the ellipsoid with the organ's second moments
+    pts = [organ_voxel_centre(n % nx, (n // nx) % ny, n // (nx * ny)) for n in organ]
+    mean = [sum(p[a] for p in pts) / len(pts) for a in range(3)]
+    cov = [[sum((p[a] - mean[a]) * (p[c] - mean[c]) for p in pts) / len(pts) for c in range(3)]
+           for a in range(3)]
+    inv = invert3(cov)
+    # a solid ellipsoid (x-m)^T S^-1 (x-m) <= 5 has covariance S
+    inside_ellipsoid = 0
+    differ = 0
+    organ_set = bytearray(len(labels))
+    for n in organ:
+        organ_set[n] = 1
+    for n in range(len(labels)):
+        i, j, k = n % nx, (n // nx) % ny, n // (nx * ny)
+        p = organ_voxel_centre(i, j, k)
+        d = [p[a] - mean[a] for a in range(3)]
+        q = sum(d[a] * inv[a][c] * d[c] for a in range(3) for c in range(3))
+        e = q <= 5.0
+        inside_ellipsoid += e
+        differ += e != bool(organ_set[n])
+    mismatch = differ / len(organ)
+    assert mismatch >= 0.10, "organ_label: within %.1f%% of an ellipsoid" % (100 * mismatch)
+    bbox = [(min(p[a] for p in pts), max(p[a] for p in pts)) for a in range(3)]
+    return {"volume": volume, "lesion": lesion * voxel / 1000.0, "voxels": len(organ),
+            "mismatch": mismatch, "bbox": bbox}
+
+
+def invert3(m):
+    a, b, c = m
+    det = (a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0])
+           + a[2] * (b[0] * c[1] - b[1] * c[0]))
+    assert abs(det) > 1e-12
+    cof = [[b[1] * c[2] - b[2] * c[1], a[2] * c[1] - a[1] * c[2], a[1] * b[2] - a[2] * b[1]],
+           [b[2] * c[0] - b[0] * c[2], a[0] * c[2] - a[2] * c[0], a[2] * b[0] - a[0] * b[2]],
+           [b[0] * c[1] - b[1] * c[0], a[1] * c[0] - a[0] * c[1], a[0] * b[1] - a[1] * b[0]]]
+    return [[cof[r][s] / det for s in range(3)] for r in range(3)]
+
+
+def nifti1_label_map(labels):
+    """A NIfTI-1 single file (.nii) of unsigned 8-bit labels: 348-byte header, 4 bytes of no
+    extension, the voxels (i fastest). The grid is stored in RAS as NIfTI requires: sform and
+    qform (both code 1, scanner) map (i, j, k) to (-x, -y, z) of the LPS position
+    origin + index * spacing (identity LPS direction: a standard axial grid)."""
+    import struct
+    nx, ny, nz = ORGAN_DIMS
+    sx, sy, sz = ORGAN_SPACING
+    ox, oy, oz = ORGAN_ORIGIN
+    header = struct.pack(
+        "<i10s18sihcc8h3fhhhh8ffffhcc4f2i80s24shh6f4f4f4f16s4s",
+        348, b"", b"", 0, 0, b"r", b"\0",
+        3, nx, ny, nz, 1, 1, 1, 1,       # dim
+        0.0, 0.0, 0.0,                   # intent_p1..3
+        1002,                            # intent_code: NIFTI_INTENT_LABEL
+        2, 8,                            # datatype UINT8, bitpix
+        0,                               # slice_start
+        1.0, sx, sy, sz, 0.0, 0.0, 0.0, 0.0,  # pixdim (pixdim[0] = qfac = 1)
+        352.0,                           # vox_offset
+        1.0, 0.0,                        # scl_slope, scl_inter
+        0, b"\0", b"\x02",               # slice_end, slice_code, xyzt_units: mm
+        2.0, 0.0, 0.0, 0.0,              # cal_max, cal_min, slice_duration, toffset
+        2, 0,                            # glmax, glmin
+        ORGAN_DESCRIPTION.encode("ascii"), b"",
+        1, 1,                            # qform_code, sform_code: scanner
+        0.0, 0.0, 1.0,                   # quatern_b, c, d: 180 degrees about z (LPS -> RAS)
+        -ox, -oy, oz,                    # qoffset_x, y, z (RAS)
+        -sx, 0.0, 0.0, -ox,              # srow_x
+        0.0, -sy, 0.0, -oy,              # srow_y
+        0.0, 0.0, sz, oz,                # srow_z
+        b"", b"n+1\0")
+    assert len(header) == 348
+    return header + b"\0\0\0\0" + bytes(labels)
+
+
+def check_nifti1(data, labels):
+    """Reads the header back (independently of how it was packed: by offset, as NIfTI-1
+    defines them) and checks the grid it states."""
+    import struct
+    assert struct.unpack_from("<i", data, 0)[0] == 348 and data[344:348] == b"n+1\0"
+    dim = struct.unpack_from("<8h", data, 40)
+    assert dim[:4] == (3,) + tuple(ORGAN_DIMS), dim
+    assert struct.unpack_from("<hh", data, 70) == (2, 8)
+    pixdim = struct.unpack_from("<8f", data, 76)
+    assert pixdim[0] == 1.0 and pixdim[1:4] == tuple(ORGAN_SPACING)
+    assert struct.unpack_from("<f", data, 108)[0] == 352.0
+    assert struct.unpack_from("<hh", data, 252) == (1, 1)
+    srow = [struct.unpack_from("<4f", data, 280 + 16 * r) for r in range(3)]
+    # voxel (i, j, k) -> RAS by the sform; negate x, y -> LPS; compare with the LPS grid
+    for i, j, k in ((0, 0, 0), (ORGAN_DIMS[0] - 1, 3, 7), (5, ORGAN_DIMS[1] - 1, ORGAN_DIMS[2] - 1)):
+        ras = [srow[r][0] * i + srow[r][1] * j + srow[r][2] * k + srow[r][3] for r in range(3)]
+        lps = (-ras[0], -ras[1], ras[2])
+        expected = organ_voxel_centre(i, j, k)
+        assert all(abs(lps[a] - expected[a]) < 1e-9 for a in range(3)), (lps, expected)
+    qb, qc, qd, qx, qy, qz = struct.unpack_from("<6f", data, 256)
+    assert (qb, qc, qd) == (0.0, 0.0, 1.0) and (qx, qy, qz) == (srow[0][3], srow[1][3], srow[2][3])
+    assert data[352:] == bytes(labels)
+
+
+def organ_surface_point(direction, start):
+    """Where the ray from @p start (local mm, inside) along @p direction leaves the organ:
+    marching in 0.5 mm steps, then bisection to 1e-9 mm."""
+    n = math.sqrt(sum(d * d for d in direction))
+    d = [c / n for c in direction]
+    at = lambda t: organ_fields(*(start[a] + t * d[a] for a in range(3)))
+    assert at(0.0) < 0.0
+    t = 0.0
+    while at(t + 0.5) < 0.0:
+        t += 0.5
+        assert t < 200.0
+    lo, hi = t, t + 0.5
+    for _ in range(60):
+        mid = 0.5 * (lo + hi)
+        if at(mid) < 0.0:
+            lo = mid
+        else:
+            hi = mid
+    return tuple(start[a] + lo * d[a] for a in range(3))
+
+
+def organ_landmarks():
+    """(label, description, LPS point) of each landmark: points where rays from inside the
+    organ leave its surface, and the lesion's centre."""
+    cx, cy, cz = ORGAN_CENTRE
+    out = []
+    for label, desc, direction in ORGAN_LANDMARK_RAYS:
+        p = organ_surface_point(direction, ORGAN_RAY_START)
+        out.append((label, desc, (rnd(p[0] + cx), rnd(p[1] + cy), rnd(p[2] + cz))))
+    (lu, lv, lw), _ = ORGAN_LESION
+    out.append(("lesion", "centre of the lesion (label 2)", (rnd(lu + cx), rnd(lv + cy), rnd(lw + cz))))
+    return out
+
+
+def breathing_motion(p, zmin, zmax):
+    """Inspiration: the diaphragm pushes the liver caudally (-z), more at the dome than at the
+    inferior tip (compression along z), and slightly anteriorly (-y)."""
+    t = (p[2] - zmin) / (zmax - zmin)
+    return (rnd(p[0]), rnd(p[1] - ORGAN_BREATH_ANTERIOR_MM * t),
+            rnd(p[2] - ORGAN_BREATH_SHIFT_MM[0] - (ORGAN_BREATH_SHIFT_MM[1] - ORGAN_BREATH_SHIFT_MM[0]) * t))
+
+
+def check_organ_landmarks(marks, labels, moved):
+    """Each surface landmark lies on the organ's surface (|field| < 1e-6 mm at the written,
+    rounded point, and the voxels around it hold both the organ and the background); the
+    lesion landmark is in a lesion voxel; every landmark and moved landmark lies inside the
+    image; the motion moves each landmark caudally by the stated amounts."""
+    nx, ny, nz = ORGAN_DIMS
+    cx, cy, cz = ORGAN_CENTRE
+    lo = ORGAN_ORIGIN
+    hi = tuple(ORGAN_ORIGIN[a] + ((nx, ny, nz)[a] - 1) * ORGAN_SPACING[a] for a in range(3))
+    assert 6 <= len(marks) <= 10
+    assert len({m[0] for m in marks}) == len(marks), "organ landmarks: labels repeat"
+    assert not any(set(',"\\') & set(m[0] + m[1]) for m in marks), "organ landmarks: quote a label"
+    worst = 0.0
+    for label, _, p in marks:
+        index = [int(round((p[a] - ORGAN_ORIGIN[a]) / ORGAN_SPACING[a])) for a in range(3)]
+        voxel = lambda i, j, k: labels[(k * ny + j) * nx + i]
+        if label == "lesion":
+            assert voxel(*index) == 2, "organ landmarks: the lesion landmark is not in the lesion"
+            continue
+        f = organ_fields(p[0] - cx, p[1] - cy, p[2] - cz)
+        worst = max(worst, abs(f))
+        assert abs(f) < 1e-5, "organ landmarks: %s is %.2e mm off the surface" % (label, f)
+        around = {voxel(index[0] + a, index[1] + b, index[2] + c)
+                  for a in (-1, 0, 1) for b in (-1, 0, 1) for c in (-1, 0, 1)}
+        assert 0 in around and (1 in around or 2 in around), \
+            "organ landmarks: %s is not on the label map's boundary" % label
+    for q in [m[2] for m in marks] + moved:
+        assert all(lo[a] <= q[a] <= hi[a] for a in range(3)), "organ landmarks: %s outside the image" % (q,)
+    for (_, _, p), q in zip(marks, moved):
+        dz = p[2] - q[2]
+        assert ORGAN_BREATH_SHIFT_MM[0] - 1e-6 <= dz <= ORGAN_BREATH_SHIFT_MM[1] + 1e-6, dz
+    return worst
+
+
+def markups_json(marks):
+    """3D Slicer markups JSON (schema v1.0.3, as Slicer 5 writes it), a point list in LPS."""
+    lines = ['{',
+             '    "@schema": "https://raw.githubusercontent.com/slicer/slicer/master/Modules/'
+             'Loadable/Markups/Resources/Schema/markups-schema-v1.0.3.json#",',
+             '    "markups": [',
+             '        {',
+             '            "type": "Fiducial",',
+             '            "coordinateSystem": "LPS",',
+             '            "coordinateUnits": "mm",',
+             '            "locked": false,',
+             '            "fixedNumberOfControlPoints": false,',
+             '            "labelFormat": "%N-%d",',
+             '            "lastUsedControlPointNumber": %d,' % len(marks),
+             '            "controlPoints": [']
+    for n, (label, desc, p) in enumerate(marks):
+        lines += ['                {',
+                  '                    "id": "%d",' % (n + 1),
+                  '                    "label": "%s",' % label,
+                  '                    "description": "%s",' % desc,
+                  '                    "associatedNodeID": "",',
+                  '                    "position": [%s, %s, %s],' % tuple(fmt(x) for x in p),
+                  '                    "orientation": [-1.0, -0.0, -0.0, -0.0, -1.0, -0.0, 0.0, 0.0, 1.0],',
+                  '                    "selected": true,',
+                  '                    "locked": false,',
+                  '                    "visibility": true,',
+                  '                    "positionStatus": "defined"',
+                  '                }' + (',' if n + 1 < len(marks) else '')]
+    lines += ['            ],', '            "measurements": []', '        }', '    ]', '}']
+    return "\n".join(lines) + "\n"
+
+
+def markups_fcsv_ras(marks):
+    """The same points as a legacy 3D Slicer .fcsv in RAS (x and y negated)."""
+    out = ["# Markups fiducial file version = 4.11", "# CoordinateSystem = RAS",
+           "# columns = id,x,y,z,ow,ox,oy,oz,vis,sel,lock,label,desc,associatedNodeID"]
+    for n, (label, desc, p) in enumerate(marks):
+        out.append("%d,%s,%s,%s,0,0,0,1,1,1,0,%s,%s," % (n + 1, fmt(-p[0]), fmt(-p[1]), fmt(p[2]), label, desc))
+    return "\n".join(out) + "\n"
+
+
+def check_markups_files(json_text, fcsv_text, marks):
+    """The written files hold the landmarks: the JSON parses (json module) to the LPS points,
+    the .fcsv's RAS rows negate back to the same points."""
+    import json
+    doc = json.loads(json_text)
+    cps = doc["markups"][0]["controlPoints"]
+    assert doc["markups"][0]["coordinateSystem"] == "LPS" and len(cps) == len(marks)
+    for cp, (label, _, p) in zip(cps, marks):
+        assert cp["label"] == label and tuple(cp["position"]) == p, (cp, p)
+    rows = [r for r in fcsv_text.splitlines() if not r.startswith("#")]
+    assert len(rows) == len(marks)
+    for r, (label, _, p) in zip(rows, marks):
+        f = r.split(",")
+        assert f[11] == label and (-float(f[1]), -float(f[2]), float(f[3])) == p, (r, p)
+
+
 def main(argv):
     out_dir = argv[1] if len(argv) > 1 else os.path.dirname(os.path.abspath(__file__))
     files = {}
@@ -1679,6 +2066,31 @@ def main(argv):
                    % (len(dom_V), len(dom_F),
                       ", ".join("%d: %d" % kv for kv in sorted(degrees.items()))))
 
+    # Organ workflow (issue 15): a label map and landmarks -------------------------------
+    organ_labels, organ_deepest = organ_label_map()
+    organ = check_organ_label_map(organ_labels, organ_deepest)
+    organ_nii = nifti1_label_map(organ_labels)
+    check_nifti1(organ_nii, organ_labels)
+    organ_gz = gzip.compress(organ_nii, compresslevel=9, mtime=0)  # mtime 0: byte-identical runs
+    assert gzip.decompress(organ_gz) == organ_nii and len(organ_gz) <= 100000
+    marks = organ_landmarks()
+    zs = [p[2] for _, _, p in marks]
+    moved = [(label, desc, breathing_motion(p, min(zs), max(zs))) for label, desc, p in marks]
+    surface_error = check_organ_landmarks(marks, organ_labels, [p for _, _, p in moved])
+    files["organ_landmarks.mrk.json"] = markups_json(marks)
+    files["organ_landmarks.fcsv"] = markups_fcsv_ras(marks)
+    files["organ_landmarks_moved.mrk.json"] = markups_json(moved)
+    check_markups_files(files["organ_landmarks.mrk.json"], files["organ_landmarks.fcsv"], marks)
+    check_markups_files(files["organ_landmarks_moved.mrk.json"], markups_fcsv_ras(moved), moved)
+    summary.append("organ_label: %s voxels of %s mm, organ %.1f mL (%d voxels), lesion %.2f mL, "
+                   "bbox (LPS) %s, %.0f%% off its moment ellipsoid"
+                   % (" x ".join(map(str, ORGAN_DIMS)), " x ".join(map(str, ORGAN_SPACING)),
+                      organ["volume"], organ["voxels"], organ["lesion"],
+                      " x ".join("[%.3f, %.3f]" % b for b in organ["bbox"]), 100 * organ["mismatch"]))
+    summary.append("organ_landmarks: %d landmarks, surface ones within %.1e mm of the surface; "
+                   "moved caudally by %.0f-%.0f mm" % (len(marks), surface_error,
+                                                      ORGAN_BREATH_SHIFT_MM[0], ORGAN_BREATH_SHIFT_MM[1]))
+
     # Broken inputs -----------------------------------------------------------
     files.update(bad_files())
 
@@ -1698,6 +2110,10 @@ def main(argv):
                    % (IMAGE2D_SIZE, IMAGE2D_SIZE, round(100 * IMAGE2D_MARGIN)))
     with open(os.path.join(out_dir, "spline_organism_picture.png"), "wb") as fh:
         fh.write(spline_png)
+    with open(os.path.join(out_dir, "organ_label.nii.gz"), "wb") as fh:
+        fh.write(organ_gz)
+    summary.append("organ_label.nii.gz: NIfTI-1, uint8, %d bytes gzipped (%d raw)"
+                   % (len(organ_gz), len(organ_nii)))
     summary.append("spline_organism_picture.png: %d x %d greyscale pixels over the domain, "
                    "darkest %d, corners %s, %d bytes"
                    % (SPLINE_PICTURE_SIZE + (spline_stats["darkest"], spline_corners, len(spline_png))))
