@@ -187,7 +187,8 @@ void check_output(const std::string& path, OutputKind kind, const std::vector<st
   if (!ok)
     throw bary::Error(bary::ErrorCode::Io,
       "cannot write '" + path + "': unknown file extension '" + ext + "' (" +
-        (kind == OutputKind::Data ? "writable: .vtp, .vtu, .vtk, .obj, .stl, .ply, .off, .pvtp, .pvtu"
+        (kind == OutputKind::Data
+            ? "writable: .vtp, .vtu, .vtk, .obj, .stl, .ply, .off, .mrk.json, .fcsv, .pvtp, .pvtu"
           : kind == OutputKind::Json ? "a summary is written as .json"
           : kind == OutputKind::Text ? "written as text (.txt) or with point arrays (.vtp, .vtu, .vtk)"
                                      : "images are written as .png") +

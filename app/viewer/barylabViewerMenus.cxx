@@ -104,7 +104,8 @@ void BuildMenus(ViewerWindow& window)
 
 void OpenFilesDialog(ViewerWindow& window)
 {
-  const QString filter = "Geometry (*.obj *.off *.vtp *.vtu *.vtk *.stl *.ply *.mesh *.tgf);;All files (*)";
+  const QString filter = "Geometry (*.obj *.off *.vtp *.vtu *.vtk *.stl *.ply *.mesh *.tgf "
+                         "*.mrk.json *.fcsv);;All files (*)";
   const QString controls = QFileDialog::getOpenFileName(&window,
     "Controls: cage, skeleton (.tgf) or control points", QString(), filter);
   if (controls.isEmpty())

@@ -6,6 +6,8 @@
 #include "vtkBaryTextParsing.h"
 #include "vtkBaryOFFWriter.h"
 #include "vtkBaryMEDITReader.h"
+#include "vtkBaryMarkupsReader.h"
+#include "vtkBaryMarkupsWriter.h"
 #include "vtkBaryTGFReader.h"
 
 #include "vtkBaryConversion.h"
@@ -348,6 +350,13 @@ void validate_read(vtkDataSet* data, const std::string& path)
 
 vtkSmartPointer<vtkAlgorithm> make_reader(const std::string& ext, const std::string& path)
 {
+  if (vtkBaryMarkupsReader::IsMarkupsFile(path.c_str())) // 3D Slicer's .mrk.json, .fcsv
+  {
+    auto r = vtkSmartPointer<vtkBaryMarkupsReader>::New();
+    r->SetFileName(path.c_str());
+    r->SetFormat(ext == ".fcsv" ? vtkBaryMarkupsReader::FCSV : vtkBaryMarkupsReader::MarkupsJSON);
+    return r;
+  }
   if (ext == ".vtp")
   {
     auto r = vtkSmartPointer<vtkXMLPolyDataReader>::New();
@@ -424,7 +433,8 @@ vtkSmartPointer<vtkDataSet> checked(vtkSmartPointer<vtkDataSet> data, const std:
   return data;
 }
 
-const char* const kReadable = ".vtp, .vtu, .pvtp, .pvtu, .vtk, .obj, .stl, .ply, .off, .mesh, .tgf";
+const char* const kReadable =
+  ".vtp, .vtu, .pvtp, .pvtu, .vtk, .obj, .stl, .ply, .off, .mesh, .tgf, .mrk.json, .fcsv";
 } // namespace
 
 std::string vtkBaryDataIO::Extension(const std::string& path)
@@ -448,7 +458,7 @@ bool vtkBaryDataIO::CanWrite(const std::string& path)
 {
   const std::string ext = Extension(path);
   return ext == ".vtp" || ext == ".vtu" || ext == ".vtk" || ext == ".obj" || ext == ".stl" ||
-    ext == ".ply" || ext == ".off";
+    ext == ".ply" || ext == ".off" || vtkBaryMarkupsReader::IsMarkupsFile(path.c_str());
 }
 
 vtkSmartPointer<vtkDataSet> vtkBaryDataIO::Read(const std::string& path)
@@ -567,7 +577,14 @@ void vtkBaryDataIO::Write(vtkDataSet* data, const std::string& path)
   vtkSmartPointer<vtkDataSet> converted;
   std::random_device rd;
   const std::string tmp = path + ".tmp" + std::to_string(rd() % 1000000) + ext;
-  if (ext == ".vtp")
+  if (vtkBaryMarkupsReader::IsMarkupsFile(path.c_str())) // any data set's points
+  {
+    auto w = vtkSmartPointer<vtkBaryMarkupsWriter>::New();
+    w->SetFileName(tmp.c_str());
+    w->SetFormat(ext == ".fcsv" ? vtkBaryMarkupsWriter::FCSV : vtkBaryMarkupsWriter::MarkupsJSON);
+    writer = w;
+  }
+  else if (ext == ".vtp")
   {
     need_poly(".vtp");
     auto w = vtkSmartPointer<vtkXMLPolyDataWriter>::New();
@@ -632,7 +649,7 @@ void vtkBaryDataIO::Write(vtkDataSet* data, const std::string& path)
   else
     throw Error(ErrorCode::Io,
       "cannot write '" + path + "': unknown file extension '" + ext +
-        "' (writable: .vtp, .vtu, .vtk, .obj, .stl, .ply, .off)");
+        "' (writable: .vtp, .vtu, .vtk, .obj, .stl, .ply, .off, .mrk.json, .fcsv)");
 
   vtkNew<vtkBaryErrorObserver> collector;
   collector->Observe(writer);

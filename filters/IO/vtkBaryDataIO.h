@@ -9,15 +9,17 @@
  * @brief   Reads and writes data sets by file extension, with errors as exceptions.
  *
  * Formats: .vtp, .vtu, .vtk (legacy), .obj, .stl, .ply (VTK's readers/writers), .off
- * (vtkBaryOFFReader/Writer), and for reading MEDIT .mesh (vtkBaryMEDITReader) and libigl .tgf
- * skeletons (vtkBaryTGFReader). Read() throws bary::Error(Io) naming the file and the problem
+ * (vtkBaryOFFReader/Writer), 3D Slicer's markups .mrk.json and legacy .fcsv (points in LPS,
+ * with their labels: vtkBaryMarkupsReader/Writer), and for reading MEDIT .mesh
+ * (vtkBaryMEDITReader) and libigl .tgf skeletons (vtkBaryTGFReader). Read() throws bary::Error(Io) naming the file and the problem
  * (missing, unreadable, unknown extension, parse error reported by the reader, no points).
  * Write() writes to a temporary file beside the target and renames it only on success, so a
  * failed write never leaves a partial file behind.
  *
  * Writing a non-unstructured data set to .vtu converts it (vtkAppendFilter).
  * .obj, .stl, .ply and .off keep only geometry; .vtp/.vtu/.vtk keep named point-data arrays
- * (such as the "Weights" array).
+ * (such as the "Weights" array); .mrk.json and .fcsv keep the points of any data set and their
+ * "Label", "Id" and "Description" arrays.
  */
 #ifndef vtkBaryDataIO_h
 #define vtkBaryDataIO_h

@@ -3,7 +3,7 @@
  * @brief   Reads any file vtkBaryDataIO reads, as a pipeline source that reports errors.
  *
  * The format follows the extension (.vtp, .vtu, .vtk, .obj, .stl, .ply, .off, MEDIT .mesh,
- * libigl .tgf: vtkBaryDataIO), and the file is validated as vtkBaryDataIO::Read validates it
+ * libigl .tgf, 3D Slicer markups .mrk.json / .fcsv: vtkBaryDataIO), and the file is validated as vtkBaryDataIO::Read validates it
  * (counts, finite coordinates, well-formed cells). The output is the data set of the type the
  * file holds (vtkPolyData, vtkUnstructuredGrid, ...). A file that cannot be read fails the
  * request with vtkErrorMacro naming the file and the problem, and the error code of the

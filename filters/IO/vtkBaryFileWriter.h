@@ -2,8 +2,9 @@
  * @class   vtkBaryFileWriter
  * @brief   Writes a data set to any file vtkBaryDataIO writes, reporting errors.
  *
- * The format follows the extension (.vtp, .vtu, .vtk, .obj, .stl, .ply, .off; only .vtp, .vtu
- * and .vtk keep point data such as the "Weights" array). The file is written atomically (a
+ * The format follows the extension (.vtp, .vtu, .vtk, .obj, .stl, .ply, .off, 3D Slicer markups
+ * .mrk.json / .fcsv; only .vtp, .vtu and .vtk keep point data such as the "Weights" array,
+ * markups the points' "Label", "Id" and "Description"). The file is written atomically (a
  * temporary file beside it, renamed on success: vtkBaryDataIO::Write). A failure (unknown
  * extension, a folder that does not exist, a full disk) is reported with vtkErrorMacro naming
  * the file, and Write() returns 0.

@@ -402,6 +402,20 @@ std::vector<std::string> make_seeds(const Target& t, const std::string& data_dir
     seeds.push_back(slurp(data_dir + "/skeleton2d.tgf"));
     seeds.push_back("1 0 0 0\n2 0 1 0\n3 1 1 1\n4 2 0 0\n#\n1 2 1 0 0\n2 3\n#\n");
   }
+  else if (e == ".mrk.json")
+  {
+    for (const char* f : { "/organ_landmarks.mrk.json", "/organ_landmarks_moved.mrk.json" })
+      seeds.push_back(slurp(data_dir + f));
+    seeds.push_back(R"({"markups": [{"type": "Curve", "coordinateSystem": "RAS", "controlPoints": [)"
+                    R"({"label": "a, \"b\"", "position": [1e-300, -0.0, 5e300]},)"
+                    R"({"position": [1, 2, 3], "positionStatus": "defined"}]}, {"controlPoints": []}]})");
+  }
+  else if (e == ".fcsv")
+  {
+    seeds.push_back(slurp(data_dir + "/organ_landmarks.fcsv"));
+    seeds.push_back("# CoordinateSystem = 1\n# columns = label,z,y,x\n"
+                    "\"a, \"\"b\"\"\",3,2,1\r\n\nc,1e-300,-0,5e300\n");
+  }
   else if (t.name == "dmat")
   {
     seeds.push_back("3 2\n1\n2\n3\n4.5\n-5e-3\n6\n");
@@ -484,6 +498,12 @@ std::vector<Target> make_targets()
     "property list uint8 int32 vertex_indices\n", "property double ", "end_header\n",
     "MeshVersionFormatted", "Dimension", "Vertices", "Edges", "Triangles", "Tetrahedra",
     "Quadrilaterals", "Corners", "RequiredVertices", "End", "e" });
+  const std::vector<std::string> markups = with_numbers({ "{", "}", "[", "]", ",", ":", "\"",
+    "\\", "\\u0000", "\\ud800", "null", "true", "false", "\"markups\"", "\"controlPoints\"",
+    "\"position\"", "\"positionStatus\"", "\"defined\"", "\"preview\"", "\"coordinateSystem\"",
+    "\"LPS\"", "\"RAS\"", "\"coordinateUnits\"", "\"mm\"", "\"label\"", "\"id\"",
+    "# CoordinateSystem = ", "# columns = ",
+    "id,x,y,z,ow,ox,oy,oz,vis,sel,lock,label,desc,associatedNodeID", "LPS", "RAS", "\"\"", "\xff" });
   return {
     { "vtp", ".vtp", "vtkBaryDataIO::Read: VTK XML polygonal data", read_data, xml },
     { "vtu", ".vtu", "vtkBaryDataIO::Read: VTK XML unstructured grid", read_data, xml },
@@ -496,6 +516,10 @@ std::vector<Target> make_targets()
     { "off", ".off", "vtkBaryDataIO::Read: OFF (vtkBaryOFFReader)", read_data, text },
     { "mesh", ".mesh", "vtkBaryDataIO::Read: MEDIT .mesh (vtkBaryMEDITReader)", read_data, text },
     { "tgf", ".tgf", "vtkBaryDataIO::Read: libigl .tgf skeleton (vtkBaryTGFReader)", read_data, text },
+    { "mrk-json", ".mrk.json", "vtkBaryDataIO::Read: 3D Slicer markups JSON (vtkBaryMarkupsReader)",
+      read_data, markups },
+    { "fcsv", ".fcsv", "vtkBaryDataIO::Read: 3D Slicer legacy .fcsv (vtkBaryMarkupsReader)",
+      read_data, markups },
     { "dmat", ".dmat", "vtkBaryDataIO::ReadDMAT: libigl .dmat matrix", read_dmat, text },
     { "pose", ".txt", "vtkBaryDataIO::ReadPose: transforms a line, for the bundled skeleton",
       read_pose, text },
