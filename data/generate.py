@@ -74,15 +74,10 @@ ORGAN_LESION_DEPTH_MM = 5.0           # asserted: every lesion voxel this deep i
 ORGAN_BORDER_VOXELS = 3               # asserted: no label this close to the image border
 ORGAN_BOUND_MM = 130.0                # no organ beyond this distance from the centre (asserted)
 ORGAN_DESCRIPTION = "BaryLab synthetic liver: 1 organ, 2 lesion (data/generate.py)"
-ORGAN_RAY_START = (-11.0, 5.0, 0.0)   # inside the organ: surface landmarks are seen from here
-ORGAN_LANDMARK_RAYS = (               # (label, description, direction in LPS)
-    ("dome", "superior dome of the right lobe", (-0.35, 0.1, 1.0)),
-    ("inferior-tip", "inferior tip of the right lobe", (-0.45, -0.1, -1.0)),
-    ("right-lateral", "lateral edge of the right lobe", (-1.0, 0.05, 0.1)),
-    ("left-tip", "tip of the left lobe", (1.0, -0.35, 0.25)),
-    ("anterior", "anterior surface", (0.0, -1.0, 0.05)),
-    ("posterior", "posterior surface (bare area)", (-0.2, 1.0, 0.2)),
-    ("visceral", "visceral surface near the hilum", (0.25, 0.35, -1.0)))
+ORGAN_RAY_START = (-11.0, 5.0, 0.0)   # inside the organ: the dome landmark is seen from here
+ORGAN_DOME_RAY = (-0.35, 0.1, 1.0)    # direction (LPS) in which the dome landmark is found
+ORGAN_AROUND_MARGIN_MM = (12.0, 12.0, 8.0)  # landmarks around the organ: its bounding box grown
+                                      # by this much (x, y, z): their hull holds the organ
 ORGAN_BREATH_SHIFT_MM = (12.0, 18.0)  # caudal shift at the inferior-most / superior-most landmark
 ORGAN_BREATH_ANTERIOR_MM = 3.0        # anterior shift at the superior-most landmark
 
@@ -1810,14 +1805,25 @@ def organ_surface_point(direction, start):
     return tuple(start[a] + lo * d[a] for a in range(3))
 
 
-def organ_landmarks():
-    """(label, description, LPS point) of each landmark: points where rays from inside the
-    organ leave its surface, and the lesion's centre."""
+def organ_landmarks(bbox):
+    """(label, description, LPS point) of each landmark, superior first: eight around the organ,
+    at the corners of its bounding box (of voxel centres, @p bbox) grown by
+    ORGAN_AROUND_MARGIN_MM, where landmarks on the surrounding anatomy (diaphragm, ribs, spine,
+    abdominal wall) would be, so that their convex hull holds the whole organ (celestial
+    coordinates are defined inside the hull); the dome, where the ray from ORGAN_RAY_START along
+    ORGAN_DOME_RAY leaves the organ's surface; and the lesion's centre."""
     cx, cy, cz = ORGAN_CENTRE
+    mx, my, mz = ORGAN_AROUND_MARGIN_MM
     out = []
-    for label, desc, direction in ORGAN_LANDMARK_RAYS:
-        p = organ_surface_point(direction, ORGAN_RAY_START)
-        out.append((label, desc, (rnd(p[0] + cx), rnd(p[1] + cy), rnd(p[2] + cz))))
+    for z, zname in ((bbox[2][1] + mz, "superior"), (bbox[2][0] - mz, "inferior")):
+        for x, xname in ((bbox[0][0] - mx, "right"), (bbox[0][1] + mx, "left")):
+            for y, yname in ((bbox[1][0] - my, "anterior"), (bbox[1][1] + my, "posterior")):
+                out.append(("%s-%s-%s" % (zname, xname, yname),
+                            "around the organ: %s %s %s corner of its bounding box grown by %g %g %g mm"
+                            % (zname, xname, yname, mx, my, mz), (rnd(x), rnd(y), rnd(z))))
+    p = organ_surface_point(ORGAN_DOME_RAY, ORGAN_RAY_START)
+    out.append(("dome", "superior dome of the right lobe (on the surface)",
+                (rnd(p[0] + cx), rnd(p[1] + cy), rnd(p[2] + cz))))
     (lu, lv, lw), _ = ORGAN_LESION
     out.append(("lesion", "centre of the lesion (label 2)", (rnd(lu + cx), rnd(lv + cy), rnd(lw + cz))))
     return out
@@ -1832,10 +1838,12 @@ def breathing_motion(p, zmin, zmax):
 
 
 def check_organ_landmarks(marks, labels, moved):
-    """Each surface landmark lies on the organ's surface (|field| < 1e-6 mm at the written,
-    rounded point, and the voxels around it hold both the organ and the background); the
-    lesion landmark is in a lesion voxel; every landmark and moved landmark lies inside the
-    image; the motion moves each landmark caudally by the stated amounts."""
+    """The dome lies on the organ's surface (|field| < 1e-5 mm at the written, rounded point,
+    and the voxels around it hold both the organ and the background); the lesion landmark is in
+    a lesion voxel; the others are outside the organ, and every organ voxel centre lies inside
+    the landmarks' convex hull, at least 5 mm from its faces; every landmark and moved landmark
+    lies inside the image; the motion moves each landmark caudally by the stated amounts.
+    Returns the dome's distance to the surface and the hull's margin."""
     nx, ny, nz = ORGAN_DIMS
     cx, cy, cz = ORGAN_CENTRE
     lo = ORGAN_ORIGIN
@@ -1843,26 +1851,33 @@ def check_organ_landmarks(marks, labels, moved):
     assert 6 <= len(marks) <= 10
     assert len({m[0] for m in marks}) == len(marks), "organ landmarks: labels repeat"
     assert not any(set(',"\\') & set(m[0] + m[1]) for m in marks), "organ landmarks: quote a label"
-    worst = 0.0
+    surface = None
     for label, _, p in marks:
         index = [int(round((p[a] - ORGAN_ORIGIN[a]) / ORGAN_SPACING[a])) for a in range(3)]
         voxel = lambda i, j, k: labels[(k * ny + j) * nx + i]
+        f = organ_fields(p[0] - cx, p[1] - cy, p[2] - cz)
         if label == "lesion":
             assert voxel(*index) == 2, "organ landmarks: the lesion landmark is not in the lesion"
-            continue
-        f = organ_fields(p[0] - cx, p[1] - cy, p[2] - cz)
-        worst = max(worst, abs(f))
-        assert abs(f) < 1e-5, "organ landmarks: %s is %.2e mm off the surface" % (label, f)
-        around = {voxel(index[0] + a, index[1] + b, index[2] + c)
-                  for a in (-1, 0, 1) for b in (-1, 0, 1) for c in (-1, 0, 1)}
-        assert 0 in around and (1 in around or 2 in around), \
-            "organ landmarks: %s is not on the label map's boundary" % label
+        elif label == "dome":
+            surface = abs(f)
+            assert abs(f) < 1e-5, "organ landmarks: %s is %.2e mm off the surface" % (label, f)
+            around = {voxel(index[0] + a, index[1] + b, index[2] + c)
+                      for a in (-1, 0, 1) for b in (-1, 0, 1) for c in (-1, 0, 1)}
+            assert 0 in around and (1 in around or 2 in around), \
+                "organ landmarks: %s is not on the label map's boundary" % label
+        else:
+            assert f > 0.0, "organ landmarks: %s is inside the organ" % label
+    assert surface is not None
+    organ = [organ_voxel_centre(n % nx, (n // nx) % ny, n // (nx * ny))
+             for n in range(len(labels)) if labels[n]]
+    margin = check_inside_hull(organ, [p for _, _, p in marks], "organ_landmarks")
+    assert margin >= 5.0, "organ landmarks: an organ voxel is %.2f mm from their hull" % margin
     for q in [m[2] for m in marks] + moved:
         assert all(lo[a] <= q[a] <= hi[a] for a in range(3)), "organ landmarks: %s outside the image" % (q,)
     for (_, _, p), q in zip(marks, moved):
         dz = p[2] - q[2]
         assert ORGAN_BREATH_SHIFT_MM[0] - 1e-6 <= dz <= ORGAN_BREATH_SHIFT_MM[1] + 1e-6, dz
-    return worst
+    return surface, margin
 
 
 def markups_json(marks):
@@ -2073,10 +2088,10 @@ def main(argv):
     check_nifti1(organ_nii, organ_labels)
     organ_gz = gzip.compress(organ_nii, compresslevel=9, mtime=0)  # mtime 0: byte-identical runs
     assert gzip.decompress(organ_gz) == organ_nii and len(organ_gz) <= 100000
-    marks = organ_landmarks()
+    marks = organ_landmarks(organ["bbox"])
     zs = [p[2] for _, _, p in marks]
     moved = [(label, desc, breathing_motion(p, min(zs), max(zs))) for label, desc, p in marks]
-    surface_error = check_organ_landmarks(marks, organ_labels, [p for _, _, p in moved])
+    surface_error, hull_margin = check_organ_landmarks(marks, organ_labels, [p for _, _, p in moved])
     files["organ_landmarks.mrk.json"] = markups_json(marks)
     files["organ_landmarks.fcsv"] = markups_fcsv_ras(marks)
     files["organ_landmarks_moved.mrk.json"] = markups_json(moved)
@@ -2087,9 +2102,10 @@ def main(argv):
                    % (" x ".join(map(str, ORGAN_DIMS)), " x ".join(map(str, ORGAN_SPACING)),
                       organ["volume"], organ["voxels"], organ["lesion"],
                       " x ".join("[%.3f, %.3f]" % b for b in organ["bbox"]), 100 * organ["mismatch"]))
-    summary.append("organ_landmarks: %d landmarks, surface ones within %.1e mm of the surface; "
-                   "moved caudally by %.0f-%.0f mm" % (len(marks), surface_error,
-                                                      ORGAN_BREATH_SHIFT_MM[0], ORGAN_BREATH_SHIFT_MM[1]))
+    summary.append("organ_landmarks: %d landmarks, the dome %.1e mm off the surface, the organ's "
+                   "voxel centres at least %.2f mm inside their hull; moved caudally by %.0f-%.0f mm"
+                   % (len(marks), surface_error, hull_margin, ORGAN_BREATH_SHIFT_MM[0],
+                      ORGAN_BREATH_SHIFT_MM[1]))
 
     # Broken inputs -----------------------------------------------------------
     files.update(bad_files())

@@ -15,6 +15,8 @@
 //                   [--json-output FILE] [--threshold T] [--no-measure]
 //   barylab reduce  --input WEIGHTS_FILE [--cage CAGE] --output OUT [--threshold T]
 //                   [--renormalize rowsum|affine|none] [--keep-dense] [--json]
+//   barylab segment --image LABELMAP [--label K | --threshold T] --output SURFACE
+//                   [--smoothing N] [--faces F | --reduction R] [--json SUMMARY]
 //   barylab mesh    --cage CAGE [--points MODEL] [--max-volume V | --cells N] --output DOMAIN
 //   barylab embed   --mesh SURFACE --output E.txt [--dimension D] [--landmarks L]
 //   barylab average --mesh SURFACE [--embedding E.txt] --anchors A --weights W --output OUT

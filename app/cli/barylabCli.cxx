@@ -66,6 +66,7 @@ void ConfigureApp(CLI::App& app, Subcommands& subcommands)
   AddStatsCommand(subcommands);
   AddReduceCommand(subcommands);
   AddFieldsCommand(subcommands);
+  AddSegmentCommand(subcommands);
   AddMeshCommand(subcommands);
   AddEmbedCommand(subcommands);
   AddAverageCommand(subcommands);

@@ -96,6 +96,8 @@ void AddAnimateCommand(Subcommands& subcommands);
 void AddStatsCommand(Subcommands& subcommands);
 void AddReduceCommand(Subcommands& subcommands);
 void AddFieldsCommand(Subcommands& subcommands);
+/// barylab segment (barylabCommandSegment.cxx).
+void AddSegmentCommand(Subcommands& subcommands);
 void AddMeshCommand(Subcommands& subcommands);
 void AddEmbedCommand(Subcommands& subcommands);
 void AddAverageCommand(Subcommands& subcommands);
