@@ -310,8 +310,8 @@ TEST_P(ImageIOFormat, VectorImageRoundTrip)
 
 INSTANTIATE_TEST_SUITE_P(Formats, ImageIOFormat,
   ::testing::Values(".nii", ".nii.gz", ".nrrd", ".mha", ".mhd"),
-  [](const ::testing::TestParamInfo<std::string>& info) {
-    std::string name = info.param.substr(1);
+  [](const ::testing::TestParamInfo<std::string>& format) {
+    std::string name = format.param.substr(1);
     std::replace(name.begin(), name.end(), '.', '_');
     return name;
   });
