@@ -68,6 +68,7 @@ void ConfigureApp(CLI::App& app, Subcommands& subcommands)
   AddFieldsCommand(subcommands);
   AddSegmentCommand(subcommands);
   AddMeshCommand(subcommands);
+  AddCageCommand(subcommands);
   AddEmbedCommand(subcommands);
   AddAverageCommand(subcommands);
   AddCurveCommand(subcommands);

@@ -99,6 +99,8 @@ void AddFieldsCommand(Subcommands& subcommands);
 /// barylab segment (barylabCommandSegment.cxx).
 void AddSegmentCommand(Subcommands& subcommands);
 void AddMeshCommand(Subcommands& subcommands);
+/// barylab cage (barylabCommandCage.cxx).
+void AddCageCommand(Subcommands& subcommands);
 void AddEmbedCommand(Subcommands& subcommands);
 void AddAverageCommand(Subcommands& subcommands);
 void AddCurveCommand(Subcommands& subcommands);
