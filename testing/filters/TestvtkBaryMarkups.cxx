@@ -127,7 +127,7 @@ bary::Error ReadError(const std::string& path)
 }
 } // namespace
 
-TEST(Markups, SlicerFilesInLPSAndRASReadToTheSameLPSPoints)
+TEST(vtkBaryMarkups, SlicerFilesInLPSAndRASReadToTheSameLPSPoints)
 {
   const fs::path dir = Scratch();
   const std::string files[4] = { WriteText(dir / "lps.mrk.json", kJsonLPS),
@@ -159,7 +159,7 @@ TEST(Markups, SlicerFilesInLPSAndRASReadToTheSameLPSPoints)
   ExpectPoints(vtkDataSet::SafeDownCast(reader->GetOutputDataObject(0)), "vtkBaryFileReader");
 }
 
-TEST(Markups, SeveralMarkupsAreReadInFileOrder)
+TEST(vtkBaryMarkups, SeveralMarkupsAreReadInFileOrder)
 {
   const fs::path dir = Scratch();
   const std::string f = WriteText(dir / "two.mrk.json", R"({"markups": [
@@ -175,7 +175,7 @@ TEST(Markups, SeveralMarkupsAreReadInFileOrder)
       EXPECT_EQ(data->GetPoint(i)[k], expected[i][k]);
 }
 
-TEST(Markups, WriteThenReadKeepsEveryBitAndTheLabels)
+TEST(vtkBaryMarkups, WriteThenReadKeepsEveryBitAndTheLabels)
 {
   const fs::path dir = Scratch();
   // coordinates that need 17 digits, tiny and huge magnitudes, a negative zero
@@ -227,7 +227,7 @@ TEST(Markups, WriteThenReadKeepsEveryBitAndTheLabels)
   EXPECT_EQ(std::distance(fs::directory_iterator(dir), fs::directory_iterator()), 2);
 }
 
-TEST(Markups, AnyPointSetIsWrittenWithDefaultLabels)
+TEST(vtkBaryMarkups, AnyPointSetIsWrittenWithDefaultLabels)
 {
   const fs::path dir = Scratch();
   vtkNew<vtkUnstructuredGrid> grid;
@@ -248,7 +248,7 @@ TEST(Markups, AnyPointSetIsWrittenWithDefaultLabels)
   EXPECT_EQ(ids->GetValue(1), "2");
 }
 
-TEST(Markups, ExtensionsAreRecognised)
+TEST(vtkBaryMarkups, ExtensionsAreRecognised)
 {
   EXPECT_TRUE(vtkBaryDataIO::CanRead("a/b.mrk.json"));
   EXPECT_TRUE(vtkBaryDataIO::CanRead("B.Mrk.Json"));
@@ -261,7 +261,7 @@ TEST(Markups, ExtensionsAreRecognised)
   EXPECT_FALSE(vtkBaryMarkupsReader::IsMarkupsFile(nullptr));
 }
 
-TEST(Markups, MalformedFilesAreClearErrors)
+TEST(vtkBaryMarkups, MalformedFilesAreClearErrors)
 {
   const fs::path dir = Scratch();
   struct Case
@@ -333,7 +333,7 @@ TEST(Markups, MalformedFilesAreClearErrors)
   }
 }
 
-TEST(Markups, FailedWritesLeaveNoFile)
+TEST(vtkBaryMarkups, FailedWritesLeaveNoFile)
 {
   const fs::path dir = Scratch();
   auto cloud = MakePointCloud({ { 1, 2, 3 }, { 4, std::numeric_limits<double>::quiet_NaN(), 6 } });
