@@ -75,6 +75,7 @@ void ConfigureApp(CLI::App& app, Subcommands& subcommands)
   AddTransferCommand(subcommands);
   AddRemeshCommand(subcommands);
   AddSplineCommand(subcommands);
+  AddTransformCommands(subcommands);
   AddRenderCommand(subcommands);
   AddDemoCommand(subcommands);
 }

@@ -119,6 +119,8 @@ vtkSmartPointer<vtkPolyData> embedded_surface(const std::string& mesh, const std
 void check_surface_outputs(const std::string& output, const std::string& json_path,
   const std::string& save, const std::vector<std::string>& inputs);
 void AddRenderCommand(Subcommands& subcommands);
+/// export-transform and warp-image (barylabCommandTransform.cxx).
+void AddTransformCommands(Subcommands& subcommands);
 void AddDemoCommand(Subcommands& subcommands);
 /// @}
 
