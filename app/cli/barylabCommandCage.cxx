@@ -32,6 +32,8 @@ struct CageArgs
   double margin = 0.0;
   double margin_fraction = 0.05;
   double resolution = 2.0;
+  int tighten_rounds = 4;
+  double clearance = 0.25;
   bool quiet = false;
 };
 
@@ -53,6 +55,8 @@ int run_cage(const CageArgs& a)
   filter->SetMargin(a.margin);
   filter->SetMarginFraction(a.margin_fraction);
   filter->SetResolution(a.resolution);
+  filter->SetTightenRounds(a.tighten_rounds);
+  filter->SetClearance(a.clearance);
   ProgressBar bar(!a.quiet, "cage");
   RunAlgorithm(filter, callbacks(bar, a.quiet), bary::ErrorCode::InvalidArgument);
   bar.done();
@@ -114,6 +118,14 @@ void AddCageCommand(Subcommands& subcommands)
   command->add_option("--resolution", a->resolution, "distance-grid cells per margin")
     ->default_val(a->resolution)
     ->check(FiniteRange(2.0, 64.0));
+  command->add_option("--tighten-rounds", a->tighten_rounds,
+      "rounds moving the cage's vertices toward the model after decimation (0: none)")
+    ->default_val(a->tighten_rounds)
+    ->check(CLI::Range(0, 1000));
+  command->add_option("--clearance", a->clearance,
+      "distance tightening leaves between a vertex and the model, in margins")
+    ->default_val(a->clearance)
+    ->check(FiniteRange(0.0, 1.0));
   command->add_option("--output,-o", a->output, "cage (.obj, .vtp, .vtk, .off, .stl, .ply)")
     ->required();
   command->add_option("--json", a->json_path, "write a JSON summary");

@@ -161,6 +161,26 @@ double CageModelOracle::distance(const Point3d& q) const
   return std::sqrt(d2);
 }
 
+Point3d CageModelOracle::closest_point(const Point3d& q) const
+{
+  const Impl& m = *impl_;
+  const P3 p = point(q);
+  P3 best = p;
+  double d2 = std::numeric_limits<double>::infinity();
+  if (!m.triangles.empty())
+  {
+    best = m.triangle_tree.closest_point(p);
+    d2 = CGAL::to_double(CGAL::squared_distance(p, best));
+  }
+  if (!m.segments.empty())
+  {
+    const P3 c = m.segment_tree.closest_point(p);
+    if (CGAL::to_double(CGAL::squared_distance(p, c)) < d2)
+      best = c;
+  }
+  return { CGAL::to_double(best.x()), CGAL::to_double(best.y()), CGAL::to_double(best.z()) };
+}
+
 bool triangles_intersect_improperly(const std::array<Point3d, 3>& A, const std::array<int, 3>& ia,
   const std::array<Point3d, 3>& B, const std::array<int, 3>& ib)
 {

@@ -37,6 +37,8 @@ public:
   bool triangles_touch_model(const Point3d& apex, const std::vector<std::array<Point3d, 2>>& bases) const;
   /// Distance from @p p to the model (rounded constructions).
   double distance(const Point3d& p) const;
+  /// The model's point closest to @p p (rounded constructions).
+  Point3d closest_point(const Point3d& p) const;
 
 private:
   struct Impl;

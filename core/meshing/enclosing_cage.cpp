@@ -70,6 +70,12 @@ void check_input(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const Enclo
   if (!(o.resolution >= 2.0 && o.resolution <= 64.0))
     throw Error(ErrorCode::InvalidArgument, "enclosing cage: resolution " +
         detail::format_number(o.resolution) + " is not in [2, 64] cells per margin");
+  if (o.tighten_rounds < 0 || o.tighten_rounds > 1000)
+    throw Error(ErrorCode::InvalidArgument, "enclosing cage: tighten_rounds " +
+        std::to_string(o.tighten_rounds) + " is not in [0, 1000]");
+  if (!(o.clearance >= 0.0 && o.clearance <= 1.0))
+    throw Error(ErrorCode::InvalidArgument, "enclosing cage: clearance " +
+        detail::format_number(o.clearance) + " is not in [0, 1] margins");
   if (o.max_grid_nodes < 8)
     throw Error(ErrorCode::InvalidArgument, "enclosing cage: max_grid_nodes must be >= 8");
 }
@@ -519,6 +525,38 @@ public:
 
   Index alive() const { return alive_; }
 
+  // Moves each vertex toward its closest model point, to @p clearance from it, halving the step
+  // up to 4 times when a check fails; @p rounds sweeps over the vertices in index order.
+  Index tighten(int rounds, double clearance)
+  {
+    Index moves = 0;
+    for (int round = 0; round < rounds; ++round)
+    {
+      Index moved = 0;
+      for (std::size_t v = 0; v < pos_.size(); ++v)
+      {
+        if (!vertex_alive_[v])
+          continue;
+        const Point3d c = oracle_.closest_point(to_p3(pos_[v]));
+        const Vec3 to = Vec3(c[0], c[1], c[2]) - pos_[v];
+        const double d = to.norm();
+        if (!(d > 1.01 * clearance))
+          continue;
+        double step = d - clearance;
+        for (int attempt = 0; attempt < 5; ++attempt, step *= 0.5)
+          if (try_collapse(int(v), -1, pos_[v] + (step / d) * to))
+          {
+            ++moved;
+            break;
+          }
+      }
+      moves += moved;
+      if (moved == 0)
+        break;
+    }
+    return moves;
+  }
+
   Cage cage() const
   {
     std::vector<int> remap(pos_.size(), -1);
@@ -585,26 +623,32 @@ private:
     queue.push({ best.first, u, v, stamp_[u], stamp_[v] });
   }
 
+  // Collapses the edge (u, v) into u at p; v < 0: moves u to p. Returns false (and changes
+  // nothing) when a check fails.
   bool try_collapse(int u, int v, const Vec3& p)
   {
-    // Link condition: the common neighbours of u and v are the two apexes of the edge's faces.
-    const std::vector<int> nu = neighbours(u), nv = neighbours(v);
-    std::vector<int> common;
-    std::set_intersection(nu.begin(), nu.end(), nv.begin(), nv.end(), std::back_inserter(common));
     std::vector<int> edge_faces, star; // faces with both; all faces of u or v
     for (int f : vf_[u])
     {
       star.push_back(f);
-      if (std::find(faces_[f].begin(), faces_[f].end(), v) != faces_[f].end())
+      if (v >= 0 && std::find(faces_[f].begin(), faces_[f].end(), v) != faces_[f].end())
         edge_faces.push_back(f);
     }
-    for (int f : vf_[v])
-      if (std::find(faces_[f].begin(), faces_[f].end(), u) == faces_[f].end())
-        star.push_back(f);
-    if (edge_faces.size() != 2 || common.size() != 2)
-      return false;
-    if (nu.size() + nv.size() - 4 < 3) // degree of the merged vertex
-      return false;
+    if (v >= 0)
+    {
+      for (int f : vf_[v])
+        if (std::find(faces_[f].begin(), faces_[f].end(), u) == faces_[f].end())
+          star.push_back(f);
+      // Link condition: the common neighbours of u and v are the two apexes of the edge's faces.
+      const std::vector<int> nu = neighbours(u), nv = neighbours(v);
+      std::vector<int> common;
+      std::set_intersection(
+        nu.begin(), nu.end(), nv.begin(), nv.end(), std::back_inserter(common));
+      if (edge_faces.size() != 2 || common.size() != 2)
+        return false;
+      if (nu.size() + nv.size() - 4 < 3) // degree of the merged vertex
+        return false;
+    }
     // The new faces, their shape and orientation.
     std::vector<std::array<int, 3>> fresh;
     double worst_old = 1.0;
@@ -612,7 +656,7 @@ private:
     {
       const auto& t = faces_[f];
       worst_old = std::min(worst_old, triangle_quality(pos_[t[0]], pos_[t[1]], pos_[t[2]]));
-      if (f == edge_faces[0] || f == edge_faces[1])
+      if (std::find(edge_faces.begin(), edge_faces.end(), f) != edge_faces.end())
         continue;
       std::array<int, 3> nt = t;
       for (int& w : nt)
@@ -712,10 +756,13 @@ private:
       grid_.insert(f, lo, hi);
     }
     vf_[u] = uf;
-    vf_[v].clear();
-    vertex_alive_[v] = 0;
-    Q_[u] += Q_[v];
-    --alive_;
+    if (v >= 0)
+    {
+      vf_[v].clear();
+      vertex_alive_[v] = 0;
+      Q_[u] += Q_[v];
+      --alive_;
+    }
     return true;
   }
 
@@ -801,6 +848,37 @@ public:
 
   Index alive() const { return alive_; }
 
+  // As SurfaceDecimator::tighten.
+  Index tighten(int rounds, double clearance)
+  {
+    Index moves = 0;
+    for (int round = 0; round < rounds; ++round)
+    {
+      Index moved = 0;
+      for (std::size_t v = 0; v < pos_.size(); ++v)
+      {
+        if (!alive_flag_[v])
+          continue;
+        const Point3d c = oracle_.closest_point(to_p3(pos_[v]));
+        const Vec3 to = Vec3(c[0], c[1], 0.0) - pos_[v];
+        const double d = to.norm();
+        if (!(d > 1.01 * clearance))
+          continue;
+        double step = d - clearance;
+        for (int attempt = 0; attempt < 5; ++attempt, step *= 0.5)
+          if (try_collapse(int(v), pos_[v] + (step / d) * to, true))
+          {
+            ++moved;
+            break;
+          }
+      }
+      moves += moved;
+      if (moved == 0)
+        break;
+    }
+    return moves;
+  }
+
   Cage cage() const
   {
     Cage cage;
@@ -850,14 +928,16 @@ private:
     queue.push({ best.first, a, b, stamp_[a], stamp_[b] });
   }
 
-  // Collapses the edge (i, next(i)) into i at p.
-  bool try_collapse(int i, const Vec3& p)
+  // Collapses the edge (i, next(i)) into i at p; with @p move, moves i to p instead.
+  bool try_collapse(int i, const Vec3& p, bool move = false)
   {
-    const int j = next_[i], a = prev_[i], b = next_[j];
+    const int j = move ? i : next_[i], a = prev_[i], b = next_[j];
     if (p == pos_[a] || p == pos_[b])
       return false;
-    const std::vector<std::array<Point3d, 2>> bases = { { to_p3(pos_[a]), to_p3(pos_[i]) },
-      { to_p3(pos_[i]), to_p3(pos_[j]) }, { to_p3(pos_[j]), to_p3(pos_[b]) } };
+    std::vector<std::array<Point3d, 2>> bases = { { to_p3(pos_[a]), to_p3(pos_[i]) },
+      { to_p3(pos_[j]), to_p3(pos_[b]) } };
+    if (!move)
+      bases.push_back({ to_p3(pos_[i]), to_p3(pos_[j]) });
     if (oracle_.triangles_touch_model(to_p3(p), bases))
       return false;
     using S2 = std::array<std::array<double, 2>, 2>;
@@ -888,6 +968,15 @@ private:
       });
       if (hit)
         return false;
+    }
+    if (move)
+    {
+      erase_edge(a);
+      erase_edge(i);
+      pos_[i] = p;
+      insert_edge(a);
+      insert_edge(i);
+      return true;
     }
     erase_edge(a);
     erase_edge(i);
@@ -1047,6 +1136,9 @@ EnclosingCageResult enclosing_cage(const Eigen::MatrixXd& V, const Eigen::Matrix
     ProgressReporter dec_progress(
       progress, std::max<Index>(1, result.offset_vertices - target), 0.3, 1.0);
     decimator.run(target, dec_progress, result.collapses, result.rejected);
+    if (options.tighten_rounds > 0)
+      result.tighten_moves =
+        decimator.tighten(options.tighten_rounds, options.clearance * result.margin);
     result.cage = decimator.cage();
   }
   else
@@ -1083,6 +1175,9 @@ EnclosingCageResult enclosing_cage(const Eigen::MatrixXd& V, const Eigen::Matrix
     ProgressReporter dec_progress(
       progress, std::max<Index>(1, result.offset_vertices - target), 0.3, 1.0);
     decimator.run(target, dec_progress, result.collapses, result.rejected);
+    if (options.tighten_rounds > 0)
+      result.tighten_moves =
+        decimator.tighten(options.tighten_rounds, options.clearance * result.margin);
     result.cage = decimator.cage();
   }
   const Index n = result.cage.num_controls();

@@ -29,6 +29,10 @@
 ///    cage face except along shared edges and vertices (a uniform grid of the cage faces, updated
 ///    per collapse). Since the old cage enclosed the model strictly, so does the new one.
 ///    Stops at the target number of vertices or when no collapse is valid (reported).
+/// 3. Tightening: a few rounds moving each vertex toward its closest model point, to a
+///    clearance (a fraction of the margin) from it, each move checked as a collapse is (the cone
+///    from the new position over the vertex's faces meets no model element, no fold, no
+///    self-intersection).
 /// Deterministic (sequential, ties broken by vertex ids).
 
 #include "core/common/cage.h"
@@ -53,6 +57,13 @@ struct EnclosingCageOptions
   /// Grid cells per margin (cell side h = margin / resolution), in [2, 64]: finer grids follow
   /// the model more closely before decimation and cost more. Default 2.
   double resolution = 2.0;
+  /// Tightening after decimation: rounds of moves of each cage vertex toward its closest model
+  /// point, to clearance x margin from it (the step halved up to 4 times when a move fails a
+  /// check; a move is checked as a collapse is). 0 = none; [0, 1000]. Default 4.
+  int tighten_rounds = 4;
+  /// The distance, in margins, that tightening leaves between a vertex and its closest model
+  /// point, in [0, 1]. Default 0.25.
+  double clearance = 0.25;
   /// Largest grid allowed (nodes); a larger one is refused with advice. Default 2^24.
   Index max_grid_nodes = Index(1) << 24;
 };
@@ -70,6 +81,7 @@ struct EnclosingCageResult
   Index offset_faces = 0;     ///< its triangles (3D) or edges (2D)
   Index collapses = 0;        ///< edge collapses done
   Index rejected = 0;         ///< collapse candidates refused by a check
+  Index tighten_moves = 0;    ///< vertex moves made by the tightening rounds
   /// True when the cage has target_vertices vertices (or fewer, when the offset surface already
   /// had fewer: then no collapse is made); false when no valid collapse was left before.
   bool reached_target = false;

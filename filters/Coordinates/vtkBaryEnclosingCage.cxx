@@ -128,6 +128,8 @@ int vtkBaryEnclosingCage::RequestData(
     options.margin = this->Margin;
     options.margin_fraction = this->MarginFraction;
     options.resolution = this->Resolution;
+    options.tighten_rounds = this->TightenRounds;
+    options.clearance = this->Clearance;
     auto progress = [this](double f) {
       this->UpdateProgress(f);
       return !this->GetAbortExecute();
@@ -182,4 +184,6 @@ void vtkBaryEnclosingCage::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "Margin: " << this->Margin << "\n";
   os << indent << "MarginFraction: " << this->MarginFraction << "\n";
   os << indent << "Resolution: " << this->Resolution << "\n";
+  os << indent << "TightenRounds: " << this->TightenRounds << "\n";
+  os << indent << "Clearance: " << this->Clearance << "\n";
 }

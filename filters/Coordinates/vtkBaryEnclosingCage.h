@@ -12,7 +12,8 @@
  * Method (bary::enclosing_cage, docs/cage-generation.md): the outer offset surface of the
  * model at distance Margin on a grid (marching tetrahedra), then greedy edge collapses by
  * quadric error, each accepted only if the cage stays manifold, unfolded, free of
- * self-intersections and the region it sweeps meets no model triangle (exact predicates, CGAL).
+ * self-intersections and the region it sweeps meets no model triangle (exact predicates, CGAL),
+ * then a few rounds moving the vertices toward the model under the same checks.
  *
  * Bad input (empty, NaN, a target below 4 in 3D / 3 in 2D, cells that are neither triangles
  * nor, in 2D, polygons / lines) fails the update with vtkErrorMacro; the error code carries the
@@ -60,6 +61,16 @@ public:
   ///@}
 
   ///@{
+  /// Tightening after decimation: rounds of moves of each vertex toward its closest model point
+  /// (0 = none), in [0, 1000], default 4; the distance they leave, in margins, in [0, 1],
+  /// default 0.25.
+  vtkSetClampMacro(TightenRounds, int, 0, 1000);
+  vtkGetMacro(TightenRounds, int);
+  vtkSetClampMacro(Clearance, double, 0.0, 1.0);
+  vtkGetMacro(Clearance, double);
+  ///@}
+
+  ///@{
   /// Results of the last update (NaN / 0 before one): the margin used, the offset surface's
   /// vertices, whether the target was reached, the cage's volume (3D) or area (2D) over the
   /// model's (NaN for an open 3D model), the largest and mean distance from a cage vertex to
@@ -87,6 +98,8 @@ protected:
   double Margin = 0.0;
   double MarginFraction = 0.05;
   double Resolution = 2.0;
+  int TightenRounds = 4;
+  double Clearance = 0.25;
   double MarginUsed = 0.0;
   vtkIdType OffsetVertices = 0;
   bool ReachedTarget = false;

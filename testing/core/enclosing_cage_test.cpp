@@ -403,19 +403,56 @@ TEST(EnclosingCage, Deterministic)
 
 TEST(EnclosingCage, GivenMarginIsUsedAndASmallerOneIsTighter)
 {
+  // Without tightening the cage follows the offset curve: a smaller margin, a smaller cage.
   const Model model = read_obj_2d(data("model2d.obj"));
   const double diagonal = (model.V.colwise().maxCoeff() - model.V.colwise().minCoeff()).norm();
   EnclosingCageOptions options;
   options.target_vertices = 24;
+  options.tighten_rounds = 0;
   options.margin = 0.02 * diagonal;
   const EnclosingCageResult tight = enclosing_cage(model.V, model.F, options);
   EXPECT_EQ(tight.margin, options.margin);
+  EXPECT_EQ(tight.tighten_moves, 0);
   EXPECT_EQ(check_enclosure_2d(model, tight.cage), 0);
   options.margin = 0.0; // automatic: 5 % of the diagonal
   const EnclosingCageResult loose = enclosing_cage(model.V, model.F, options);
   EXPECT_NEAR(loose.margin, 0.05 * diagonal, 1e-15 * diagonal);
   EXPECT_LT(tight.cage_measure, loose.cage_measure);
   EXPECT_LT(tight.max_distance, loose.max_distance);
+  // Every vertex lies about a margin from the model: within [margin - h sqrt(2), 3 margin].
+  EXPECT_GT(loose.mean_distance, loose.margin - loose.cell_size * std::sqrt(2.0));
+}
+
+TEST(EnclosingCage, TighteningShrinksTheCageAndKeepsItEnclosing)
+{
+  const Model model = read_off(data("heart.off"));
+  EnclosingCageOptions options;
+  options.target_vertices = 60;
+  options.margin_fraction = 0.1; // a coarser grid than the default: a faster test
+  options.tighten_rounds = 0;
+  const EnclosingCageResult plain = enclosing_cage(model.V, model.F, options);
+  options.tighten_rounds = 4; // the default
+  const EnclosingCageResult tightened = enclosing_cage(model.V, model.F, options);
+  EXPECT_GT(tightened.tighten_moves, 0);
+  EXPECT_LT(tightened.cage_measure, plain.cage_measure);
+  EXPECT_LT(tightened.mean_distance, plain.mean_distance);
+  // No vertex comes closer to the model than the clearance (brute force over the triangles).
+  double nearest = std::numeric_limits<double>::infinity();
+  for (Index v = 0; v < tightened.cage.V.rows(); ++v)
+  {
+    const K::Point_3 q(tightened.cage.V(v, 0), tightened.cage.V(v, 1), tightened.cage.V(v, 2));
+    for (Index f = 0; f < model.F.rows(); ++f)
+    {
+      auto corner = [&](int k) {
+        return K::Point_3(model.V(model.F(f, k), 0), model.V(model.F(f, k), 1), model.V(model.F(f, k), 2));
+      };
+      nearest = std::min(nearest, std::sqrt(CGAL::squared_distance(K::Triangle_3(corner(0), corner(1), corner(2)), q)));
+    }
+  }
+  EXPECT_GE(nearest, (1.0 - 1e-9) * options.clearance * tightened.margin);
+  EXPECT_EQ(check_enclosure_3d(model, tightened.cage), 0);
+  EXPECT_EQ(tightened.cage.V.rows(), plain.cage.V.rows());
+  EXPECT_TRUE(tightened.cage.F == plain.cage.F) << "tightening moves vertices only";
 }
 
 TEST(EnclosingCage, TargetBelowWhatIsReachable)
