@@ -96,6 +96,9 @@ int run_segment(const SegmentArgs& a)
   summary["components_dropped"] = surface->GetNumberOfDroppedComponents();
   summary["border_cut"] = surface->GetTouchesBorder();
   summary["smoothing"] = a.smoothing;
+  summary["smoothing_used"] = surface->GetSmoothingIterationsUsed();
+  summary["decimation"] = surface->GetDecimationUsed();
+  summary["attempts"] = surface->GetNumberOfAttempts();
   if (reduction_given)
     summary["reduction"] = a.reduction;
   else
@@ -113,6 +116,12 @@ int run_segment(const SegmentArgs& a)
       std::cerr << "barylab: warning: " << what
                 << " touches the image's border (the field of view cuts it): the surface is "
                    "closed along the border\n";
+    if (surface->GetNumberOfAttempts() > 1)
+      std::cerr << "barylab: warning: the first surface failed BaryLab's checks ("
+                << surface->GetFirstFailure() << "); the surface written is attempt "
+                << surface->GetNumberOfAttempts() << ": decimation "
+                << surface->GetDecimationUsed() << ", " << surface->GetSmoothingIterationsUsed()
+                << " smoothing iterations\n";
     if (surface->GetNumberOfDroppedComponents() > 0)
       std::cerr << "barylab: warning: " << surface->GetNumberOfDroppedComponents()
                 << " smaller surface piece(s) of " << what

@@ -8,6 +8,7 @@
 #include "vtkCellArray.h"
 #include "vtkDataArray.h"
 #include "vtkDecimatePro.h"
+#include "vtkQuadricDecimation.h"
 #include "vtkDiscreteFlyingEdges3D.h"
 #include "vtkImageData.h"
 #include "vtkInformation.h"
@@ -38,6 +39,13 @@ namespace
 {
 using bary::Error;
 using bary::ErrorCode;
+
+enum class Decimation
+{
+  None,
+  Pro,
+  Quadric
+};
 
 std::string number(double x)
 {
@@ -96,6 +104,10 @@ int vtkBaryLabelMapSurface::RequestData(
   this->NumberOfExtractedFaces = 0;
   this->NumberOfDroppedComponents = 0;
   this->TouchesBorder = false;
+  this->SmoothingIterationsUsed = 0;
+  this->DecimationUsed = "none";
+  this->NumberOfAttempts = 0;
+  this->FirstFailure.clear();
   try
   {
     if (!image)
@@ -254,47 +266,14 @@ int vtkBaryLabelMapSurface::RequestData(
     if (this->NumberOfExtractedFaces == 0)
       throw Error(ErrorCode::Internal, "the contouring of the label gave no triangle");
 
-    if (this->SmoothingIterations > 0)
-    {
-      vtkNew<vtkWindowedSincPolyDataFilter> smooth;
-      smooth->SetInputData(surface);
-      smooth->SetNumberOfIterations(this->SmoothingIterations);
-      smooth->SetPassBand(this->SmoothingPassBand);
-      smooth->NormalizeCoordinatesOn();
-      smooth->BoundarySmoothingOff();
-      smooth->FeatureEdgeSmoothingOff();
-      smooth->NonManifoldSmoothingOn();
-      update(smooth, "the smoothing");
-      surface = smooth->GetOutput();
-    }
-
-    const vtkIdType faces = surface->GetNumberOfPolys();
-    double reduction = 0.0;
-    if (this->TargetNumberOfFaces > 0)
-      reduction = faces > this->TargetNumberOfFaces
-        ? 1.0 - static_cast<double>(this->TargetNumberOfFaces) / static_cast<double>(faces)
-        : 0.0;
-    else
-      reduction = this->TargetReduction;
-    if (reduction > 0.0)
-    {
-      vtkNew<vtkDecimatePro> decimate;
-      decimate->SetInputData(surface);
-      decimate->SetTargetReduction(reduction);
-      decimate->PreserveTopologyOn();
-      decimate->SplittingOff();
-      decimate->BoundaryVertexDeletionOff();
-      update(decimate, "the decimation");
-      surface = decimate->GetOutput();
-    }
-
-    // To physical space, only the points the triangles use, as a cage for validation.
-    vtkCellArray* polys = surface->GetPolys();
-    std::vector<vtkIdType> index(static_cast<std::size_t>(surface->GetNumberOfPoints()), -1);
-    std::vector<std::array<vtkIdType, 3>> triangles;
-    triangles.reserve(static_cast<std::size_t>(polys->GetNumberOfCells()));
-    vtkIdType used = 0;
-    {
+    // The surface mapped to physical space (only the points its triangles use), outward, as a
+    // cage for validation.
+    auto to_cage = [&](vtkPolyData* mesh) {
+      vtkCellArray* polys = mesh->GetPolys();
+      std::vector<vtkIdType> index(static_cast<std::size_t>(mesh->GetNumberOfPoints()), -1);
+      std::vector<std::array<vtkIdType, 3>> triangles;
+      triangles.reserve(static_cast<std::size_t>(polys->GetNumberOfCells()));
+      vtkIdType used = 0;
       vtkIdType n;
       const vtkIdType* ids;
       for (polys->InitTraversal(); polys->GetNextCell(n, ids);)
@@ -311,40 +290,130 @@ int vtkBaryLabelMapSurface::RequestData(
         }
         triangles.push_back(t);
       }
-    }
+      bary::Cage cage;
+      cage.V.resize(used, 3);
+      cage.F.resize(static_cast<Eigen::Index>(triangles.size()), 3);
+      for (vtkIdType p = 0; p < mesh->GetNumberOfPoints(); ++p)
+      {
+        const vtkIdType q = index[static_cast<std::size_t>(p)];
+        if (q < 0)
+          continue;
+        double x[3];
+        mesh->GetPoint(p, x);
+        for (int r = 0; r < 3; ++r)
+          cage.V(q, r) = origin[r] + D[r][0] * x[0] + D[r][1] * x[1] + D[r][2] * x[2];
+      }
+      for (std::size_t t = 0; t < triangles.size(); ++t)
+        for (int c = 0; c < 3; ++c)
+          cage.F(static_cast<Eigen::Index>(t), c) = static_cast<int>(triangles[t][c]);
+      if (bary::signed_measure(cage) < 0)
+      { // a direction of negative determinant mirrors the surface: turn it outward again
+        const Eigen::VectorXi second = cage.F.col(1);
+        cage.F.col(1) = cage.F.col(2);
+        cage.F.col(2) = second;
+      }
+      return cage;
+    };
+    auto smoothed = [&](int iterations) -> vtkSmartPointer<vtkPolyData> {
+      if (iterations == 0)
+        return surface;
+      vtkNew<vtkWindowedSincPolyDataFilter> smooth;
+      smooth->SetInputData(surface);
+      smooth->SetNumberOfIterations(iterations);
+      smooth->SetPassBand(this->SmoothingPassBand);
+      smooth->NormalizeCoordinatesOn();
+      smooth->BoundarySmoothingOff();
+      smooth->FeatureEdgeSmoothingOff();
+      smooth->NonManifoldSmoothingOn();
+      update(smooth, "the smoothing");
+      return smooth->GetOutput();
+    };
+    auto reduction_for = [&](vtkIdType faces, double scale) {
+      if (this->TargetNumberOfFaces > 0)
+      {
+        const double target = scale * this->TargetNumberOfFaces;
+        return faces > target ? 1.0 - target / static_cast<double>(faces) : 0.0;
+      }
+      return this->TargetReduction / scale;
+    };
+    auto decimated = [&](vtkPolyData* input, Decimation method, double reduction)
+      -> vtkSmartPointer<vtkPolyData> {
+      if (method == Decimation::Pro)
+      {
+        vtkNew<vtkDecimatePro> decimate;
+        decimate->SetInputData(input);
+        decimate->SetTargetReduction(reduction);
+        decimate->PreserveTopologyOn();
+        decimate->SplittingOff();
+        decimate->BoundaryVertexDeletionOff();
+        update(decimate, "the decimation");
+        return decimate->GetOutput();
+      }
+      vtkNew<vtkQuadricDecimation> decimate;
+      decimate->SetInputData(input);
+      decimate->SetTargetReduction(reduction);
+      decimate->VolumePreservationOn();
+      update(decimate, "the decimation");
+      return decimate->GetOutput();
+    };
+
+    // Smoothing, then decimation, then validation. VTK's decimations keep the topology of most
+    // surfaces but not of every one (vtkDecimatePro with PreserveTopology left an edge shared
+    // by four triangles on a 256^3 organ): a surface that fails the checks is replaced by the
+    // next candidate, in this order: vtkDecimatePro, vtkQuadricDecimation (volume preserving),
+    // both again at twice the triangles, no decimation; then all of it without smoothing.
     bary::Cage cage;
-    cage.V.resize(used, 3);
-    cage.F.resize(static_cast<Eigen::Index>(triangles.size()), 3);
-    for (vtkIdType p = 0; p < surface->GetNumberOfPoints(); ++p)
+    bool valid = false;
+    this->NumberOfAttempts = 0;
+    this->FirstFailure.clear();
+    std::vector<int> smoothings = { this->SmoothingIterations };
+    if (this->SmoothingIterations > 0)
+      smoothings.push_back(0);
+    for (std::size_t si = 0; si < smoothings.size() && !valid; ++si)
     {
-      const vtkIdType q = index[static_cast<std::size_t>(p)];
-      if (q < 0)
-        continue;
-      double x[3];
-      surface->GetPoint(p, x);
-      for (int r = 0; r < 3; ++r)
-        cage.V(q, r) = origin[r] + D[r][0] * x[0] + D[r][1] * x[1] + D[r][2] * x[2];
+      vtkSmartPointer<vtkPolyData> smooth = smoothed(smoothings[si]);
+      const vtkIdType faces = smooth->GetNumberOfPolys();
+      std::vector<std::pair<Decimation, double>> candidates;
+      for (double scale : { 1.0, 2.0 })
+      {
+        const double reduction = reduction_for(faces, scale);
+        if (reduction > 0.0)
+        {
+          candidates.emplace_back(Decimation::Pro, reduction);
+          candidates.emplace_back(Decimation::Quadric, reduction);
+        }
+      }
+      candidates.emplace_back(Decimation::None, 0.0);
+      for (const auto& [method, reduction] : candidates)
+      {
+        vtkSmartPointer<vtkPolyData> result =
+          method == Decimation::None ? smooth : decimated(smooth, method, reduction);
+        ++this->NumberOfAttempts;
+        try
+        {
+          cage = to_cage(result);
+          bary::validate_cage(cage);
+        }
+        catch (const Error& e)
+        {
+          if (this->FirstFailure.empty())
+            this->FirstFailure = e.message();
+          continue;
+        }
+        valid = true;
+        this->SmoothingIterationsUsed = smoothings[si];
+        this->DecimationUsed = method == Decimation::Pro ? "decimate-pro"
+          : method == Decimation::Quadric                ? "quadric"
+                                                         : "none";
+        break;
+      }
     }
-    for (std::size_t t = 0; t < triangles.size(); ++t)
-      for (int c = 0; c < 3; ++c)
-        cage.F(static_cast<Eigen::Index>(t), c) = static_cast<int>(triangles[t][c]);
-    if (bary::signed_measure(cage) < 0)
-    { // a direction of negative determinant mirrors the surface: turn it outward again
-      const Eigen::VectorXi second = cage.F.col(1);
-      cage.F.col(1) = cage.F.col(2);
-      cage.F.col(2) = second;
-    }
-    try
-    {
-      bary::validate_cage(cage);
-    }
-    catch (const Error& e)
-    {
+    if (!valid)
       throw Error(ErrorCode::InvalidCage,
-        "the surface of the label failed BaryLab's surface checks (" + e.message() + ")",
-        "use less smoothing (SmoothingIterations, --smoothing) or keep more triangles "
-        "(TargetNumberOfFaces, --faces)");
-    }
+        "the surface of the label failed BaryLab's surface checks, with and without smoothing "
+        "and decimation (" + this->FirstFailure + ")",
+        "check the label map (a label of a few voxels, or voxels that touch only at an edge or "
+        "corner)");
     this->EnclosedVolume = bary::enclosed_measure(cage);
 
     vtkNew<vtkPoints> points;
@@ -377,4 +446,7 @@ void vtkBaryLabelMapSurface::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "SmoothingPassBand: " << this->SmoothingPassBand << "\n";
   os << indent << "TargetNumberOfFaces: " << this->TargetNumberOfFaces << "\n";
   os << indent << "TargetReduction: " << this->TargetReduction << "\n";
+  os << indent << "SmoothingIterationsUsed: " << this->SmoothingIterationsUsed << "\n";
+  os << indent << "DecimationUsed: " << this->DecimationUsed << "\n";
+  os << indent << "NumberOfAttempts: " << this->NumberOfAttempts << "\n";
 }

@@ -30,8 +30,15 @@
  *    matrix), which is also right for a non-orthogonal (sheared) but invertible D; a singular
  *    or non-finite D, spacing or origin is refused.
  * 8. Oriented outward (positive enclosed volume; a direction with negative determinant mirrors
- *    the triangles, which are then flipped) and validated: a surface that fails validation
- *    (e.g. smoothing made two close sheets cross) is refused with the reason, never output.
+ *    the triangles, which are then flipped) and validated. VTK's decimations keep the topology
+ *    of most surfaces but not of all (vtkDecimatePro with PreserveTopology once left an edge
+ *    shared by four triangles), and smoothing can make close sheets cross: a surface that fails
+ *    is replaced by the next candidate, in this order: vtkDecimatePro; vtkQuadricDecimation
+ *    (volume preserving); both at twice the target triangles (half the reduction); no
+ *    decimation; then the same without smoothing. What was used is reported
+ *    (GetSmoothingIterationsUsed, GetDecimationUsed, GetNumberOfAttempts, GetFirstFailure); when
+ *    no candidate passes, the filter fails with the first one's reason. An invalid surface is
+ *    never output.
  *
  * Reported after an update: the label used, its voxels, its volume (voxels times the voxel
  * volume |det D| sx sy sz), the surface's enclosed volume, dropped components, whether the label
@@ -48,6 +55,8 @@
 
 #include "BaryLabMedicalModule.h" // for export macro
 #include "vtkPolyDataAlgorithm.h"
+
+#include <string> // for std::string
 
 class BARYLABMEDICAL_EXPORT vtkBaryLabelMapSurface : public vtkPolyDataAlgorithm
 {
@@ -110,6 +119,14 @@ public:
   /// true when the label has voxels on the image's boundary (the field of view cut it; the
   /// surface is closed by the padding there)
   vtkGetMacro(TouchesBorder, bool);
+  /// the smoothing iterations and decimation ("decimate-pro", "quadric", "none") of the
+  /// surface output: those asked for unless a surface failed validation (step 8)
+  vtkGetMacro(SmoothingIterationsUsed, int);
+  const char* GetDecimationUsed() const { return this->DecimationUsed; }
+  /// surfaces made until one passed validation (1: the first did)
+  vtkGetMacro(NumberOfAttempts, int);
+  /// why the first surface failed validation ("" when it passed)
+  const char* GetFirstFailure() const { return this->FirstFailure.c_str(); }
   ///@}
 
 protected:
@@ -135,6 +152,10 @@ protected:
   vtkIdType NumberOfExtractedFaces = 0;
   int NumberOfDroppedComponents = 0;
   bool TouchesBorder = false;
+  int SmoothingIterationsUsed = 0;
+  const char* DecimationUsed = "none";
+  int NumberOfAttempts = 0;
+  std::string FirstFailure;
 
 private:
   vtkBaryLabelMapSurface(const vtkBaryLabelMapSurface&) = delete;
