@@ -18,6 +18,7 @@
 //   barylab segment --image LABELMAP [--label K | --threshold T] --output SURFACE
 //                   [--smoothing N] [--faces F | --reduction R] [--json SUMMARY]
 //   barylab mesh    --cage CAGE [--points MODEL] [--max-volume V | --cells N] --output DOMAIN
+//   barylab cage    --model MODEL [--vertices N] [--margin D] --output CAGE [--json SUMMARY]
 //   barylab embed   --mesh SURFACE --output E.txt [--dimension D] [--landmarks L]
 //   barylab average --mesh SURFACE [--embedding E.txt] --anchors A --weights W --output OUT
 //   barylab average --inverse --mesh SURFACE [--embedding E.txt] --anchors A --points Q
