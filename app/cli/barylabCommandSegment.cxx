@@ -18,6 +18,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <iomanip>
 #include <iostream>
 #include <limits>
 #include <sstream>
@@ -129,8 +130,8 @@ int run_segment(const SegmentArgs& a)
     std::cerr << "barylab: " << what << ": " << surface->GetNumberOfLabelVoxels() << " voxels ("
               << millilitres(surface->GetLabelVolume()) << "), surface of "
               << result->GetNumberOfCells() << " triangles enclosing "
-              << millilitres(surface->GetEnclosedVolume()) << " (LPS, mm) in " << seconds
-              << " s\n";
+              << millilitres(surface->GetEnclosedVolume()) << " (LPS, mm) in "
+              << std::fixed << std::setprecision(2) << seconds << " s\n";
   }
   return 0;
 }
