@@ -431,6 +431,78 @@ TEST(ImageIO, ExtentNotFromZeroMovesTheOrigin)
   ExpectSameValues(image, read);
 }
 
+// Files written by other programs: the bundled label map (data/generate.py writes its NIfTI
+// header with Python's struct, in RAS) read into the LPS geometry data/README.md states, and a
+// detached NRRD (.nhdr + raw data) written here by hand, read as its header says.
+TEST(ImageIO, ReadsFilesOfOtherWriters)
+{
+  const std::string organ = std::string(BARYLAB_DATA_DIR) + "/organ_label.nii.gz";
+  if (fs::exists(organ))
+  {
+    auto image = vtkBaryImageIO::Read(organ);
+    int dims[3];
+    image->GetDimensions(dims);
+    EXPECT_EQ(dims[0], 112);
+    EXPECT_EQ(dims[1], 96);
+    EXPECT_EQ(dims[2], 72);
+    const double spacing[3] = { 1.75, 1.75, 2.5 }, origin[3] = { -166.125, -83.375, -205.0 };
+    for (int d = 0; d < 3; ++d)
+    {
+      EXPECT_NEAR(image->GetSpacing()[d], spacing[d], 1e-6);
+      EXPECT_NEAR(image->GetOrigin()[d], origin[d], 1e-4);
+      for (int r = 0; r < 3; ++r)
+        EXPECT_NEAR(image->GetDirectionMatrix()->GetElement(r, d), r == d ? 1.0 : 0.0, 1e-6);
+    }
+    vtkDataArray* labels = image->GetPointData()->GetScalars();
+    EXPECT_EQ(labels->GetDataType(), VTK_UNSIGNED_CHAR);
+    vtkIdType organ_voxels = 0, lesion_voxels = 0;
+    for (vtkIdType v = 0; v < labels->GetNumberOfTuples(); ++v)
+    {
+      organ_voxels += labels->GetTuple1(v) != 0;
+      lesion_voxels += labels->GetTuple1(v) == 2;
+    }
+    EXPECT_EQ(organ_voxels, 120538); // data/README.md: organ (1 with 2)
+    EXPECT_EQ(lesion_voxels, 712);
+  }
+
+  const fs::path dir = Scratch("in");
+  {
+    std::ofstream header(dir / "hand.nhdr");
+    header << "NRRD0004\ntype: short\ndimension: 3\nspace: left-posterior-superior\n"
+              "sizes: 4 3 2\nspace directions: (0,2,0) (-1.5,0,0) (0,0,3)\n"
+              "kinds: domain domain domain\nendian: little\nencoding: raw\n"
+              "space origin: (10,20,30)\ndata file: hand.raw\n";
+    std::ofstream raw(dir / "hand.raw", std::ios::binary);
+    for (short v = 0; v < 24; ++v)
+      raw.write(reinterpret_cast<const char*>(&v), sizeof v);
+  }
+  auto image = vtkBaryImageIO::Read((dir / "hand.nhdr").string());
+  int dims[3];
+  image->GetDimensions(dims);
+  EXPECT_EQ(dims[0], 4);
+  EXPECT_EQ(dims[1], 3);
+  EXPECT_EQ(dims[2], 2);
+  // axis i along +y with 2 mm, axis j along -x with 1.5 mm, axis k along +z with 3 mm
+  const double spacing[3] = { 2.0, 1.5, 3.0 };
+  const double D[3][3] = { { 0, -1, 0 }, { 1, 0, 0 }, { 0, 0, 1 } };
+  for (int d = 0; d < 3; ++d)
+  {
+    EXPECT_NEAR(image->GetSpacing()[d], spacing[d], 1e-12);
+    EXPECT_NEAR(image->GetOrigin()[d], 10.0 * (d + 1), 1e-12);
+    for (int r = 0; r < 3; ++r)
+      EXPECT_NEAR(image->GetDirectionMatrix()->GetElement(r, d), D[r][d], 1e-12);
+  }
+  double x[3];
+  image->TransformIndexToPhysicalPoint(3, 2, 1, x); // (10, 20, 30) + 3 (0,2,0) + 2 (-1.5,0,0) + (0,0,3)
+  EXPECT_NEAR(x[0], 7.0, 1e-12);
+  EXPECT_NEAR(x[1], 26.0, 1e-12);
+  EXPECT_NEAR(x[2], 33.0, 1e-12);
+  vtkDataArray* values = image->GetPointData()->GetScalars();
+  EXPECT_EQ(values->GetDataType(), VTK_SHORT);
+  for (vtkIdType v = 0; v < 24; ++v)
+    EXPECT_EQ(values->GetTuple1(v), static_cast<double>(v));
+}
+
 TEST(ImageIO, ExtensionsAndCanReadWrite)
 {
   EXPECT_EQ(vtkBaryImageIO::Extension("/a/b.c/Brain.NII.GZ"), ".nii.gz");
