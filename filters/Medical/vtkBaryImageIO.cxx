@@ -310,7 +310,14 @@ vtkSmartPointer<vtkImageData> vtkBaryImageIO::Read(const std::string& path)
     if (ndim < 1)
       throw Error(ErrorCode::Io, "cannot read '" + path + "': the image has no dimensions");
     for (unsigned d = 3; d < ndim; ++d)
-      if (io->GetDimensions(d) != 1)
+      if (io->GetDimensions(d) != 1 && d == 4 && std::string(format) == "NIfTI")
+        throw Error(ErrorCode::Io,
+          "cannot read '" + path + "': " + std::to_string(io->GetDimensions(d)) +
+            " values per voxel along NIfTI's 5th axis that ITK 5.2 does not take as vector "
+            "components: its intent is not NIFTI_INTENT_VECTOR (1007) - ITK 5.2 reads e.g. "
+            "displacement vectors (intent 1006) as a 5-D scalar image; write the field as NRRD "
+            "or MetaImage, or as NIfTI with intent 1007");
+      else if (io->GetDimensions(d) != 1)
         throw Error(ErrorCode::Io,
           "cannot read '" + path + "': a " + std::to_string(ndim) + "-D image (axis " +
             std::to_string(d + 1) + " has " + std::to_string(io->GetDimensions(d)) +

@@ -15,7 +15,9 @@
  * direction (vtkImageData::SetDirectionMatrix; extent from 0); NIfTI stores RAS on disk and ITK
  * converts its qform/sform to LPS (x and y negated), NRRD and MetaImage store LPS. A 2-D image
  * is read as one slice (direction embedded in the 3 x 3 matrix, third axis +z); 4-D and larger
- * images are read only when their extra axes have one sample.
+ * images are read only when their extra axes have one sample (a NIfTI vector field of another
+ * intent than NIFTI_INTENT_VECTOR, e.g. 1006, which ITK 5.2 reads as a 5-D scalar image, is
+ * refused with that reason).
  *
  * Voxel values keep their type and components (a label map stays integer); the array is the
  * image's point scalars, named "ImageScalars". NIfTI scaling (scl_slope / scl_inter) is applied

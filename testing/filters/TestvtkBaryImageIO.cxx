@@ -350,6 +350,16 @@ TEST(ImageIO, NiftiHeaderIsRasAndVectorLayout)
   EXPECT_EQ(At<int16_t>(field, 50), 3); // dim[5]: three components
   EXPECT_EQ(At<int16_t>(field, 68), 1007); // NIFTI_INTENT_VECTOR
   EXPECT_EQ(At<int16_t>(field, 70), 64);   // DT_FLOAT64
+
+  // The same file with intent NIFTI_INTENT_DISPVECT (1006), as other tools write displacement
+  // fields: ITK 5.2 reads it as a 5-D scalar image, which is refused with the reason.
+  std::string dispvect = field;
+  const int16_t code = 1006;
+  std::memcpy(&dispvect[68], &code, sizeof code);
+  const std::string dispvect_path = (dir / "dispvect.nii").string();
+  std::ofstream(dispvect_path, std::ios::binary) << dispvect;
+  ExpectThrows([&] { vtkBaryImageIO::Read(dispvect_path); }, bary::ErrorCode::Io, dispvect_path,
+    "1007");
 }
 
 // The NRRD header, parsed here: LPS space, origin and "space directions" (the columns of
