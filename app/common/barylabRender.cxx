@@ -43,6 +43,11 @@
 #include "vtkCellData.h"
 #include "vtkImageData.h"
 #include "vtkWindowToImageFilter.h"
+#include "vtkCutter.h"
+#include "vtkMatrix3x3.h"
+#include "vtkPlane.h"
+#include "vtkTransform.h"
+#include "vtkTransformPolyDataFilter.h"
 
 #include <algorithm>
 #include <cmath>
@@ -371,6 +376,190 @@ void add_title(vtkRenderer* renderer, const std::string& text)
   renderer->AddViewProp(title);
 }
 } // namespace
+
+namespace
+{
+/// Physical point of the (continuous) structured index @p ijk of @p image: origin + D (s ∘ ijk).
+void index_to_physical(vtkImageData* image, const double ijk[3], double x[3])
+{
+  const double* o = image->GetOrigin();
+  const double* s = image->GetSpacing();
+  vtkMatrix3x3* D = image->GetDirectionMatrix();
+  for (int r = 0; r < 3; ++r)
+    x[r] = o[r] + D->GetElement(r, 0) * s[0] * ijk[0] + D->GetElement(r, 1) * s[1] * ijk[1] +
+      D->GetElement(r, 2) * s[2] * ijk[2];
+}
+
+/// The structured index of physical point @p x of @p image (the inverse of index_to_physical).
+void physical_to_index(vtkImageData* image, const double x[3], double ijk[3])
+{
+  vtkNew<vtkMatrix3x3> inverse;
+  vtkMatrix3x3::Invert(image->GetDirectionMatrix(), inverse);
+  const double* o = image->GetOrigin();
+  const double* s = image->GetSpacing();
+  const double d[3] = { x[0] - o[0], x[1] - o[1], x[2] - o[2] };
+  for (int c = 0; c < 3; ++c)
+    ijk[c] = (inverse->GetElement(c, 0) * d[0] + inverse->GetElement(c, 1) * d[1] +
+               inverse->GetElement(c, 2) * d[2]) / s[c];
+}
+
+/// The colour of label @p value: 1 an organ's brown-red, 2 a lesion's yellow, others spread
+/// over the hues.
+void label_colour(double value, unsigned char rgb[3])
+{
+  double c[3];
+  if (value == 1.0)
+    c[0] = 0.78, c[1] = 0.42, c[2] = 0.36;
+  else if (value == 2.0)
+    c[0] = 0.96, c[1] = 0.82, c[2] = 0.20;
+  else
+    vtkMath::HSVToRGB(std::fmod(0.13 * std::abs(value), 1.0), 0.6, 0.85, c, c + 1, c + 2);
+  for (int k = 0; k < 3; ++k)
+    rgb[k] = static_cast<unsigned char>(std::lround(255.0 * c[k]));
+}
+
+/// The non-zero voxels of @p image's slice through @p center normal to its second axis, as
+/// flat quads (one cell per voxel, direct RGB colours); @p plane_origin gets a point of the
+/// slice's plane and @p normal the plane's unit normal (the second axis).
+vtkSmartPointer<vtkPolyData> label_slice(
+  vtkImageData* image, const double center[3], double plane_origin[3], double normal[3])
+{
+  int e[6];
+  image->GetExtent(e);
+  double c[3];
+  physical_to_index(image, center, c);
+  const int j = std::clamp(static_cast<int>(std::lround(c[1])), e[2], e[3]);
+  const double on_plane[3] = { static_cast<double>(e[0]), static_cast<double>(j), static_cast<double>(e[4]) };
+  index_to_physical(image, on_plane, plane_origin);
+  for (int r = 0; r < 3; ++r)
+    normal[r] = image->GetDirectionMatrix()->GetElement(r, 1);
+  vtkMath::Normalize(normal);
+  vtkDataArray* labels = image->GetPointData()->GetScalars();
+  if (!labels)
+    throw Error(ErrorCode::EmptyInput, "the label map has no voxel values to draw");
+  const int nx = e[1] - e[0] + 1, nz = e[5] - e[4] + 1;
+  vtkNew<vtkPoints> points;
+  points->SetDataTypeToDouble();
+  points->SetNumberOfPoints(static_cast<vtkIdType>(nx + 1) * (nz + 1));
+  for (int k = 0; k <= nz; ++k)
+    for (int i = 0; i <= nx; ++i)
+    {
+      const double ijk[3] = { e[0] + i - 0.5, static_cast<double>(j), e[4] + k - 0.5 };
+      double x[3];
+      index_to_physical(image, ijk, x);
+      points->SetPoint(static_cast<vtkIdType>(k) * (nx + 1) + i, x);
+    }
+  vtkNew<vtkCellArray> quads;
+  vtkNew<vtkUnsignedCharArray> colours;
+  colours->SetNumberOfComponents(3);
+  colours->SetName("LabelColour");
+  for (int k = 0; k < nz; ++k)
+    for (int i = 0; i < nx; ++i)
+    {
+      int ijk[3] = { e[0] + i, j, e[4] + k };
+      const double value = labels->GetComponent(image->ComputePointId(ijk), 0);
+      if (value == 0.0)
+        continue;
+      const vtkIdType a = static_cast<vtkIdType>(k) * (nx + 1) + i;
+      const vtkIdType quad[4] = { a, a + 1, a + nx + 2, a + nx + 1 };
+      quads->InsertNextCell(4, quad);
+      unsigned char rgb[3];
+      label_colour(value, rgb);
+      colours->InsertNextTypedTuple(rgb);
+    }
+  auto slice = vtkSmartPointer<vtkPolyData>::New();
+  slice->SetPoints(points);
+  slice->SetPolys(quads);
+  slice->GetCellData()->SetScalars(colours);
+  return slice;
+}
+} // namespace
+
+vtkSmartPointer<vtkRenderWindow> LabelSliceWindow(vtkImageData* before, vtkImageData* after,
+  vtkPolyData* rest_surface, vtkPolyData* deformed_surface, const double center[3],
+  const RenderOptions& options)
+{
+  auto window = make_window(options);
+  vtkImageData* images[2] = { before, after };
+  vtkPolyData* surfaces[2] = { rest_surface, deformed_surface };
+  const char* titles[2] = { "label map; line: the organ's surface",
+    "warped label map; line: the surface deformed directly" };
+  double plane_origin[3], normal[3], up[3];
+  vtkRenderer* first = nullptr;
+  double bounds[6] = { 1e300, -1e300, 1e300, -1e300, 1e300, -1e300 };
+  for (int side = 0; side < 2; ++side)
+  {
+    vtkNew<vtkRenderer> renderer;
+    renderer->SetViewport(0.5 * side, 0.0, 0.5 * side + 0.5, 1.0);
+    renderer->SetBackground(side == 0 ? 0.97 : 1.0, side == 0 ? 0.97 : 1.0, 1.0);
+    window->AddRenderer(renderer);
+    auto slice = label_slice(images[side], center, plane_origin, normal);
+    double b[6];
+    slice->GetBounds(b);
+    for (int k = 0; k < 3; ++k)
+    {
+      bounds[2 * k] = std::min(bounds[2 * k], b[2 * k]);
+      bounds[2 * k + 1] = std::max(bounds[2 * k + 1], b[2 * k + 1]);
+    }
+    vtkNew<vtkPolyDataMapper> sliceMapper;
+    sliceMapper->SetInputData(slice);
+    sliceMapper->SetColorModeToDirectScalars();
+    sliceMapper->SetScalarModeToUseCellData();
+    vtkNew<vtkActor> sliceActor;
+    sliceActor->SetMapper(sliceMapper);
+    sliceActor->GetProperty()->LightingOff();
+    renderer->AddActor(sliceActor);
+    if (surfaces[side])
+    {
+      vtkNew<vtkPlane> plane;
+      plane->SetOrigin(plane_origin);
+      plane->SetNormal(normal);
+      vtkNew<vtkCutter> cutter;
+      cutter->SetInputData(surfaces[side]);
+      cutter->SetCutFunction(plane);
+      // drawn a little in front of the slice (the camera looks along +normal)
+      vtkNew<vtkTransform> shift;
+      const double h = 0.5 * images[side]->GetSpacing()[1];
+      shift->Translate(-h * normal[0], -h * normal[1], -h * normal[2]);
+      vtkNew<vtkTransformPolyDataFilter> shifted;
+      shifted->SetInputConnection(cutter->GetOutputPort());
+      shifted->SetTransform(shift);
+      vtkNew<vtkPolyDataMapper> lineMapper;
+      lineMapper->SetInputConnection(shifted->GetOutputPort());
+      lineMapper->ScalarVisibilityOff();
+      vtkNew<vtkActor> lineActor;
+      lineActor->SetMapper(lineMapper);
+      lineActor->GetProperty()->SetColor(0.05, 0.15, 0.55);
+      lineActor->GetProperty()->SetLineWidth(3.0);
+      lineActor->GetProperty()->LightingOff();
+      renderer->AddActor(lineActor);
+    }
+    add_title(renderer, side == 0 ? titles[0] : titles[1]);
+    if (!first)
+      first = renderer;
+    else
+      renderer->SetActiveCamera(first->GetActiveCamera());
+  }
+  for (int r = 0; r < 3; ++r)
+    up[r] = before->GetDirectionMatrix()->GetElement(r, 2);
+  // Seen from the front of the second axis (anterior for LPS), head (third axis) up.
+  const double d = vtkMath::Dot(normal, center) - vtkMath::Dot(normal, plane_origin);
+  double focal[3];
+  for (int r = 0; r < 3; ++r)
+    focal[r] = center[r] - d * normal[r];
+  vtkCamera* camera = first->GetActiveCamera();
+  camera->ParallelProjectionOn();
+  camera->SetFocalPoint(focal);
+  camera->SetPosition(focal[0] - 500.0 * normal[0], focal[1] - 500.0 * normal[1], focal[2] - 500.0 * normal[2]);
+  camera->SetViewUp(up);
+  camera->OrthogonalizeViewUp();
+  first->ResetCamera(bounds);
+  camera->Zoom(1.1);
+  for (vtkRenderer* renderer : { first, vtkRenderer::SafeDownCast(window->GetRenderers()->GetItemAsObject(1)) })
+    if (renderer)
+      renderer->ResetCameraClippingRange(bounds);
+  return window;
+}
 
 void AddSpheres(vtkRenderer* renderer, vtkPoints* points, double radius, const double rgb[3])
 {

@@ -15,6 +15,7 @@ class vtkCellArray;
 class vtkDataSet;
 class vtkPoints;
 class vtkPointSet;
+class vtkImageData;
 class vtkPolyData;
 class vtkRenderWindow;
 class vtkRenderer;
@@ -94,6 +95,17 @@ vtkSmartPointer<vtkRenderWindow> SplineDeformationWindow(vtkUnstructuredGrid* re
 vtkSmartPointer<vtkRenderWindow> SplinePictureWindow(vtkUnstructuredGrid* rest_grid,
   vtkUnstructuredGrid* grid, const std::string& picture_png, const double bounds[4],
   const RenderOptions& options);
+/// A slice of a label map before and after a warp, side by side: the plane through @p center
+/// normal to the image's second axis (coronal for an axial LPS image, seen from the front with
+/// the head up: the patient's right on the left, as radiologists show it), each voxel a flat
+/// cell coloured by its label (0 clear, 1 organ, 2 lesion, others by a categorical map), with the
+/// cut of a surface by the same plane drawn over it: @p rest_surface on @p before, the directly
+/// deformed @p deformed_surface on @p after, so that where the warp and the deformation agree
+/// the line follows the warped label's edge. @p after may be on another grid than @p before.
+vtkSmartPointer<vtkRenderWindow> LabelSliceWindow(vtkImageData* before, vtkImageData* after,
+  vtkPolyData* rest_surface, vtkPolyData* deformed_surface, const double center[3],
+  const RenderOptions& options);
+
 /// The joints of skeleton @p handles moved by @p pose (one 3 x 4 [A | t] per handle, point
 /// handles first, then bones): a point handle's joint by its transform, any other joint by the
 /// first bone ending there (else starting there). For drawing posed skeletons.

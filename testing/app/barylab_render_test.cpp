@@ -12,11 +12,19 @@
 
 #include "vtkBaryConversion.h"
 #include "vtkBaryDataIO.h"
+#include "vtkBaryDisplacementField.h"
+#include "vtkBaryImageIO.h"
+#include "vtkBaryImageWarp.h"
+#include "vtkBaryLabelMapSurface.h"
+
+#include "core/imaging/displacement_field.h"
+#include "core/imaging/image_grid.h"
 
 #include "core/deformation/skeleton.h"
 
 #include "vtkDataArray.h"
 #include "vtkDataSet.h"
+#include "vtkImageData.h"
 #include "vtkPointData.h"
 #include "vtkPointSet.h"
 #include "vtkPolyData.h"
@@ -337,4 +345,64 @@ TEST(RenderImages, GingerbreadSplinePicture)
   ExpectMatchesBaseline(
     barylab::SplinePictureWindow(e.rest_grid, e.grid, e.picture, e.bounds, options),
     "gingerbread_spline_picture");
+}
+
+TEST(RenderImages, OrganLabelSliceWarped)
+{
+  // The organ workflow's picture (the demo's organ_label_warped.png): a coronal slice of the
+  // bundled label map and of the same map warped by a known field (a caudal shift of 12 mm
+  // growing to 18 mm from the top of the organ down, and 3 mm forward: an affine breathing
+  // motion), each with the cut of a surface: the organ's on the left, the organ moved by the
+  // same map on the right, which must follow the warped label's edge.
+  vtkSmartPointer<vtkImageData> labels = vtkBaryImageIO::Read(data("organ_label.nii.gz"));
+  vtkNew<vtkBaryLabelMapSurface> segment;
+  segment->SetInputData(labels);
+  segment->SetLabel(1);
+  segment->Update();
+  vtkPolyData* organ = segment->GetOutput();
+  ASSERT_GT(organ->GetNumberOfCells(), 1000);
+  double b[6];
+  organ->GetBounds(b);
+  const double top = b[5], height = b[5] - b[4];
+  // T(x) = x + u(x): u = (0, -3, -12 - 6 (top - z) / height) mm, affine in z
+  auto move = [&](const double x[3], double y[3]) {
+    y[0] = x[0];
+    y[1] = x[1] - 3.0;
+    y[2] = x[2] - 12.0 - 6.0 * (top - x[2]) / height;
+  };
+  // the inverse map's field on the label map's grid (T is affine: solved exactly)
+  const bary::ImageGrid grid = vtkBaryDisplacementField::ToGrid(labels);
+  bary::DisplacementField inverse;
+  inverse.grid = grid;
+  const bary::Points p = bary::grid_points(grid);
+  inverse.values.resize(3, p.rows());
+  const double s = 1.0 + 6.0 / height; // dz'/dz
+  for (Eigen::Index v = 0; v < p.rows(); ++v)
+  {
+    const double z = (p(v, 2) + 12.0 + 6.0 * top / height) / s;
+    inverse.values(0, v) = 0.0;
+    inverse.values(1, v) = 3.0;
+    inverse.values(2, v) = z - p(v, 2);
+  }
+  vtkNew<vtkBaryImageWarp> warp;
+  warp->SetInputData(labels);
+  warp->SetFieldData(vtkBaryDisplacementField::FromField(inverse));
+  warp->SetInterpolationToNearest();
+  warp->Update();
+  vtkNew<vtkPolyData> moved;
+  moved->DeepCopy(organ);
+  for (vtkIdType i = 0; i < moved->GetNumberOfPoints(); ++i)
+  {
+    double x[3], y[3];
+    organ->GetPoint(i, x);
+    move(x, y);
+    moved->GetPoints()->SetPoint(i, y);
+  }
+  const double center[3] = { 0.5 * (b[0] + b[1]), 0.5 * (b[2] + b[3]), 0.5 * (b[4] + b[5]) };
+  barylab::RenderOptions options;
+  options.width = 1200;
+  options.height = 600;
+  ExpectMatchesBaseline(
+    barylab::LabelSliceWindow(labels, warp->GetOutput(), organ, moved, center, options),
+    "organ_label_slice_warped");
 }
