@@ -591,8 +591,23 @@ TEST_F(CLI, DemoWithoutRendering)
   EXPECT_LT(s["cases"]["organism_spline"]["fit"]["max_error"].get<double>(), 1e-4);
   for (const char* f : { "gingerbread2d_spline.vtu", "organism_spline.vtu", "organism_deformed.vtp" })
     EXPECT_TRUE(fs::exists(dir_ / "demo" / f)) << f;
+  // The organ workflow: the landmarks move the cage affinely (to the celestial coordinates'
+  // 1e-5), so the deformation is affine and the field's trilinear interpolation at the organ's
+  // points reproduces it to that; the warped label's surface lies within a voxel diagonal of the
+  // deformed surface (both smoothed the same way; nearest-neighbour labels move by whole voxels).
+  const nlohmann::json& organ = s["cases"]["organ"];
+  EXPECT_LT(organ["field"]["max_difference_at_organ_points"].get<double>(), 1e-3);
+  EXPECT_EQ(organ["field"]["folded_voxels"].get<int>(), 0);
+  EXPECT_LT(organ["warp"]["max_distance_deformed_to_warped_surface"].get<double>(),
+    organ["warp"]["voxel_diagonal"].get<double>());
+  EXPECT_EQ(organ["cage"]["vertices"].get<int>(), 60);
+  EXPECT_GT(organ["cage"]["volume_ratio"].get<double>(), 1.0);
+  for (const char* f : { "organ_surface.vtp", "organ_cage.obj", "organ_cage_moved.obj",
+         "organ_deformed.vtp", "organ_field.mha", "organ_field_inverse.mha", "organ_label_warped.nii.gz" })
+    EXPECT_TRUE(fs::exists(dir_ / "demo" / f)) << f;
   for (const char* png : { "gingerbread2d_weights.png", "gingerbread2d_lbc_weights.png",
-         "gingerbread2d_lbc_deformed.png", "gingerbread2d_spline.png", "organism_spline.png" })
+         "gingerbread2d_lbc_deformed.png", "gingerbread2d_spline.png", "organism_spline.png",
+         "organ_deformed.png", "organ_label_warped.png" })
     EXPECT_FALSE(fs::exists(dir_ / "demo" / png)) << png << " written with --no-render";
 }
 
