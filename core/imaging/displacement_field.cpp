@@ -18,6 +18,7 @@ namespace bary
 namespace
 {
 constexpr Index kFieldChunk = 4096; // voxels or points per parallel chunk
+constexpr int kStallWindow = 20;    // the inverse stops when a window gains too little
 
 std::string field_voxel_name(const ImageGrid& grid, Index v)
 {
@@ -222,8 +223,17 @@ InverseFieldResult invert_displacement_field(const DisplacementField& forward,
         double r = R.norm();
         double alpha = 1.0; // the relaxation
         int it = 0;
+        double r_checkpoint = r; // the residual kStallWindow iterations ago
         while (r > tol && it < options.max_iterations && alpha >= 1e-6)
         {
+          if (it > 0 && it % kStallWindow == 0)
+          {
+            // stalled: the window gained less than the tolerance or 1% of the residual (a
+            // contraction of rate L gains 1 - L^20, over 1% for any L < 0.9995)
+            if (r_checkpoint - r < std::max(tol, 0.01 * r_checkpoint))
+              break;
+            r_checkpoint = r;
+          }
           ++it;
           const Eigen::Vector3d xn = x - alpha * R;
           const Eigen::Vector3d Rn = xn + sampler.displacement(xn) - y;

@@ -109,8 +109,10 @@ struct InverseFieldResult
 /// fixed-point iteration x <- y - u(x) from x = y - u(y), relaxed where it does not contract:
 /// the step is x <- x - a (x + u(x) - y), a = 1 (the plain iteration) halved while the residual
 /// does not decrease and doubled back towards 1 after a decrease. Each voxel stops when its
-/// residual is at most the tolerance, after max_iterations, or when a falls below 1e-6; it keeps
-/// its best iterate. The iteration converges where T is a contraction-close-to-identity and
+/// residual is at most the tolerance, after max_iterations, when a falls below 1e-6, or when 20
+/// iterations reduced the residual by less than the tolerance or 1% (stalled: no preimage, e.g.
+/// at the grid's border or in a fold; a contraction of any rate below 0.9995 gains more); it
+/// keeps its best iterate. The iteration converges where T is a contraction-close-to-identity and
 /// invertible (Jacobian determinant > 0, |du/dx| < 1 everywhere it passes); where T folds
 /// (jacobian_statistics) there is no inverse and voxels may not converge: they are counted in
 /// not_converged, never hidden. Voxels y whose preimage is outside the forward grid get v = 0
