@@ -14,6 +14,7 @@
 #include "barylabPipeline.h"
 
 #include "vtkDataSet.h"
+#include "vtkPointSet.h"
 #include "vtkPolyData.h"
 #include "vtkSmartPointer.h"
 
@@ -121,6 +122,34 @@ void check_surface_outputs(const std::string& output, const std::string& json_pa
 void AddRenderCommand(Subcommands& subcommands);
 /// export-transform and warp-image (barylabCommandTransform.cxx).
 void AddTransformCommands(Subcommands& subcommands);
+
+/// animate's per-frame transforms (barylabCommandTransform.cxx).
+struct FrameTransformOptions
+{
+  bool fields = false;        ///< --displacement-fields: write each frame's forward field
+  std::string warp_image;     ///< --warp-image LABELMAP: write it warped into each frame
+  std::string reference;      ///< --field-reference IMAGE: the fields' grid
+  double spacing = 0.0;       ///< --field-spacing S over the cage's bounds (+ margin)
+  double margin = 0.0;        ///< --field-margin M
+  std::string extension = ".mha"; ///< --field-format: .mha, .nrrd or .nii.gz
+  /// UsageError for options that do not fit together (checked before any computation).
+  void Check() const;
+  bool Any() const { return fields || !warp_image.empty(); }
+};
+/// For each of @p frames (the rest @p cage's points moved): the field of the deformation on the
+/// grid of the options (the reference, else the label map's grid, else the cage's bounds +
+/// margin at the spacing), written as <prefix>_field_NNN<ext> in @p output_dir, and the label
+/// map warped into the frame by the field's inverse (nearest neighbour) as
+/// <prefix>_warped_NNN<ext of the label map>. Returns {"fields": [...], "warped": [...],
+/// "frames": [per frame: jacobian, inverse residuals]}. The filters' warnings (folds, voxels
+/// whose inverse did not converge) go to stderr as "barylab: warning: frame N: ..." unless
+/// @p quiet.
+nlohmann::json WriteFrameTransforms(vtkPolyData* cage,
+  const std::vector<vtkSmartPointer<vtkPointSet>>& frames, const WeightsParameters& parameters,
+  const FrameTransformOptions& options, const std::string& output_dir, const std::string& prefix,
+  bool quiet = false);
+/// Adds the options of @p o to animate's @p command.
+void add_frame_transform_options(CLI::App* command, FrameTransformOptions& o);
 void AddDemoCommand(Subcommands& subcommands);
 /// @}
 

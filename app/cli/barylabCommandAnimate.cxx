@@ -30,6 +30,7 @@ struct AnimateArgs
   std::vector<std::string> frames;
   double period = 1.0;
   bool quiet = false;
+  FrameTransformOptions transforms; ///< per-frame displacement fields / warped label maps
 };
 
 int run_animate(AnimateArgs a)
@@ -45,6 +46,9 @@ int run_animate(AnimateArgs a)
   if (!a.user_weights.empty() && a.parameters.method != bary::MethodId::TCelestial)
     throw UsageError("--user-weights is for --method tcc (Eq. 8's s_i)");
   a.parameters.user_weights = read_user_weights(a.user_weights);
+  a.transforms.Check();
+  if (a.transforms.Any() && ProcessCount() > 1)
+    throw UsageError("--displacement-fields and --warp-image are written by a serial run");
   // Distributed: the weights are computed on the model's pieces (one solve per cage) and
   // gathered; process r deforms and writes frames r, r + K, ...; process 0 writes the .pvd.
   const int rank = ProcessRank(), K = ProcessCount();
@@ -87,6 +91,9 @@ int run_animate(AnimateArgs a)
   summary["animation"] = animation;
   if (!lead)
     return 0;
+  if (a.transforms.Any())
+    summary["transforms"] = WriteFrameTransforms(cage, frames, a.parameters, a.transforms,
+      a.output_dir, a.prefix, a.quiet);
   if (!a.json_path.empty())
     barylab::WriteJson(summary, a.json_path);
   if (!a.quiet)
@@ -129,6 +136,7 @@ void AddAnimateCommand(Subcommands& subcommands)
   command->add_option("--user-weights", a->user_weights, "tcc: s_i of Eq. 8 (text or .dmat)");
   command->add_option("--json", a->json_path, "write a JSON summary");
   command->add_flag("--quiet,-q", a->quiet, "no progress bar or summary");
+  add_frame_transform_options(command, a->transforms);
   add_method_options(command, a->parameters);
 }
 

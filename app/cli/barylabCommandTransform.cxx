@@ -23,6 +23,7 @@
 #include <CLI/CLI.hpp>
 
 #include <chrono>
+#include <cstdio>
 #include <filesystem>
 #include <iostream>
 
@@ -282,7 +283,127 @@ int run_warp(const WarpArgs& a)
   return 0;
 }
 
+/// A configured vtkBaryDisplacementField for @p cage moved to @p moved.
+vtkSmartPointer<vtkBaryDisplacementField> field_filter(vtkPolyData* cage, vtkPointSet* moved,
+  const WeightsParameters& parameters, vtkImageData* reference, double spacing, double margin)
+{
+  auto filter = vtkSmartPointer<vtkBaryDisplacementField>::New();
+  vtkBaryWeightMethod* method = filter->GetWeightMethod();
+  method->SetSettings(parameters);
+  if (!parameters.user_weights.empty())
+  {
+    vtkNew<vtkDoubleArray> s;
+    s->SetName("UserWeights");
+    for (double w : parameters.user_weights)
+      s->InsertNextValue(w);
+    method->SetUserWeights(s);
+  }
+  filter->SetRestCageData(cage);
+  filter->SetDeformedCageData(moved);
+  if (reference)
+    filter->SetReferenceImageData(reference);
+  else
+  {
+    double b[6];
+    cage->GetBounds(b);
+    filter->SetBounds(
+      b[0] - margin, b[1] + margin, b[2] - margin, b[3] + margin, b[4] - margin, b[5] + margin);
+    filter->SetSpacing(spacing, spacing, spacing);
+  }
+  return filter;
+}
+
 } // namespace
+
+void FrameTransformOptions::Check() const
+{
+  if (!Any())
+  {
+    if (!reference.empty() || spacing > 0.0 || margin > 0.0)
+      throw UsageError("--field-reference, --field-spacing and --field-margin go with "
+                       "--displacement-fields or --warp-image");
+    return;
+  }
+  if (!reference.empty() && spacing > 0.0)
+    throw UsageError("give the fields' grid by --field-reference or --field-spacing, not both");
+  if (reference.empty() && spacing <= 0.0 && warp_image.empty())
+    throw UsageError("--displacement-fields needs the fields' grid: --field-reference IMAGE or "
+                     "--field-spacing S");
+  if (margin > 0.0 && spacing <= 0.0)
+    throw UsageError("--field-margin goes with --field-spacing");
+}
+
+nlohmann::json WriteFrameTransforms(vtkPolyData* cage,
+  const std::vector<vtkSmartPointer<vtkPointSet>>& frames, const WeightsParameters& parameters,
+  const FrameTransformOptions& o, const std::string& output_dir, const std::string& prefix,
+  bool quiet)
+{
+  json summary = { { "fields", json::array() }, { "warped", json::array() },
+    { "frames", json::array() } };
+  vtkSmartPointer<vtkImageData> labels =
+    o.warp_image.empty() ? nullptr : vtkBaryImageIO::Read(o.warp_image);
+  vtkSmartPointer<vtkImageData> reference = !o.reference.empty()
+    ? vtkBaryImageIO::Read(o.reference)
+    : (o.spacing > 0.0 ? nullptr : labels);
+  const std::string labels_ext =
+    labels ? vtkBaryImageIO::Extension(o.warp_image) : std::string();
+  for (std::size_t f = 0; f < frames.size(); ++f)
+  {
+    auto filter = field_filter(cage, frames[f], parameters, reference, o.spacing, o.margin);
+    filter->SetComputeInverse(static_cast<bool>(labels));
+    RunCallbacks warn;
+    if (!quiet)
+      warn.warning = [f](const std::string& message) {
+        std::cerr << "barylab: warning: frame " << f << ": " << message << "\n";
+      };
+    RunAlgorithm(filter, warn, bary::ErrorCode::InvalidArgument);
+    char number[16];
+    std::snprintf(number, sizeof(number), "_%03zu", f);
+    json frame = { { "frame", f }, { "jacobian_minimum", filter->GetJacobianMinimum() },
+      { "folded_voxels", filter->GetNumberOfFoldedVoxels() } };
+    if (o.fields)
+    {
+      const std::string name = prefix + "_field" + number + o.extension;
+      vtkBaryImageIO::Write(filter->GetOutput(0), (fs::path(output_dir) / name).string());
+      summary["fields"].push_back(name);
+    }
+    if (labels)
+    {
+      vtkNew<vtkBaryImageWarp> warp;
+      warp->SetInputData(labels);
+      warp->SetFieldConnection(filter->GetOutputPort(1));
+      warp->SetInterpolationToNearest();
+      warp->SetNumberOfThreads(parameters.threads);
+      RunAlgorithm(warp, {}, bary::ErrorCode::InvalidArgument);
+      const std::string name = prefix + "_warped" + number + labels_ext;
+      vtkBaryImageIO::Write(warp->GetOutput(), (fs::path(output_dir) / name).string());
+      summary["warped"].push_back(name);
+      frame["inverse"] = { { "max_residual", filter->GetInverseMaximumResidual() },
+        { "mean_residual", filter->GetInverseMeanResidual() },
+        { "not_converged", filter->GetInverseNotConverged() },
+        { "not_converged_at_border", filter->GetInverseNotConvergedAtBorder() } };
+    }
+    summary["frames"].push_back(frame);
+  }
+  return summary;
+}
+
+void add_frame_transform_options(CLI::App* command, FrameTransformOptions& o)
+{
+  command->add_flag("--displacement-fields", o.fields,
+    "also write each frame's displacement field (<prefix>_field_NNN, see export-transform)");
+  command->add_option("--warp-image", o.warp_image,
+    "also write this label map warped into each frame (<prefix>_warped_NNN, nearest neighbour)");
+  command->add_option("--field-reference", o.reference,
+    "the fields' grid: this image's (default with --warp-image: the label map's)");
+  command->add_option("--field-spacing", o.spacing, "the fields' grid: the cage's bounds at this spacing (mm)")
+    ->check(FiniteRange(1e-6, 1e6, "(0, 1e6]"));
+  command->add_option("--field-margin", o.margin, "with --field-spacing: grow the bounds by this (mm)")
+    ->check(FiniteRange(0.0, 1e6));
+  command->add_option("--field-format", o.extension, "the fields' format")
+    ->check(CLI::IsMember({ ".mha", ".nrrd", ".nii.gz" }))
+    ->default_val(o.extension);
+}
 
 void AddTransformCommands(Subcommands& subcommands)
 {

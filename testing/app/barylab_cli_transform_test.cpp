@@ -230,6 +230,58 @@ TEST_F(TransformCLI, WarpShiftsLabelsByWholeVoxelsAndTheIdentityChangesNothing)
   }
 }
 
+TEST_F(TransformCLI, AnimateWritesPerFrameFieldsAndWarpedLabelMaps)
+{
+  const std::string labels = Labels();
+  const std::string rest = Cube("rest.obj", [](auto x) { return x; });
+  const std::string shifted = Cube("shifted.obj", [](auto x) {
+    x[1] += 4.0; // 2 voxels along j
+    return x;
+  });
+  fs::create_directories(out("anim"));
+  const TransformRun r = run_transform("animate --cage " + rest + " --frames " + rest + " " +
+    shifted + " --points " + rest + " --output-dir " + out("anim") +
+    " --displacement-fields --field-format .nrrd --warp-image " + labels + " --json " +
+    out("anim.json") + " --quiet");
+  ASSERT_EQ(r.code, 0) << r.output;
+  nlohmann::json s;
+  std::ifstream(out("anim.json")) >> s;
+  EXPECT_EQ(s["transforms"]["fields"],
+    nlohmann::json({ "animation_field_000.nrrd", "animation_field_001.nrrd" }));
+  EXPECT_EQ(s["transforms"]["frames"][0]["inverse"]["not_converged"], 0);
+  auto input = vtkBaryImageIO::Read(labels);
+  vtkDataArray* in = input->GetPointData()->GetScalars();
+  for (const int frame : { 0, 1 })
+  {
+    // the field: zero for the rest frame, 4 mm along y for the shifted one (a translation of
+    // the cage moves every point by it)
+    auto field = vtkBaryImageIO::Read(out("anim/animation_field_00" + std::to_string(frame) + ".nrrd"));
+    vtkDataArray* u = field->GetPointData()->GetScalars();
+    ASSERT_EQ(u->GetNumberOfTuples(), 30 * 25 * 20);
+    for (const vtkIdType v : { 0, 4321, 14999 })
+      EXPECT_NEAR(u->GetComponent(v, 1), frame == 1 ? 4.0 : 0.0, 1e-9);
+    auto warped = vtkBaryImageIO::Read(out("anim/animation_warped_00" + std::to_string(frame) + ".nii.gz"));
+    vtkDataArray* res = warped->GetPointData()->GetScalars();
+    const int sh = frame == 1 ? 2 : 0;
+    for (int k = 0; k < 20; ++k)
+      for (int j = 0; j < 25; ++j)
+        for (int i = 0; i < 30; ++i)
+          ASSERT_EQ(res->GetComponent(i + 30 * (j + 25 * k), 0),
+            j - sh >= 0 ? in->GetComponent(i + 30 * (j - sh + 25 * k), 0) : 0.0)
+            << frame << ": " << i << " " << j << " " << k;
+  }
+  // the grid options without a field or a warp, and both grids, are usage errors
+  EXPECT_EQ(run_transform("animate --cage " + rest + " --frames " + rest + " --points " + rest +
+              " --output-dir " + out("anim") + " --field-spacing 2")
+              .code,
+    2);
+  EXPECT_EQ(run_transform("animate --cage " + rest + " --frames " + rest + " --points " + rest +
+              " --output-dir " + out("anim") + " --displacement-fields --field-spacing 2 "
+              "--field-reference " + labels)
+              .code,
+    2);
+}
+
 TEST_F(TransformCLI, BadCommandLinesAndInputs)
 {
   const std::string rest = Cube("rest.obj", [](auto x) { return x; });
