@@ -473,6 +473,30 @@ TEST(EnclosingCage, TargetBelowWhatIsReachable)
   EXPECT_NO_THROW(validate_cage(r.cage));
 }
 
+TEST(EnclosingCage, SmallModelOnACoarseGrid)
+{
+  // A tetrahedron with a margin of 20 % of its diagonal: a few hundred offset vertices, so the
+  // whole 3D path (grid, marching tetrahedra, collapses, tightening) runs in every build,
+  // sanitizers included (the bundled models' cases run in the Release pass only).
+  Model tet;
+  tet.V.resize(4, 3);
+  tet.V << 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1;
+  tet.F.resize(4, 3);
+  tet.F << 0, 2, 1, 0, 1, 3, 0, 3, 2, 1, 2, 3;
+  EnclosingCageOptions options;
+  options.target_vertices = 8;
+  options.margin_fraction = 0.2;
+  const EnclosingCageResult r = enclosing_cage(tet.V, tet.F, options);
+  ASSERT_TRUE(r.reached_target) << r.stop_reason;
+  EXPECT_EQ(r.cage.V.rows(), 8);
+  EXPECT_EQ(r.cage.F.rows(), 12);
+  EXPECT_EQ(check_enclosure_3d(tet, r.cage), 0);
+  EXPECT_NO_THROW(validate_cage(r.cage));
+  EXPECT_NEAR(r.model_measure, 1.0 / 6.0, 1e-15);
+  EXPECT_GT(r.measure_ratio, 1.0);
+  check_coordinates(r.cage, tet.V);
+}
+
 TEST(EnclosingCage, BadInput)
 {
   Model tet;
@@ -482,6 +506,7 @@ TEST(EnclosingCage, BadInput)
   tet.F << 0, 2, 1, 0, 1, 3, 0, 3, 2, 1, 2, 3;
   EnclosingCageOptions o;
   o.target_vertices = 8;
+  o.margin_fraction = 0.2; // a coarse grid: fast
   auto code = [](auto&& fn) {
     try
     {
@@ -522,7 +547,7 @@ TEST(EnclosingCage, BadInput)
   coarse.resolution = 1.0; // h sqrt(3) > margin: no enclosure guarantee
   EXPECT_EQ(code([&] { enclosing_cage(tet.V, tet.F, coarse); }), ErrorCode::InvalidArgument);
   EnclosingCageOptions huge = o;
-  huge.margin = 1e-4;
+  huge.margin = 1e-4; // (1 / 5e-5)^3 grid nodes
   EXPECT_EQ(code([&] { enclosing_cage(tet.V, tet.F, huge); }), ErrorCode::InvalidArgument);
   Model point = tet;
   point.V.setZero();
