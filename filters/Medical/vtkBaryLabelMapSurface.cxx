@@ -207,7 +207,8 @@ int vtkBaryLabelMapSurface::RequestData(
     std::array<int, 3> lo = { dims[0], dims[1], dims[2] }, hi = { -1, -1, -1 };
     vtkIdType count = 0;
     std::vector<unsigned char> object(static_cast<std::size_t>(voxels), 0);
-    for (int k = 0, v = 0; k < dims[2]; ++k)
+    vtkIdType v = 0;
+    for (int k = 0; k < dims[2]; ++k)
       for (int j = 0; j < dims[1]; ++j)
         for (int i = 0; i < dims[0]; ++i, ++v)
           if (inside(v))
