@@ -12,6 +12,9 @@
 #include <QFileInfo>
 #include <QLabel>
 #include <QMenuBar>
+#include <QDir>
+#include <QMessageBox>
+#include <QInputDialog>
 #include <QPlainTextEdit>
 #include <QPushButton>
 #include <QVBoxLayout>
@@ -49,6 +52,7 @@ void BuildMenus(ViewerWindow& window)
   QMenu* examples = file->addMenu("Open &example");
   for (const QString& name : ExampleNames())
     examples->addAction(name, w, [w, name]() { w->loadExample(name); });
+  file->addAction("Open &label map (organ: surface and cage)...", w, [w]() { OpenLabelMapDialog(*w); });
   file->addAction("Weighted averages on a &surface...", w, []() {
     // the surface mode: a window of its own, with the torus example
     auto* surface = new SurfaceWindow;
@@ -73,6 +77,8 @@ void BuildMenus(ViewerWindow& window)
   file->addAction("Apply the example's pose", w, &ViewerWindow::applyExamplePose, QKeySequence("Ctrl+P"));
   file->addAction("Save p&ose...", w, [w]() { SavePoseDialog(*w); });
   file->addAction("Save &deformed model...", w, [w]() { SaveDeformedDialog(*w); }, QKeySequence("Ctrl+D"));
+  file->addAction("Save &transform (displacement field)...", w, [w]() { SaveTransformDialog(*w); });
+  file->addAction("Save &warped label map...", w, [w]() { SaveWarpedLabelMapDialog(*w); });
   file->addAction("Save screens&hot...", w, [w]() { SaveScreenshotDialog(*w); }, QKeySequence("Ctrl+Shift+S"));
   file->addAction("&Export locality statistics (PNG, CSV)...", w, [w]() { ExportLocalityDialog(*w); });
   file->addSeparator();
@@ -85,6 +91,7 @@ void BuildMenus(ViewerWindow& window)
   QMenu* compute = w->menuBar()->addMenu("&Compute");
   compute->addAction("&Compute weights", w, &ViewerWindow::compute, QKeySequence("F5"));
   compute->addAction("C&ancel", w, &ViewerWindow::cancel, QKeySequence("Ctrl+."));
+  compute->addAction("Make a ca&ge around the model...", w, [w]() { MakeCageDialog(*w); });
   compute->addAction("&Run in terminal...", w, &ViewerWindow::showCommandLine, QKeySequence("Ctrl+T"));
   QMenu* view = w->menuBar()->addMenu("&View");
   view->addAction("&Weight", w, &ViewerWindow::showWeight, QKeySequence("W"));
@@ -156,6 +163,58 @@ void SaveDeformedDialog(ViewerWindow& window)
   ask_path(window, Ask::Save, "Save deformed model", "deformed.vtp",
     "Model (*.vtp *.vtu *.vtk *.obj *.stl *.ply *.off)",
     [&](const QString& path) { window.saveDeformedModel(path); });
+}
+
+void OpenLabelMapDialog(ViewerWindow& window)
+{
+  ask_path(window, Ask::Open, "Open label map", "",
+    "Label map (*.nii *.nii.gz *.nrrd *.nhdr *.mha *.mhd)", [&](const QString& path) {
+      bool ok = false;
+      const int label = QInputDialog::getInt(&window, "Open label map",
+        "Label of the organ (0: the image's only label):", 1, 0, 1000000, 1, &ok);
+      if (!ok)
+        return;
+      const int vertices = QInputDialog::getInt(&window, "Open label map",
+        "Vertices of the cage made around it:", 60, 4, 100000, 1, &ok);
+      if (ok)
+        window.openLabelMap(path, label, vertices);
+    });
+}
+
+void MakeCageDialog(ViewerWindow& window)
+{
+  bool ok = false;
+  const int vertices = QInputDialog::getInt(&window, "Make a cage",
+    "Vertices of the cage made around the model:", 60, 3, 100000, 1, &ok);
+  if (ok)
+    window.makeCage(vertices);
+}
+
+void SaveTransformDialog(ViewerWindow& window)
+{
+  ask_path(window, Ask::Save, "Save transform (displacement field, LPS)", "transform.nii.gz",
+    "Displacement field (*.nii.gz *.nii *.nrrd *.mha *.mhd)", [&](const QString& path) {
+      const auto answer = QMessageBox::question(&window, "Save transform",
+        "Also write the inverse field (what ITK and 3D Slicer need to resample an image into the "
+        "deformed space) beside it, as *_inverse?");
+      QString inverse;
+      if (answer == QMessageBox::Yes)
+      {
+        const QFileInfo info(path);
+        const QString name = info.fileName();
+        const int dot = name.indexOf('.');
+        inverse = info.dir().filePath(
+          (dot > 0 ? name.left(dot) : name) + "_inverse" + (dot > 0 ? name.mid(dot) : QString()));
+      }
+      window.saveTransform(path, inverse);
+    });
+}
+
+void SaveWarpedLabelMapDialog(ViewerWindow& window)
+{
+  ask_path(window, Ask::Save, "Save warped label map", "warped.nii.gz",
+    "Label map (*.nii.gz *.nii *.nrrd *.mha *.mhd)",
+    [&](const QString& path) { window.saveWarpedLabelMap(path); });
 }
 
 void SaveScreenshotDialog(ViewerWindow& window)

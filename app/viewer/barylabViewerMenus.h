@@ -24,6 +24,12 @@ void SaveSessionDialog(ViewerWindow& window);
 void LoadPoseDialog(ViewerWindow& window);
 void SavePoseDialog(ViewerWindow& window);
 void SaveDeformedDialog(ViewerWindow& window);
+/// The organ workflow: a label map (then its label and the cage's size), a cage around the
+/// model, the displacement field (and its inverse), the warped label map.
+void OpenLabelMapDialog(ViewerWindow& window);
+void MakeCageDialog(ViewerWindow& window);
+void SaveTransformDialog(ViewerWindow& window);
+void SaveWarpedLabelMapDialog(ViewerWindow& window);
 void SaveScreenshotDialog(ViewerWindow& window);
 /// A PNG path; writes the charts there and the CSV tables next to it (same prefix).
 void ExportLocalityDialog(ViewerWindow& window);

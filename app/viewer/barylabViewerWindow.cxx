@@ -199,6 +199,9 @@ bool ViewerWindow::openInputs(const Inputs& given)
   }
   if (!this->reporting([&]() { this->State.open(given); }))
     return false;
+  // other inputs: the label map of openLabelMap (the transform's grid) no longer applies
+  this->LabelMap = nullptr;
+  this->LabelMapPath.clear();
   const Inputs& in = this->State.inputs();
   this->Options.component = 0;
   this->Options.dimension = this->State.modelDimension();

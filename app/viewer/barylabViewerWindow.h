@@ -172,6 +172,36 @@ public slots:
   bool saveDeformedModel(const QString& path);
   bool saveSession(const QString& path);
   bool loadSession(const QString& path);
+  // --- the organ workflow (docs/organ-workflow.md; barylabViewerOrgan.cxx) -----------------
+  /// Reads a label map (NIfTI, NRRD, MetaImage), extracts label @p label's closed surface in
+  /// LPS (vtkBaryLabelMapSurface; 0: the image's only label), makes a cage of about
+  /// @p cage_vertices vertices around it (vtkBaryEnclosingCage), writes both into @p folder
+  /// (default: organFolder()) as <image>_label<K>_surface.vtp and <image>_label<K>_cage.obj and
+  /// opens them as the cage and the model. The label map is kept: saveTransform() takes its
+  /// grid and saveWarpedLabelMap() warps it.
+  bool openLabelMap(const QString& image, long long label = 0, int cage_vertices = 60,
+    const QString& folder = QString());
+  /// A new cage of about @p vertices vertices around the current model (vtkBaryEnclosingCage),
+  /// written to @p path (default: <organFolder()>/<model>_cage<N>.obj) and opened with the
+  /// model. The weights are computed again by Compute.
+  bool makeCage(int vertices, const QString& path = QString());
+  /// The deformation shown (the weights' method, the controls at rest and at the current
+  /// pose) as a displacement field T(x) = x + u(x) in LPS (what ITK and 3D Slicer load as a grid
+  /// transform), written to @p path (.mha, .mhd, .nii, .nii.gz, .nrrd), and its inverse to
+  /// @p inverse_path if given. The grid is the label map's (openLabelMap), else the cage's
+  /// bounds grown by a tenth on every side with @p spacing (0: a 64th of the bounds' longest
+  /// side). Not for BBW skeletons (a cage or free control points).
+  bool saveTransform(const QString& path, const QString& inverse_path = QString(), double spacing = 0.0);
+  /// The label map of openLabelMap() warped into the deformed space (nearest neighbour: the
+  /// labels kept), on its own grid, written to @p path.
+  bool saveWarpedLabelMap(const QString& path);
+  /// The label map opened by openLabelMap() (null otherwise) and its file.
+  vtkImageData* labelMap() const { return this->LabelMap; }
+  const QString& labelMapPath() const { return this->LabelMapPath; }
+  /// Where openLabelMap() and makeCage() write by default: the application's data folder's
+  /// "organ" folder.
+  static QString organFolder();
+
   bool saveScreenshot(const QString& path);
   void showCommandLine();
 
@@ -208,6 +238,8 @@ private:
   int PendingSelection = -1; ///< applied when a computation finishes (example, session load)
 
   QStringList Errors;
+  vtkSmartPointer<vtkImageData> LabelMap; ///< openLabelMap's image (the transform's grid)
+  QString LabelMapPath;
   bool Interactive = true;
   double LastSeconds = 0.0;
   double LastEditSeconds = 0.0;

@@ -13,6 +13,7 @@
 
 #include "vtkBaryConversion.h"
 #include "vtkBaryDataIO.h"
+#include "vtkBaryImageIO.h"
 #include "core/deformation/skeleton.h"
 
 #include <QAction>
@@ -42,6 +43,7 @@
 #include "vtkActorCollection.h"
 #include "vtkMapper.h"
 #include "vtkPolyData.h"
+#include "vtkImageData.h"
 #include "vtkUnstructuredGrid.h"
 #include "vtkRenderer.h"
 #include "vtkProbeFilter.h"
@@ -1808,6 +1810,101 @@ private slots:
     QVERIFY(!s->target());
     QVERIFY(!s->targetView()->isVisible());
     QVERIFY(!s->loadExample("no-such-example"));
+  }
+
+  void organWorkflow()
+  {
+    // File > Open label map: the bundled organ's surface and a cage of about 40 vertices
+    QVERIFY2(w->openLabelMap(data("organ_label.nii.gz"), 1, 40, output("organ")),
+      qPrintable(w->errors().join("; ")));
+    QVERIFY(w->labelMap());
+    QCOMPARE(static_cast<int>(w->controls()->GetNumberOfPoints()), 40);
+    QVERIFY(w->session().model()->GetNumberOfPoints() > 1000);
+    QVERIFY(QFileInfo::exists(output("organ/organ_label_label1_cage.obj")));
+    w->setMethod("mvc");
+    w->compute();
+    QVERIFY(w->waitForComputation(60000));
+    QVERIFY2(w->hasWeights(), qPrintable(w->errors().join("; ")));
+    // one cage vertex moved 10 mm caudally; the transform saved with its inverse
+    const int c = 3;
+    double p[3];
+    w->posedControls()->GetPoint(c, p);
+    w->setControlPosition(c, p[0], p[1], p[2] - 10.0);
+    const QString field_path = output("organ_field.nii.gz"), inverse_path = output("organ_field_inverse.nii.gz");
+    QFile::remove(field_path);
+    QFile::remove(inverse_path);
+    QVERIFY2(w->saveTransform(field_path, inverse_path), qPrintable(w->errors().join("; ")));
+    QVERIFY(QFileInfo::exists(inverse_path));
+    // the field read back holds, at its voxels, the deformation computed independently: the
+    // weights of the voxels' points by the pipeline, moved with the cage (1e-9 mm)
+    vtkSmartPointer<vtkImageData> field = vtkBaryImageIO::Read(field_path.toStdString());
+    const double* o = w->labelMap()->GetOrigin();
+    QCOMPARE(field->GetOrigin()[2], o[2]);
+    QCOMPARE(field->GetDimensions()[0], w->labelMap()->GetDimensions()[0]);
+    vtkDataArray* u = field->GetPointData()->GetScalars();
+    QVERIFY(u && u->GetNumberOfComponents() == 3);
+    vtkNew<vtkPoints> sample;
+    sample->SetDataTypeToDouble();
+    std::vector<vtkIdType> ids;
+    for (vtkIdType v = 0; v < field->GetNumberOfPoints(); v += 997)
+    {
+      ids.push_back(v);
+      int ijk[3];
+      const int* n = field->GetDimensions();
+      ijk[0] = static_cast<int>(v % n[0]);
+      ijk[1] = static_cast<int>((v / n[0]) % n[1]);
+      ijk[2] = static_cast<int>(v / (static_cast<vtkIdType>(n[0]) * n[1]));
+      double x[3];
+      for (int r = 0; r < 3; ++r) // origin + D (spacing . ijk): the grid is axis-aligned here
+        x[r] = field->GetOrigin()[r] + field->GetSpacing()[r] * ijk[r];
+      sample->InsertNextPoint(x);
+    }
+    vtkNew<vtkPolyData> points;
+    points->SetPoints(sample);
+    barylab::WeightsParameters mvc;
+    auto weighted = barylab::ComputeWeights(points, w->controls(), mvc);
+    vtkNew<vtkPolyData> posed;
+    posed->SetPoints(w->posedControls());
+    auto moved = barylab::Deform(vtkPointSet::SafeDownCast(weighted), w->controls(), posed, mvc);
+    double worst = 0.0, largest = 0.0;
+    for (std::size_t i = 0; i < ids.size(); ++i)
+    {
+      double x[3], y[3], d[3];
+      sample->GetPoint(static_cast<vtkIdType>(i), x);
+      moved->GetPoint(static_cast<vtkIdType>(i), y);
+      u->GetTuple(ids[i], d);
+      for (int k = 0; k < 3; ++k)
+        worst = std::max(worst, std::abs(x[k] + d[k] - y[k]));
+      largest = std::max(largest, std::abs(d[2]));
+    }
+    QVERIFY2(worst < 1e-9, qPrintable(QString::number(worst)));
+    QVERIFY(largest > 1.0); // the field moves something
+    // the label map warped into the deformed space keeps its labels
+    const QString warped_path = output("organ_label_warped.nii.gz");
+    QVERIFY2(w->saveWarpedLabelMap(warped_path), qPrintable(w->errors().join("; ")));
+    vtkSmartPointer<vtkImageData> warped = vtkBaryImageIO::Read(warped_path.toStdString());
+    double range[2];
+    warped->GetPointData()->GetScalars()->GetRange(range);
+    QCOMPARE(range[0], 0.0);
+    QCOMPARE(range[1], 2.0);
+
+    // Compute > Make a cage: a coarser one around the same model; the label map stays
+    QVERIFY2(w->makeCage(24, output("organ/organ_cage24.obj")), qPrintable(w->errors().join("; ")));
+    QCOMPARE(static_cast<int>(w->controls()->GetNumberOfPoints()), 24);
+    QVERIFY(w->labelMap());
+    // no weights for the new cage yet: nothing to save, said so
+    const int errors = w->errors().size();
+    QVERIFY(!w->saveTransform(output("never.nii.gz")));
+    QCOMPARE(w->errors().size(), errors + 1);
+    QVERIFY(!QFileInfo::exists(output("never.nii.gz")));
+    // bad input: a missing file, a label the image does not have; the session is unchanged
+    QVERIFY(!w->openLabelMap(data("no_such_label_map.nii.gz")));
+    QVERIFY(!w->openLabelMap(data("organ_label.nii.gz"), 7, 40, output("organ")));
+    QVERIFY2(w->errors().last().contains("7"), qPrintable(w->errors().last()));
+    QCOMPARE(static_cast<int>(w->controls()->GetNumberOfPoints()), 24);
+    // other inputs: the label map no longer applies
+    QVERIFY(w->openFiles({ data("cage3d.obj"), data("model3d.off") }));
+    QVERIFY(!w->labelMap());
   }
 
   void surfaceModeCommandLine()
