@@ -473,6 +473,49 @@ TEST(EnclosingCage, TargetBelowWhatIsReachable)
   EXPECT_NO_THROW(validate_cage(r.cage));
 }
 
+TEST(EnclosingCage, OpenSurfaceIsEnclosedAndHasNoVolume)
+{
+  // The kidney without its first 200 triangles: an open surface (a triangle soup is enclosed
+  // triangle by triangle); its volume is undefined, so the ratio is NaN.
+  const Model closed = read_off(data("model3d.off"));
+  Model open;
+  open.V = closed.V;
+  open.F = closed.F.bottomRows(closed.F.rows() - 200);
+  EnclosingCageOptions options;
+  options.target_vertices = 50;
+  options.margin_fraction = 0.1;
+  const EnclosingCageResult r = enclosing_cage(open.V, open.F, options);
+  ASSERT_TRUE(r.reached_target) << r.stop_reason;
+  EXPECT_TRUE(std::isnan(r.model_measure));
+  EXPECT_TRUE(std::isnan(r.measure_ratio));
+  EXPECT_GT(r.cage_measure, 0.0);
+  // Every vertex inside (including those of the removed triangles), no triangle meeting it.
+  const Mesh c = to_mesh(r.cage.V, r.cage.F);
+  const CGAL::Side_of_triangle_mesh<Mesh, K> inside(c);
+  for (Index i = 0; i < open.V.rows(); ++i)
+    ASSERT_EQ(inside(K::Point_3(open.V(i, 0), open.V(i, 1), open.V(i, 2))), CGAL::ON_BOUNDED_SIDE) << i;
+  std::vector<K::Triangle_3> triangles;
+  for (Index f = 0; f < open.F.rows(); ++f)
+  {
+    auto corner = [&](int k) {
+      return K::Point_3(open.V(open.F(f, k), 0), open.V(open.F(f, k), 1), open.V(open.F(f, k), 2));
+    };
+    triangles.emplace_back(corner(0), corner(1), corner(2));
+  }
+  Index crossings = 0;
+  for (Index f = 0; f < r.cage.F.rows(); ++f)
+  {
+    auto corner = [&](int k) {
+      return K::Point_3(r.cage.V(r.cage.F(f, k), 0), r.cage.V(r.cage.F(f, k), 1), r.cage.V(r.cage.F(f, k), 2));
+    };
+    const K::Triangle_3 t(corner(0), corner(1), corner(2));
+    for (const auto& m : triangles)
+      crossings += CGAL::do_intersect(t, m);
+  }
+  EXPECT_EQ(crossings, 0);
+  EXPECT_NO_THROW(validate_cage(r.cage));
+}
+
 TEST(EnclosingCage, SmallModelOnACoarseGrid)
 {
   // A tetrahedron with a margin of 20 % of its diagonal: a few hundred offset vertices, so the

@@ -195,6 +195,55 @@ TEST(vtkBaryEnclosingCage, PlanarModelGivesAPolygonInItsPlane)
   EXPECT_NO_THROW(vtkBaryConversion::ToCage(cage));
 }
 
+TEST(vtkBaryEnclosingCage, PolygonAsBarePointsOrPolylineIsEnclosed)
+{
+  // A star in the plane z = 0.5: bare points in polygon order (the .obj habit), then the same
+  // points as one open polyline. Both are enclosed as segments.
+  std::vector<std::array<double, 3>> star;
+  for (int i = 0; i < 14; ++i)
+  {
+    const double t = 2.0 * 3.141592653589793 * i / 14, r = i % 2 ? 0.45 : 1.0;
+    star.push_back({ r * std::cos(t), r * std::sin(t), 0.5 });
+  }
+  vtkSmartPointer<vtkPolyData> points = MakePointCloud(star);
+  vtkNew<vtkPolyData> polyline;
+  polyline->SetPoints(points->GetPoints());
+  vtkNew<vtkCellArray> lines;
+  std::vector<vtkIdType> ids(star.size());
+  for (std::size_t i = 0; i < ids.size(); ++i)
+    ids[i] = static_cast<vtkIdType>(i);
+  lines->InsertNextCell(static_cast<vtkIdType>(ids.size()), ids.data());
+  polyline->SetLines(lines);
+  for (vtkPolyData* model : { points.Get(), polyline.Get() })
+  {
+    vtkNew<vtkBaryEnclosingCage> filter;
+    filter->SetInputData(model);
+    filter->SetNumberOfVertices(10);
+    filter->SetMarginFraction(0.1);
+    vtkNew<ErrorObserver> observer;
+    observer->Attach(filter);
+    ASSERT_EQ(RunPipeline(filter), 1) << observer->AllErrors();
+    vtkPolyData* cage = filter->GetOutput();
+    ASSERT_EQ(cage->GetNumberOfCells(), 1);
+    const vtkIdType n = cage->GetNumberOfPoints();
+    EXPECT_EQ(n, 10);
+    std::vector<double> poly;
+    for (vtkIdType i = 0; i < n; ++i)
+    {
+      const Vec p = Point(cage, i);
+      EXPECT_EQ(p.z(), 0.5) << "in the model's plane";
+      poly.insert(poly.end(), { p.x(), p.y(), 0.5 });
+    }
+    double bounds[6], normal[3] = { 0, 0, 1 };
+    cage->GetBounds(bounds);
+    for (const auto& x : star)
+    {
+      double q[3] = { x[0], x[1], x[2] };
+      EXPECT_EQ(vtkPolygon::PointInPolygon(q, static_cast<int>(n), poly.data(), bounds, normal), 1);
+    }
+  }
+}
+
 TEST(vtkBaryEnclosingCage, BadInputFailsWithItsErrorCode)
 {
   vtkNew<vtkBaryEnclosingCage> filter;
