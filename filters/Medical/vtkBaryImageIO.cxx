@@ -527,6 +527,10 @@ void vtkBaryImageIO::Write(vtkImageData* image, const std::string& path)
     io->SetNumberOfComponents(static_cast<unsigned>(components));
     io->SetPixelType(components == 3 ? PixelKind::VECTOR : PixelKind::SCALAR);
     io->SetUseCompression(ext != ".nii");
+    // zlib's fastest level where the format's IO honours it (MetaImage, NRRD; ITK 5.2's NIfTI
+    // IO keeps its own): a displacement field's doubles barely compress (their mantissas), label
+    // maps still shrink by their runs of equal values
+    io->SetCompressionLevel(1);
     io->SetFileName(tmp);
     itk::ImageIORegion region(3);
     for (unsigned d = 0; d < 3; ++d)
