@@ -511,6 +511,33 @@ TEST(ImageIO, ReadsFilesOfOtherWriters)
   EXPECT_EQ(values->GetDataType(), VTK_SHORT);
   for (vtkIdType v = 0; v < 24; ++v)
     EXPECT_EQ(values->GetTuple1(v), static_cast<double>(v));
+
+  // A 2-D image: one slice, its 2 x 2 direction in the 3 x 3 matrix, the third axis +z.
+  {
+    std::ofstream header(dir / "flat.nhdr");
+    header << "NRRD0004\ntype: unsigned char\ndimension: 2\nspace dimension: 2\nsizes: 3 2\n"
+              "space directions: (0,1.5) (-2,0)\nkinds: domain domain\nendian: little\n"
+              "encoding: raw\nspace origin: (5,7)\ndata file: flat.raw\n";
+    std::ofstream(dir / "flat.raw", std::ios::binary) << "\x01\x02\x03\x04\x05\x06";
+  }
+  image = vtkBaryImageIO::Read((dir / "flat.nhdr").string());
+  image->GetDimensions(dims);
+  EXPECT_EQ(dims[0], 3);
+  EXPECT_EQ(dims[1], 2);
+  EXPECT_EQ(dims[2], 1);
+  const double spacing2[3] = { 1.5, 2.0, 1.0 }, origin2[3] = { 5.0, 7.0, 0.0 };
+  const double D2[3][3] = { { 0, -1, 0 }, { 1, 0, 0 }, { 0, 0, 1 } };
+  for (int d = 0; d < 3; ++d)
+  {
+    EXPECT_NEAR(image->GetSpacing()[d], spacing2[d], 1e-12);
+    EXPECT_NEAR(image->GetOrigin()[d], origin2[d], 1e-12);
+    for (int r = 0; r < 3; ++r)
+      EXPECT_NEAR(image->GetDirectionMatrix()->GetElement(r, d), D2[r][d], 1e-12);
+  }
+  values = image->GetPointData()->GetScalars();
+  EXPECT_EQ(values->GetDataType(), VTK_UNSIGNED_CHAR);
+  for (vtkIdType v = 0; v < 6; ++v)
+    EXPECT_EQ(values->GetTuple1(v), static_cast<double>(v + 1));
 }
 
 TEST(ImageIO, ExtensionsAndCanReadWrite)
