@@ -71,6 +71,9 @@ int run_cage(const CageArgs& a)
   summary["vertices"] = cage->GetNumberOfPoints();
   summary["faces"] = planar ? cage->GetNumberOfPoints() : cage->GetNumberOfCells();
   summary["reached_target"] = filter->GetReachedTarget();
+  summary["stop_reason"] = filter->GetStopReason();
+  summary["collapses"] = filter->GetCollapses();
+  summary["tighten_moves"] = filter->GetTightenMoves();
   summary["margin"] = filter->GetMarginUsed();
   summary["offset_vertices"] = filter->GetOffsetVertices();
   summary["model_measure"] = number(filter->GetModelMeasure());

@@ -110,7 +110,8 @@ int vtkBaryEnclosingCage::RequestData(
   this->MarginUsed = this->VolumeRatio = this->ModelMeasure = this->CageMeasure = nan;
   this->MaximumDistance = this->MeanDistance = this->Diagonal = nan;
   this->Seconds = 0.0;
-  this->OffsetVertices = 0;
+  this->OffsetVertices = this->Collapses = this->TightenMoves = 0;
+  this->StopReason.clear();
   this->ReachedTarget = false;
   if (!model)
   {
@@ -169,6 +170,9 @@ int vtkBaryEnclosingCage::RequestData(
     this->MeanDistance = r.mean_distance;
     this->Diagonal = r.diagonal;
     this->Seconds = r.seconds;
+    this->Collapses = r.collapses;
+    this->TightenMoves = r.tighten_moves;
+    this->StopReason = r.stop_reason;
     if (!r.reached_target)
       vtkWarningMacro(<< "The cage has " << cage.V.rows() << " vertices, not "
                       << this->NumberOfVertices << ": " << r.stop_reason << ".");

@@ -27,6 +27,8 @@
 #include "BaryLabFiltersModule.h" // for export macro
 #include "vtkPolyDataAlgorithm.h"
 
+#include <string> // for StopReason
+
 class BARYLABFILTERS_EXPORT vtkBaryEnclosingCage : public vtkPolyDataAlgorithm
 {
 public:
@@ -85,6 +87,11 @@ public:
   vtkGetMacro(MeanDistance, double);
   vtkGetMacro(Diagonal, double);
   vtkGetMacro(Seconds, double);
+  /// Edge collapses and tightening moves made; why decimation stopped ("target reached", "no
+  /// valid collapse left", ...).
+  vtkGetMacro(Collapses, vtkIdType);
+  vtkGetMacro(TightenMoves, vtkIdType);
+  const char* GetStopReason() const { return this->StopReason.c_str(); }
   ///@}
 
 protected:
@@ -110,6 +117,9 @@ protected:
   double MeanDistance = 0.0;
   double Diagonal = 0.0;
   double Seconds = 0.0;
+  vtkIdType Collapses = 0;
+  vtkIdType TightenMoves = 0;
+  std::string StopReason;
 
 private:
   vtkBaryEnclosingCage(const vtkBaryEnclosingCage&) = delete;

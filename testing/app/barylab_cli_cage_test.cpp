@@ -100,6 +100,9 @@ TEST_F(CageCLI, Kidney3DCageIsUsedByMeanValueAndHarmonicWeights)
   EXPECT_EQ(s["faces"], 116);
   EXPECT_EQ(s["dimension"], 3);
   EXPECT_TRUE(s["reached_target"].get<bool>());
+  EXPECT_EQ(s["stop_reason"], "target reached");
+  EXPECT_EQ(s["collapses"].get<int>() + 60, s["offset_vertices"].get<int>());
+  EXPECT_GT(s["tighten_moves"].get<int>(), 0);
   EXPECT_GT(s["measure_ratio"].get<double>(), 1.0);
   EXPECT_GT(s["max_distance"].get<double>(), 0.0);
   EXPECT_NEAR(s["margin"].get<double>(), 0.1 * s["diagonal"].get<double>(), 1e-12);
