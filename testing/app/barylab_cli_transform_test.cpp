@@ -207,7 +207,7 @@ TEST_F(TransformCLI, WarpShiftsLabelsByWholeVoxelsAndTheIdentityChangesNothing)
                 out("inv.nii.gz") + " --quiet")
                 .code,
       0);
-    for (const std::string how : { "--inverse-transform " + out("inv.nii.gz"),
+    for (const std::string& how : { "--inverse-transform " + out("inv.nii.gz"),
            "--transform " + out("f.nii.gz") })
     {
       fs::remove(out("warped.nii.gz"));
