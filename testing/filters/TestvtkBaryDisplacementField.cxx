@@ -319,6 +319,56 @@ TEST(vtkBaryDisplacementField, RigidCageMotionGivesARigidField)
   }
 }
 
+vtkSmartPointer<vtkImageData> Labels(); // below
+
+TEST(vtkBaryDisplacementField, ObliqueReferenceGridIsKept)
+{
+  // a reference with a rotated direction matrix and an extent not starting at 0: the field
+  // lies on the same physical voxels (VTK's own index -> point map of the reference), and the
+  // output's direction is the reference's, through the pipeline (warp) as well
+  auto rest = RestCage();
+  const Eigen::Matrix3d R =
+    Eigen::AngleAxisd(0.2, Eigen::Vector3d(0.0, 1.0, 1.0).normalized()).toRotationMatrix();
+  const Eigen::Vector3d t(1.0, 2.0, -3.0);
+  auto rigid = [&](const Eigen::Vector3d& x) { return Eigen::Vector3d(R * (x - kOffset) + kOffset + t); };
+  auto moved = MovedCage(rest, rigid);
+  auto reference = Labels();
+  reference->SetExtent(2, 31, -3, 21, 5, 24);
+  const Eigen::Matrix3d D =
+    Eigen::AngleAxisd(0.5, Eigen::Vector3d(1.0, 0.3, -0.2).normalized()).toRotationMatrix();
+  reference->SetDirectionMatrix(D.data()); // row-major: this is D^T, also a rotation
+  auto field = vtkSmartPointer<vtkBaryDisplacementField>::New();
+  field->SetRestCageData(rest);
+  field->SetDeformedCageData(moved);
+  field->SetReferenceImageData(reference);
+  vtkNew<vtkBaryImageWarp> warp;
+  warp->SetInputData(reference);
+  warp->SetFieldConnection(field->GetOutputPort());
+  warp->SetInterpolationToNearest();
+  ASSERT_EQ(RunPipeline(warp), 1);
+  vtkImageData* out = field->GetOutput();
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c)
+    {
+      EXPECT_DOUBLE_EQ(out->GetDirectionMatrix()->GetElement(r, c),
+        reference->GetDirectionMatrix()->GetElement(r, c));
+      EXPECT_DOUBLE_EQ(warp->GetOutput()->GetDirectionMatrix()->GetElement(r, c),
+        reference->GetDirectionMatrix()->GetElement(r, c));
+    }
+  vtkDataArray* u = out->GetPointData()->GetArray("Displacement");
+  ASSERT_EQ(u->GetNumberOfTuples(), reference->GetNumberOfPoints());
+  for (const int v : { 0, 777, 5000, 14999 })
+  {
+    const int i = v % 30, j = (v / 30) % 25, k = v / 750;
+    double x[3];
+    reference->TransformIndexToPhysicalPoint(i + 2, j - 3, k + 5, x);
+    const Eigen::Vector3d p(x[0], x[1], x[2]);
+    const Eigen::Vector3d expected = rigid(p) - p;
+    for (int a = 0; a < 3; ++a)
+      EXPECT_NEAR(u->GetComponent(v, a), expected(a), 1e-8) << v;
+  }
+}
+
 TEST(vtkBaryDisplacementField, LandmarkLandsWhereExpectedInLPSAndRAS)
 {
   // the cage moves 5 mm to the patient's left (+x in LPS, -x in RAS) and 2 mm up (+z in both)
