@@ -357,7 +357,7 @@ nlohmann::json WriteFrameTransforms(vtkPolyData* cage,
         std::cerr << "barylab: warning: frame " << f << ": " << message << "\n";
       };
     RunAlgorithm(filter, warn, bary::ErrorCode::InvalidArgument);
-    char number[16];
+    char number[32];
     std::snprintf(number, sizeof(number), "_%03zu", f);
     json frame = { { "frame", f }, { "jacobian_minimum", filter->GetJacobianMinimum() },
       { "folded_voxels", filter->GetNumberOfFoldedVoxels() } };

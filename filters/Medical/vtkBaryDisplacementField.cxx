@@ -336,12 +336,26 @@ int vtkBaryDisplacementField::RequestData(
     const bary::Index n = grid.voxel_count();
     const Eigen::Matrix3d M = grid.index_to_physical();
     const int method = this->WeightMethod->GetMethod();
-    // a copy of the method: the celestial hull points are fixed for every block
-    vtkNew<vtkBaryWeightMethod> weightMethod;
+    vtkNew<vtkBaryWeightMethod> weightMethod; // a copy: the settings of this execution
     weightMethod->DeepCopy(this->WeightMethod);
-    if (vtkBaryWeightMethod::IsPointBased(method) &&
-      weightMethod->GetCelestialHullPoints() == vtkBaryWeightMethod::HULL_POINTS_AUTO)
-      weightMethod->SetCelestialHullPointsToAlways();
+    // celestial methods: the hull points are decided and placed from the grid's 8 corners (and
+    // the controls), the same for every block; the grid is the convex hull of its corners
+    vtkNew<vtkPolyData> corners;
+    vtkBaryShared shared;
+    if (vtkBaryWeightMethod::IsPointBased(method))
+    {
+      bary::Points C(8, 3);
+      for (int c = 0; c < 8; ++c)
+        C.row(c) = grid.point(Eigen::Vector3d((c & 1) ? double(grid.size[0] - 1) : 0.0,
+                                (c & 2) ? double(grid.size[1] - 1) : 0.0,
+                                (c & 4) ? double(grid.size[2] - 1) : 0.0))
+                     .transpose();
+      vtkNew<vtkPoints> cornerPoints;
+      cornerPoints->SetDataTypeToDouble();
+      corners->SetPoints(cornerPoints);
+      vtkBaryConversion::SetPoints(corners, C);
+      shared.AllPoints = corners;
+    }
     bary::DisplacementField field;
     field.grid = grid;
     field.values.resize(3, n);
@@ -414,7 +428,7 @@ int vtkBaryDisplacementField::RequestData(
         vtkBaryConversion::SetPoints(block, P);
         vtkBaryCage columns;
         const bary::WeightsResult r =
-          weightMethod->Compute(block, rest, nullptr, {}, &columns, nullptr);
+          weightMethod->Compute(block, rest, nullptr, {}, &columns, nullptr, shared);
         const Eigen::MatrixXd Q = deform(r, columns, P);
         for (vtkIdType v = begin; v < end; ++v)
         {

@@ -19,9 +19,10 @@
  * Where the method is not defined: mean value and Green coordinates are defined everywhere
  * (outside the cage too), and are evaluated at every voxel, BlockSize voxels at a time (the
  * weights of one block at a time, so the memory does not grow with the grid). The celestial
- * methods (tcc, scc) are evaluated the same way with their hull points set to `always` when
- * they are `auto`, so that every block sees the same control points (voxels beyond the hull and
- * its margin are an error: choose a grid inside it or raise CelestialHullMargin). The
+ * methods (tcc, scc) are evaluated the same way, their hull points (CelestialHullPoints:
+ * auto, always, none) decided and placed from the grid's 8 corners and the controls, the same
+ * for every block (the grid is the convex hull of its corners, so auto adds them exactly when
+ * some voxel needs them); with none, voxels outside the controls' hull are an error. The
  * mesh-based methods (harmonic, bbw, lbc) are computed once at the vertices of a mesh of the
  * cage (vtkBaryCageMesher with the method's cell settings, weights on that mesh as the given
  * domain), the displacements of its vertices interpolated linearly at the voxels inside the
