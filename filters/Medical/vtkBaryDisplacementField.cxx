@@ -197,9 +197,12 @@ bary::DisplacementField vtkBaryDisplacementField::ToField(vtkImageData* image, c
       "the displacement array has " + std::to_string(n) + " vectors for " +
         std::to_string(field.grid.voxel_count()) + " voxels");
   field.values.resize(3, n);
-  for (vtkIdType v = 0; v < n; ++v)
-    for (int c = 0; c < 3; ++c)
-      field.values(c, v) = array->GetComponent(v, c);
+  if (auto* doubles = vtkDoubleArray::SafeDownCast(array)) // the same layout: one copy
+    std::copy(doubles->GetPointer(0), doubles->GetPointer(0) + 3 * n, field.values.data());
+  else
+    for (vtkIdType v = 0; v < n; ++v)
+      for (int c = 0; c < 3; ++c)
+        field.values(c, v) = array->GetComponent(v, c);
   bary::validate_displacement_field(field);
   return field;
 }
