@@ -12,6 +12,8 @@
 #include "vtkPointData.h"
 #include "vtkPolyData.h"
 
+#include "cli_test_utils.h"
+
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
@@ -27,30 +29,16 @@ namespace fs = std::filesystem;
 
 namespace
 {
-struct Result
-{
-  int code = -1;
-  std::string output;
-};
+using Result = barylab_test::CommandResult;
 
 Result run(const std::string& args)
 {
-  const std::string command = std::string(BARYLAB_EXE) + " " + args + " 2>&1";
-  Result r;
-  FILE* pipe = popen(command.c_str(), "r");
-  if (!pipe)
-    return r;
-  std::array<char, 4096> buffer;
-  while (fgets(buffer.data(), static_cast<int>(buffer.size()), pipe))
-    r.output += buffer.data();
-  const int status = pclose(pipe);
-  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return r;
+  return barylab_test::RunBarylab(args);
 }
 
 std::string data(const std::string& name)
 {
-  return std::string(BARYLAB_DATA_DIR) + "/" + name;
+  return barylab_test::DataPath(name);
 }
 
 class CageCLI : public ::testing::Test
@@ -58,10 +46,7 @@ class CageCLI : public ::testing::Test
 protected:
   void SetUp() override
   {
-    dir_ = fs::path(BARYLAB_TEST_OUTPUT_DIR) /
-      ("cli_cage_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
+    dir_ = barylab_test::FreshTestFolder("cli_cage_");
   }
   std::string out(const std::string& name) const { return (dir_ / name).string(); }
   fs::path dir_;

@@ -11,6 +11,8 @@
 #include "vtkPointData.h"
 #include "vtkStringArray.h"
 
+#include "cli_test_utils.h"
+
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
@@ -27,25 +29,11 @@ namespace fs = std::filesystem;
 
 namespace
 {
-struct CommandRun
-{
-  int code = -1;
-  std::string output;
-};
+using CommandRun = barylab_test::CommandResult;
 
 CommandRun run_barylab(const std::string& args)
 {
-  const std::string command = std::string(BARYLAB_EXE) + " " + args + " 2>&1";
-  CommandRun r;
-  FILE* pipe = popen(command.c_str(), "r");
-  if (!pipe)
-    return r;
-  std::array<char, 4096> buffer;
-  while (fgets(buffer.data(), static_cast<int>(buffer.size()), pipe))
-    r.output += buffer.data();
-  const int status = pclose(pipe);
-  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return r;
+  return barylab_test::RunBarylab(args);
 }
 
 using Point = std::array<double, 3>;
@@ -61,10 +49,7 @@ class CLIMarkups : public ::testing::Test
 protected:
   void SetUp() override
   {
-    dir_ = fs::path(BARYLAB_TEST_OUTPUT_DIR) /
-      ("cli_markups_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
+    dir_ = barylab_test::FreshTestFolder("cli_markups_");
     // control points: the corners of the box [-2, 2] x [-1.5, 1.5] x [-1, 1.2] around the
     // bundled kidney (data/model3d.off, within about +-1.15 x +-0.75 x +-0.6), and two inside
     for (double z : { -1.0, 1.2 })

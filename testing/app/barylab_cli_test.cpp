@@ -14,6 +14,8 @@
 #include "vtkPoints.h"
 #include "vtkPolyData.h"
 
+#include "cli_test_utils.h"
+
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
@@ -34,30 +36,16 @@ namespace fs = std::filesystem;
 
 namespace
 {
-struct CommandResult
-{
-  int code = -1;
-  std::string output; // stdout + stderr
-};
+using CommandResult = barylab_test::CommandResult;
 
 CommandResult run(const std::string& args)
 {
-  const std::string command = std::string(BARYLAB_EXE) + " " + args + " 2>&1";
-  CommandResult r;
-  FILE* pipe = popen(command.c_str(), "r");
-  if (!pipe)
-    return r;
-  std::array<char, 4096> buffer;
-  while (fgets(buffer.data(), static_cast<int>(buffer.size()), pipe))
-    r.output += buffer.data();
-  const int status = pclose(pipe);
-  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return r;
+  return barylab_test::RunBarylab(args);
 }
 
 std::string data(const std::string& name)
 {
-  return std::string(BARYLAB_DATA_DIR) + "/" + name;
+  return barylab_test::DataPath(name);
 }
 
 class CLI : public ::testing::Test
@@ -65,10 +53,7 @@ class CLI : public ::testing::Test
 protected:
   void SetUp() override
   {
-    dir_ = fs::path(BARYLAB_TEST_OUTPUT_DIR) /
-      ("cli_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
+    dir_ = barylab_test::FreshTestFolder("cli_");
   }
   std::string out(const std::string& name) const { return (dir_ / name).string(); }
   /// The folder holds nothing (no partial or temporary files).
@@ -1507,7 +1492,9 @@ TEST_F(CLI, LocalityStatisticsOfTwoMethodsOnTheBundled2DCage)
     {
       sum += Q[k].get<double>();
       if (k > 0)
+      {
         EXPECT_LE(Q[k].get<double>(), Q[k - 1].get<double>()); // non-increasing
+      }
     }
     EXPECT_NEAR(sum, s["mean_support"].get<double>(), 1e-9); // mean support = sum_k Q(k)
     EXPECT_LE(s["max_support"].get<double>(), 20.0);
@@ -1520,7 +1507,9 @@ TEST_F(CLI, LocalityStatisticsOfTwoMethodsOnTheBundled2DCage)
       EXPECT_GE(P[i].get<double>(), 0.0);
       EXPECT_LE(P[i].get<double>(), 1.0 + 1e-12);
       if (i > 0)
+      {
         EXPECT_GE(P[i].get<double>(), P[i - 1].get<double>() - 1e-15); // a CDF in t
+      }
     }
   }
   // harmonic coordinates are a convex combination (0 <= w <= 1): P(1) = 1

@@ -16,6 +16,8 @@
 #include "vtkPointSet.h"
 #include "vtkUnsignedCharArray.h"
 
+#include "cli_test_utils.h"
+
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
@@ -31,25 +33,11 @@ namespace fs = std::filesystem;
 
 namespace
 {
-struct TransformRun
-{
-  int code = -1;
-  std::string output;
-};
+using TransformRun = barylab_test::CommandResult;
 
 TransformRun run_transform(const std::string& args)
 {
-  const std::string command = std::string(BARYLAB_EXE) + " " + args + " 2>&1";
-  TransformRun r;
-  FILE* pipe = popen(command.c_str(), "r");
-  if (!pipe)
-    return r;
-  std::array<char, 4096> buffer;
-  while (fgets(buffer.data(), static_cast<int>(buffer.size()), pipe))
-    r.output += buffer.data();
-  const int status = pclose(pipe);
-  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return r;
+  return barylab_test::RunBarylab(args);
 }
 
 class TransformCLI : public ::testing::Test
@@ -57,10 +45,7 @@ class TransformCLI : public ::testing::Test
 protected:
   void SetUp() override
   {
-    dir_ = fs::path(BARYLAB_TEST_OUTPUT_DIR) /
-      ("cli_transform_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
+    dir_ = barylab_test::FreshTestFolder("cli_transform_");
   }
   std::string out(const std::string& name) const { return (dir_ / name).string(); }
 
