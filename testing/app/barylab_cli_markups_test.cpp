@@ -7,6 +7,7 @@
 
 #include "vtkBaryDataIO.h"
 
+#include "vtkDataArray.h"
 #include "vtkDataSet.h"
 #include "vtkPointData.h"
 #include "vtkStringArray.h"
@@ -16,6 +17,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdio>
@@ -173,6 +175,50 @@ TEST_F(CLIMarkups, MovedLandmarksAreWrittenBackWithTheirLabels)
   ASSERT_NE(labels, nullptr);
   ASSERT_EQ(labels->GetNumberOfValues(), static_cast<vtkIdType>(landmarks_.size()));
   EXPECT_EQ(labels->GetValue(3), "liver-3");
+}
+
+TEST_F(CLIMarkups, BBWPointHandlesFromMarkupsAreTheSameHandles)
+{
+  // Landmarks as bounded biharmonic handles: five point handles inside the gingerbread man (his
+  // head, hands and feet, joints of data/skeleton2d.tgf) given once as a Slicer markups file
+  // (RAS, so the reader must negate x and y back) and once as an .obj: the same weights.
+  const std::vector<Point> handles = { { 0.0, 0.72, 0.0 }, { -0.82, 0.22, 0.0 }, { 0.82, 0.22, 0.0 },
+    { -0.25, -0.85, 0.0 }, { 0.25, -0.85, 0.0 } };
+  WriteJson("handles.mrk.json", handles, true, "H-");
+  {
+    std::ofstream obj(out("handles.obj"));
+    obj.precision(17);
+    for (const Point& h : handles)
+      obj << "v " << h[0] << " " << h[1] << " " << h[2] << "\n";
+  }
+  const std::string common = " --method bbw --mesh " + barylab_test::DataPath("cage2d.obj") +
+    " --points " + barylab_test::DataPath("model2d.obj") + " --cells 1500 --quiet";
+  const CommandRun a = run_barylab("weights --handles " + out("handles.mrk.json") + common +
+    " --output " + out("markups.vtp"));
+  ASSERT_EQ(a.code, 0) << a.output;
+  const CommandRun b = run_barylab("weights --handles " + out("handles.obj") + common +
+    " --output " + out("obj.vtp"));
+  ASSERT_EQ(b.code, 0) << b.output;
+  auto wa = vtkBaryDataIO::Read(out("markups.vtp"));
+  auto wb = vtkBaryDataIO::Read(out("obj.vtp"));
+  vtkDataArray* A = wa->GetPointData()->GetArray("Weights");
+  vtkDataArray* B = wb->GetPointData()->GetArray("Weights");
+  ASSERT_TRUE(A && B);
+  ASSERT_EQ(A->GetNumberOfComponents(), 5);
+  ASSERT_EQ(A->GetNumberOfTuples(), B->GetNumberOfTuples());
+  double worst = 0.0, partition = 0.0;
+  for (vtkIdType i = 0; i < A->GetNumberOfTuples(); ++i)
+  {
+    double sum = 0.0;
+    for (int k = 0; k < 5; ++k)
+    {
+      worst = std::max(worst, std::abs(A->GetComponent(i, k) - B->GetComponent(i, k)));
+      sum += A->GetComponent(i, k);
+    }
+    partition = std::max(partition, std::abs(sum - 1.0));
+  }
+  EXPECT_LT(worst, 1e-12) << "markups handles differ from the same points as .obj";
+  EXPECT_LT(partition, 1e-9);
 }
 
 TEST_F(CLIMarkups, BadMarkupsAreRunErrorsWithoutOutput)
