@@ -254,6 +254,20 @@ void print_summary(const json& s)
   }
 }
 
+void use_control_points(const std::string& controls, const std::string& posed_controls,
+  std::string& cage, std::string& posed)
+{
+  if (!controls.empty())
+  {
+    if (posed_controls.empty())
+      throw UsageError("--deformed-control-points is required with --control-points");
+    cage = controls;
+    posed = posed_controls;
+  }
+  else if (!posed_controls.empty())
+    throw UsageError("--deformed-control-points goes with --control-points");
+}
+
 std::vector<double> read_user_weights(const std::string& path)
 {
   return path.empty() ? std::vector<double>() : vtkBaryDataIO::ReadNumbers(path);

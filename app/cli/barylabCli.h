@@ -206,6 +206,11 @@ void print_summary(const nlohmann::json& s);
 /// tcc user weights: one number per control point (whitespace separated, '#' comments), or a
 /// libigl .dmat column.
 std::vector<double> read_user_weights(const std::string& path);
+/// Free control points (--control-points, --deformed-control-points) stand where a cage and
+/// its moved copy do: copies them into @p cage and @p posed when given.
+/// @throws UsageError when only one of the two control-point files is given.
+void use_control_points(const std::string& controls, const std::string& posed_controls,
+  std::string& cage, std::string& posed);
 
 /// BBW's --shape-preservation SPEC: a shallow copy of @p domain (read from @p mesh_path) with
 /// the point-data array "ShapePreservation" (rho >= 0 per domain vertex, §3.3) that

@@ -249,15 +249,7 @@ int run_deform(DeformArgs a)
     a.mesh, !a.controls.empty());
   if (!a.user_weights.empty() && a.parameters.method != bary::MethodId::TCelestial)
     throw UsageError("--user-weights is for --method tcc (Eq. 8's s_i)");
-  if (!a.controls.empty())
-  {
-    if (a.posed_controls.empty())
-      throw UsageError("--deformed-control-points is required with --control-points");
-    a.cage = a.controls;
-    a.posed = a.posed_controls;
-  }
-  else if (!a.posed_controls.empty())
-    throw UsageError("--deformed-control-points goes with --control-points");
+  use_control_points(a.controls, a.posed_controls, a.cage, a.posed);
   a.parameters.user_weights = read_user_weights(a.user_weights);
   if (a.posed.empty())
     throw UsageError("--deformed-cage is required (or, for --method bbw, --handles with "

@@ -98,15 +98,7 @@ int run_export(ExportArgs a)
 {
   if (!a.controls.empty() && !a.cage.empty())
     throw UsageError("give --cage or --control-points, not both");
-  if (!a.controls.empty())
-  {
-    if (a.posed_controls.empty())
-      throw UsageError("--deformed-control-points is required with --control-points");
-    a.cage = a.controls;
-    a.posed = a.posed_controls;
-  }
-  else if (!a.posed_controls.empty())
-    throw UsageError("--deformed-control-points goes with --control-points");
+  use_control_points(a.controls, a.posed_controls, a.cage, a.posed);
   if (a.parameters.method == bary::MethodId::BBW && a.cage.empty())
     throw UsageError("export-transform --method bbw takes cage handles (--cage), not a skeleton");
   check_bbw_inputs(a.parameters.method, a.cage, {}, {}, !a.controls.empty());
