@@ -598,6 +598,14 @@ PointLocation MeanValueCoordinates::evaluate_3d(const double* x, double* w) cons
 
 MeanValueResult MeanValueCoordinates::evaluate(const Points& P, const ProgressCallback& progress) const
 {
+  MeanValueResult result;
+  evaluate(P, result, progress);
+  return result;
+}
+
+void MeanValueCoordinates::evaluate(
+  const Points& P, MeanValueResult& out, const ProgressCallback& progress) const
+{
   const Index dim = dimension();
   if (P.cols() != dim)
     throw Error(ErrorCode::SizeMismatch,
@@ -609,9 +617,17 @@ MeanValueResult MeanValueCoordinates::evaluate(const Points& P, const ProgressCa
         "point " + std::to_string(p) + " has a non-finite coordinate");
 
   const Index np = P.rows(), nc = num_controls();
+  // every field starts afresh but W's and the locations' storage (each row of W is written
+  // whole below, whatever it held)
   MeanValueResult result;
-  result.W.resize(np, nc);
-  detail::advise_huge_pages(result.W.data(), sizeof(double) * static_cast<std::size_t>(result.W.size()));
+  result.W.swap(out.W);
+  result.location.swap(out.location);
+  out = MeanValueResult{};
+  if (result.W.rows() != np || result.W.cols() != nc)
+  {
+    result.W.resize(np, nc);
+    detail::advise_huge_pages(result.W.data(), sizeof(double) * static_cast<std::size_t>(result.W.size()));
+  }
   result.location.assign(static_cast<std::size_t>(np), PointLocation::Inside);
 
   // Points are handed out in small chunks (load balance: a per-block region with coarse chunks
@@ -708,7 +724,7 @@ MeanValueResult MeanValueCoordinates::evaluate(const Points& P, const ProgressCa
     if (std::isnan(result.W(p, 0)))
       result.undefined.push_back(p);
   }
-  return result;
+  out = std::move(result);
 }
 
 DenseWeights mean_value_coordinates(const Cage& cage, const Points& P, const MeanValueOptions& options)

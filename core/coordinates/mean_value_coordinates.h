@@ -78,6 +78,13 @@ public:
   /// the first non-finite point, Error(Cancelled) if @p progress returned false.
   MeanValueResult evaluate(const Points& P, const ProgressCallback& progress = {}) const;
 
+  /// The same into @p result, every field overwritten, reusing the storage of its W and location
+  /// where they already have the points' shape: repeated evaluations (a moving probe, frames of
+  /// points against one cage) then neither allocate nor first-touch #P x #C doubles (at 20,000
+  /// points and 642 controls, 103 MB: page faults and zeroing cost ~10% of the call).
+  /// @throws as above; @p result is then unspecified.
+  void evaluate(const Points& P, MeanValueResult& result, const ProgressCallback& progress = {}) const;
+
 private:
   PointLocation evaluate_2d(const double* x, double* w) const;
   PointLocation evaluate_3d(const double* x, double* w) const;

@@ -508,6 +508,50 @@ TEST_P(MeanValueProperties, OneCallFormMatchesTheEvaluator)
   EXPECT_TRUE((a.array() == b.array()).all());
 }
 
+TEST_P(MeanValueProperties, ReusedResultEqualsAFreshOne)
+{
+  // inside, outside and on the boundary (every vertex), 7 + 5 + n points: a partial last group
+  // of the vector kernel for most n
+  const Points in = test::sample_inside(cage(), 7, kMinDistance, seed() + 10);
+  const Points out = test::sample_outside(cage(), 5, kMinDistance, 2.0, seed() + 11);
+  const Index n = cage().num_controls();
+  Points P(12 + n, cage().dimension());
+  P << in, out, cage().V;
+  const MeanValueCoordinates mvc(cage());
+  const MeanValueResult fresh = mvc.evaluate(P);
+  const auto same = [&](const MeanValueResult& r) {
+    ASSERT_EQ(r.W.rows(), fresh.W.rows());
+    ASSERT_EQ(r.W.cols(), fresh.W.cols());
+    EXPECT_EQ(std::memcmp(r.W.data(), fresh.W.data(), sizeof(double) * r.W.size()), 0);
+    EXPECT_EQ(r.location, fresh.location);
+    EXPECT_EQ(r.undefined, fresh.undefined);
+    EXPECT_EQ(r.inside, fresh.inside);
+    EXPECT_EQ(r.outside, fresh.outside);
+    EXPECT_EQ(r.boundary, fresh.boundary);
+    EXPECT_TRUE(r.statistics.empty());
+    EXPECT_EQ(r.face_weights.size(), 0);
+  };
+  // storage of the right shape holding garbage: every row is overwritten, every field reset
+  MeanValueResult reused;
+  reused.W = DenseWeights::Constant(P.rows(), n, std::numeric_limits<double>::quiet_NaN());
+  reused.location.assign(static_cast<std::size_t>(P.rows()), PointLocation::Boundary);
+  reused.undefined = { 0, 3 };
+  reused.inside = reused.outside = reused.boundary = 99;
+  reused.statistics = { { "stale", 1.0 } };
+  reused.face_weights = DenseWeights::Ones(2, 2);
+  const double* storage = reused.W.data();
+  mvc.evaluate(P, reused);
+  same(reused);
+  EXPECT_EQ(reused.W.data(), storage) << "W's storage was not reused";
+  // again (the previous weights in place), then from storage of another shape
+  mvc.evaluate(P, reused);
+  same(reused);
+  MeanValueResult other;
+  other.W = DenseWeights::Constant(3, n + 1, -1.0);
+  mvc.evaluate(P, other);
+  same(other);
+}
+
 std::string cage_name(const ::testing::TestParamInfo<CatalogueCage>& info)
 {
   return info.param.name;
