@@ -1076,6 +1076,32 @@ TEST(MeanValueCoordinates3D, CubeCentreAndDiagonal)
 
 // --- Options and error paths ------------------------------------------------------------------
 
+TEST(MeanValueCoordinates, ReusingEvaluateRejectsBadPointsAndKeepsTheResult)
+{
+  // the overload that fills a caller's result checks the points as the other does, before it
+  // touches the result
+  const MeanValueCoordinates mvc(test::unit_cube());
+  Points P(3, 3);
+  P << 0.5, 0.5, 0.5, 0.25, 0.5, 0.75, 0.1, 0.2, 0.3;
+  MeanValueResult r;
+  mvc.evaluate(P, r);
+  const DenseWeights before = r.W;
+  Points nan = P;
+  nan(1, 2) = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_TRUE(throws_error([&] { mvc.evaluate(nan, r); }, ErrorCode::NonFinite, { "point 1" }));
+  const Points flat = P.leftCols(2);
+  EXPECT_TRUE(throws_error([&] { mvc.evaluate(flat, r); }, ErrorCode::SizeMismatch, { "2 coordinates" }));
+  ASSERT_EQ(r.W.rows(), before.rows());
+  ASSERT_EQ(r.W.cols(), before.cols());
+  EXPECT_TRUE((r.W.array() == before.array()).all());
+  EXPECT_EQ(r.inside, 3);
+  // no points: an empty result
+  mvc.evaluate(Points(0, 3), r);
+  EXPECT_EQ(r.W.rows(), 0);
+  EXPECT_TRUE(r.location.empty());
+  EXPECT_EQ(r.inside, 0);
+}
+
 TEST(MeanValueCoordinates, RejectsBadOptionsAndCages)
 {
   MeanValueOptions bad_tol;
