@@ -732,7 +732,7 @@ private:
 
 /// Bit b of x (b < 16) moved to bit D b.
 template<int D>
-std::uint64_t spread_bits(std::uint32_t x)
+BARY_ALWAYS_INLINE std::uint64_t spread_bits(std::uint32_t x)
 {
   std::uint64_t v = x & 0xffffu;
   if constexpr (D == 2)
@@ -752,37 +752,96 @@ std::uint64_t spread_bits(std::uint32_t x)
   return v;
 }
 
-template<int D>
-std::uint64_t hilbert_key(std::array<std::uint32_t, D> X, int bits)
+/// The Hilbert keys of L points at once (Skilling's transpose algorithm; X[i][j] is coordinate
+/// i of point j, overwritten): the lanes' loops are innermost, so the compiler vectorises them.
+template<int D, int L>
+BARY_ALWAYS_INLINE void hilbert_keys(
+  std::array<std::array<std::uint32_t, L>, D>& X, int bits, std::uint64_t* key)
 {
   // Without branches on the bits (they are data: a branch would be mispredicted half the time).
-  const std::uint32_t M = 1u << (bits - 1);
-  for (std::uint32_t Q = M; Q > 1; Q >>= 1)
+  for (int q = bits - 1; q > 0; --q)
   {
-    const std::uint32_t P = Q - 1;
-    for (int i = 0; i < D; ++i)
+    const std::uint32_t P = (1u << q) - 1u;
+    // i = 0: bit q of X[0] set: X[0] ^= P (else nothing)
+    for (int j = 0; j < L; ++j)
+      X[0][j] ^= P & (0u - ((X[0][j] >> q) & 1u));
+    for (int i = 1; i < D; ++i)
     {
-      // bit set: X[0] ^= P; else exchange the low bits of X[0] and X[i]
-      const std::uint32_t set = 0u - ((X[i] & Q) != 0 ? 1u : 0u);
-      const std::uint32_t t = (X[0] ^ X[i]) & P & ~set;
-      X[0] ^= (P & set) | t;
-      X[i] ^= t;
+      // bit q of X[i] set: X[0] ^= P; else exchange the low bits of X[0] and X[i]. Through
+      // copies, so that the compiler sees that the two rows do not overlap.
+      std::array<std::uint32_t, L> a = X[0], b = X[static_cast<std::size_t>(i)];
+      for (int j = 0; j < L; ++j)
+      {
+        const std::uint32_t set = 0u - ((b[j] >> q) & 1u);
+        const std::uint32_t t = (a[j] ^ b[j]) & P & ~set;
+        a[j] ^= (P & set) | t;
+        b[j] ^= t;
+      }
+      X[0] = a;
+      X[static_cast<std::size_t>(i)] = b;
     }
   }
   for (int i = 1; i < D; ++i)
-    X[i] ^= X[i - 1];
-  std::uint32_t t = 0;
-  for (std::uint32_t Q = M; Q > 1; Q >>= 1)
-    t ^= (Q - 1) & (0u - ((X[D - 1] & Q) != 0 ? 1u : 0u));
-  for (int i = 0; i < D; ++i)
-    X[i] ^= t;
+    for (int j = 0; j < L; ++j)
+      X[i][j] ^= X[i - 1][j];
+  std::array<std::uint32_t, L> t{};
+  for (int q = bits - 1; q > 0; --q)
+    for (int j = 0; j < L; ++j)
+      t[j] ^= ((1u << q) - 1u) & (0u - ((X[D - 1][j] >> q) & 1u));
   // Interleave, most significant bit first, X[0]'s bit before X[1]'s: bit b of X[i] goes to
   // bit b D + D - 1 - i of the key.
-  std::uint64_t key = 0;
-  for (int i = 0; i < D; ++i)
-    key |= spread_bits<D>(X[i]) << (D - 1 - i);
-  return key;
+  for (int j = 0; j < L; ++j)
+  {
+    std::uint64_t k = 0;
+    for (int i = 0; i < D; ++i)
+      k |= spread_bits<D>(X[i][j] ^ t[j]) << (D - 1 - i);
+    key[j] = k;
+  }
 }
+
+/// The (key, index) pairs of points [first, first + n), n <= 8, into keys: the cell of each
+/// coordinate in [0, cells] on the box [lo, hi], then hilbert_keys (lanes past n padded).
+template<int D>
+BARY_ALWAYS_INLINE void hilbert_block(const Eigen::MatrixXd& X, const double* lo, const double* hi,
+  double cells, int bits, Index first, Index n, std::pair<std::uint64_t, Index>* keys)
+{
+  constexpr int L = 8;
+  std::array<std::array<std::uint32_t, L>, D> c{};
+  for (int k = 0; k < D; ++k)
+  {
+    const double ext = hi[k] - lo[k];
+    for (Index j = 0; j < n; ++j)
+    {
+      const double u = ext > 0.0 ? (X(first + j, k) - lo[k]) / ext : 0.0;
+      c[static_cast<std::size_t>(k)][static_cast<std::size_t>(j)] =
+        static_cast<std::uint32_t>(std::clamp(u * cells, 0.0, cells));
+    }
+  }
+  std::array<std::uint64_t, L> key;
+  hilbert_keys<D, L>(c, bits, key.data());
+  for (Index j = 0; j < n; ++j)
+    keys[first + j] = { key[static_cast<std::size_t>(j)], first + j };
+}
+
+/// hilbert_block over the points [begin, end) eight at a time; the same bits compiled for AVX2
+/// (eight lanes of 32 bits where SSE2 has four) and for the portable target.
+template<int D>
+void hilbert_blocks(const Eigen::MatrixXd& X, const double* lo, const double* hi, double cells,
+  int bits, Index begin, Index end, std::pair<std::uint64_t, Index>* keys)
+{
+  for (Index first = begin; first < end; first += 8)
+    hilbert_block<D>(X, lo, hi, cells, bits, first, std::min<Index>(8, end - first), keys);
+}
+#if BARY_HAVE_AVX2_DISPATCH
+template<int D>
+BARY_TARGET_AVX2 BARY_NOINLINE void hilbert_blocks_avx2(const Eigen::MatrixXd& X, const double* lo,
+  const double* hi, double cells, int bits, Index begin, Index end,
+  std::pair<std::uint64_t, Index>* keys)
+{
+  for (Index first = begin; first < end; first += 8)
+    hilbert_block<D>(X, lo, hi, cells, bits, first, std::min<Index>(8, end - first), keys);
+}
+#endif
 
 /// Indices 0..#P-1 sorted along a Hilbert curve through the bounding box of X (ties by index).
 std::vector<Index> hilbert_order(const Eigen::MatrixXd& X, int threads)
@@ -792,39 +851,80 @@ std::vector<Index> hilbert_order(const Eigen::MatrixXd& X, int threads)
   const int bits = 16; // 65536 cells per axis: ample for warm starts, and cheap
   const Eigen::RowVectorXd lo = X.colwise().minCoeff(), hi = X.colwise().maxCoeff();
   const double cells = std::ldexp(1.0, bits) - 1.0;
-  std::vector<std::pair<std::uint64_t, Index>> keys(static_cast<std::size_t>(np));
+  std::vector<std::pair<std::uint64_t, Index>> keys;
+  detail::assign_huge(keys, static_cast<std::size_t>(np));
+  // Blocks of 8 Ki points (a multiple of the kernels' eight), in parallel.
+  constexpr Index kBlock = 8192;
+  const Index blocks = (np + kBlock - 1) / kBlock;
+  [[maybe_unused]] const bool avx2 = use_avx2();
 #pragma omp parallel for schedule(static) num_threads(threads) if (np >= 4096)
-  for (Index p = 0; p < np; ++p)
+  for (Index b = 0; b < blocks; ++b)
   {
-    std::array<std::uint32_t, 3> c{ 0, 0, 0 };
-    for (int k = 0; k < dim; ++k)
+    const Index begin = b * kBlock, end = std::min(np, begin + kBlock);
+    auto* out = keys.data();
+#if BARY_HAVE_AVX2_DISPATCH
+    if (avx2)
     {
-      const double ext = hi[k] - lo[k];
-      const double u = ext > 0.0 ? (X(p, k) - lo[k]) / ext : 0.0;
-      c[static_cast<std::size_t>(k)] =
-        static_cast<std::uint32_t>(std::clamp(u * cells, 0.0, cells));
+      if (dim == 2)
+        hilbert_blocks_avx2<2>(X, lo.data(), hi.data(), cells, bits, begin, end, out);
+      else
+        hilbert_blocks_avx2<3>(X, lo.data(), hi.data(), cells, bits, begin, end, out);
+      continue;
     }
-    const std::uint64_t key =
-      dim == 2 ? hilbert_key<2>({ c[0], c[1] }, bits) : hilbert_key<3>({ c[0], c[1], c[2] }, bits);
-    keys[static_cast<std::size_t>(p)] = { key, p };
+#endif
+    if (dim == 2)
+      hilbert_blocks<2>(X, lo.data(), hi.data(), cells, bits, begin, end, out);
+    else
+      hilbert_blocks<3>(X, lo.data(), hi.data(), cells, bits, begin, end, out);
   }
   // Sorted by (key, index): a stable least-significant-digit radix sort on the key (16 bits a
-  // pass; the indices come ascending), the order std::sort of the pairs gives.
-  std::vector<std::pair<std::uint64_t, Index>> other(keys.size());
-  std::vector<std::size_t> count(std::size_t(1) << 16);
+  // pass; the indices come ascending), the order std::sort of the pairs gives. Each thread
+  // counts and scatters its own contiguous block, its buckets placed after those of the blocks
+  // before it: the same stable order for any number of threads.
+  std::vector<std::pair<std::uint64_t, Index>> other;
+  detail::assign_huge(other, keys.size());
+  const std::size_t buckets = std::size_t(1) << 16;
+  const int parts = np >= 65536 ? std::clamp(threads, 1, 16) : 1;
+  std::vector<std::size_t> count(buckets * static_cast<std::size_t>(parts));
   for (int shift = 0; shift < dim * bits; shift += 16)
   {
-    std::fill(count.begin(), count.end(), 0);
-    for (const auto& k : keys)
-      ++count[(k.first >> shift) & 0xffffu];
-    std::size_t sum = 0;
-    for (std::size_t& c : count)
-      sum += std::exchange(c, sum);
-    for (const auto& k : keys)
-      other[count[(k.first >> shift) & 0xffffu]++] = k;
+#pragma omp parallel num_threads(parts) if (parts > 1)
+    {
+      const std::size_t n = keys.size();
+      const auto block = [&](int u) {
+        return std::make_pair(n * static_cast<std::size_t>(u) / static_cast<std::size_t>(parts),
+          n * (static_cast<std::size_t>(u) + 1) / static_cast<std::size_t>(parts));
+      };
+#pragma omp for schedule(static)
+      for (int u = 0; u < parts; ++u)
+      {
+        std::size_t* c = count.data() + buckets * static_cast<std::size_t>(u);
+        std::fill(c, c + buckets, 0);
+        const auto [begin, end] = block(u);
+        for (std::size_t i = begin; i < end; ++i)
+          ++c[(keys[i].first >> shift) & 0xffffu];
+      }
+#pragma omp single
+      {
+        std::size_t sum = 0;
+        for (std::size_t b = 0; b < buckets; ++b)
+          for (int u = 0; u < parts; ++u)
+            sum += std::exchange(count[buckets * static_cast<std::size_t>(u) + b], sum);
+      }
+#pragma omp for schedule(static)
+      for (int u = 0; u < parts; ++u)
+      {
+        std::size_t* c = count.data() + buckets * static_cast<std::size_t>(u);
+        const auto [begin, end] = block(u);
+        for (std::size_t i = begin; i < end; ++i)
+          other[c[(keys[i].first >> shift) & 0xffffu]++] = keys[i];
+      }
+    }
     keys.swap(other);
   }
-  std::vector<Index> order(static_cast<std::size_t>(np));
+  std::vector<Index> order;
+  detail::assign_huge(order, static_cast<std::size_t>(np));
+#pragma omp parallel for schedule(static) num_threads(threads) if (np >= 65536)
   for (Index p = 0; p < np; ++p)
     order[static_cast<std::size_t>(p)] = keys[static_cast<std::size_t>(p)].second;
   return order;
@@ -862,8 +962,9 @@ struct CelestialCoordinates::Impl
   /// CelestialHullPoints::Auto or Always only, which then always add the hull points.
   bool flat = false;
 
+  /// @p storage: a result whose arrays' storage is reused (or null).
   CelestialResult compute(const Points& X, const Eigen::MatrixXi& edges, const Points* initial,
-    const ProgressCallback& progress) const;
+    const ProgressCallback& progress, CelestialResult* storage = nullptr) const;
   Points hull_points_for(const Points& X) const;
   Index facets() const { return nodes.empty() ? 0 : nodes.front().normals.cols(); }
 
@@ -1337,6 +1438,7 @@ SolveStats CelestialCoordinates::Impl::solve_on_face(int index, const double* p,
     run(std::integral_constant<int, 2>{});
   else
     run(std::integral_constant<int, 3>{});
+
   double sum = 0.0;
   for (Index j = 0; j < m; ++j)
     sum += beta[static_cast<std::size_t>(j)] * inv_d[static_cast<std::size_t>(j)];
@@ -1485,17 +1587,14 @@ struct ChunkSolver
   const Points& V;
   const CelestialOptions& options;
   const double* s; // user weights or nullptr
-  const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>& X;
   const Index ld;   // padded(#C)
   const bool avx2;  // directions_avx2, weights_avx2 and (S scheme) scc_finish_avx2
   std::vector<double> v, q, inv_d, scratch; // v: the controls as D padded rows (AVX2)
 
-  ChunkSolver(const Points& V_, const CelestialOptions& options_, const double* s_,
-    const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>& X_)
+  ChunkSolver(const Points& V_, const CelestialOptions& options_, const double* s_)
     : V(V_)
     , options(options_)
     , s(s_)
-    , X(X_)
     , ld(padded(V_.rows()))
     , avx2(use_avx2())
     , v(static_cast<std::size_t>(D * ld), 0.0)
@@ -1508,17 +1607,17 @@ struct ChunkSolver
         v[static_cast<std::size_t>(k * ld + i)] = V(i, k);
   }
 
-  /// Solves point p from *warm (or cold if null), moved by *predict when that is given and
-  /// valid; writes W's row on success, y (the Newton unknown) and (S scheme, kernels' path)
-  /// *made, the prediction from p's solution for its neighbours (else made->valid = false).
+  /// Solves the point x (D coordinates) from *warm (or cold if null), moved by *predict when
+  /// that is given and valid; writes its row of W into w on success, y (the Newton unknown)
+  /// and (S scheme, kernels' path) *made, the prediction from x's solution for its neighbours
+  /// (else made->valid = false).
   /// Returns the stats of the last attempt; total counts every iteration.
-  SolveStats solve(Index p, const Vec* warm, Vec& y, double* w, long long& total, bool& restarted,
-    const Predictor<D>* predict = nullptr, Predictor<D>* made = nullptr)
+  SolveStats solve(const double* x, const Vec* warm, Vec& y, double* w, long long& total,
+    bool& restarted, const Predictor<D>* predict = nullptr, Predictor<D>* made = nullptr)
   {
     if (made != nullptr)
       made->valid = false;
     const Index n = V.rows();
-    const double* x = X.row(p).data();
     double* qd = q.data();
     double* id = inv_d.data();
 #if BARY_HAVE_AVX2_DISPATCH
@@ -1762,6 +1861,13 @@ CelestialResult CelestialCoordinates::compute(
   return impl_->compute(X, edges, nullptr, progress);
 }
 
+void CelestialCoordinates::compute(
+  const Points& X, CelestialResult& result, const ProgressCallback& progress) const
+{
+  check_query(X, Eigen::MatrixXi(0, 2), impl_->dim); // before result is touched
+  result = impl_->compute(X, Eigen::MatrixXi(0, 2), nullptr, progress, &result);
+}
+
 CelestialResult CelestialCoordinates::compute_from(
   const Points& X, const Points& initial, const ProgressCallback& progress) const
 {
@@ -1774,7 +1880,8 @@ CelestialResult CelestialCoordinates::compute_from(
 }
 
 CelestialResult CelestialCoordinates::Impl::compute(const Points& Xin,
-  const Eigen::MatrixXi& edges, const Points* initial, const ProgressCallback& progress) const
+  const Eigen::MatrixXi& edges, const Points* initial, const ProgressCallback& progress,
+  CelestialResult* storage) const
 {
   const auto start = std::chrono::steady_clock::now();
   const Impl& im = *this;
@@ -1785,7 +1892,7 @@ CelestialResult CelestialCoordinates::Impl::compute(const Points& Xin,
 
   // Hull points (§6): the controls and the corners of the enlarged bounding box, solved as one
   // set of controls; the corners' columns last.
-  const auto with_hull_points = [&]() {
+  const auto with_hull_points = [&](CelestialResult* from) {
     const Points H = hull_points_for(opt.hull_reference ? *opt.hull_reference : Xin);
     Points all(nc + H.rows(), dim);
     all << V, H;
@@ -1797,7 +1904,7 @@ CelestialResult CelestialCoordinates::Impl::compute(const Points& Xin,
       o.user_weights.tail(H.rows()).setZero();
     }
     const CelestialCoordinates augmented(std::move(all), o);
-    CelestialResult r = augmented.impl_->compute(Xin, edges, initial, progress);
+    CelestialResult r = augmented.impl_->compute(Xin, edges, initial, progress, from);
     r.added_controls = H;
     r.statistics.back().second = static_cast<double>(H.rows());
     r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -1805,15 +1912,34 @@ CelestialResult CelestialCoordinates::Impl::compute(const Points& Xin,
   };
   const bool auto_hull = opt.hull_points == CelestialHullPoints::Auto;
   if ((auto_hull && flat) || opt.hull_points == CelestialHullPoints::Always)
-    return with_hull_points();
+    return with_hull_points(storage);
 
   CelestialResult result;
+  if (storage != nullptr)
+  { // its arrays' storage, kept where the sizes allow (resize keeps an equal size's storage)
+    result.W.swap(storage->W);
+    result.hull_location.swap(storage->hull_location);
+    result.iterations.swap(storage->iterations);
+    result.residual.swap(storage->residual);
+    result.solution.swap(storage->solution);
+  }
   result.W.resize(np, nc); // every row is written below (a zero fill is a pass over #P x #C)
   detail::advise_huge_pages(result.W.data(), static_cast<std::size_t>(result.W.size()) * sizeof(double));
-  result.hull_location.assign(static_cast<std::size_t>(np), CelestialLocation::Inside);
-  result.iterations.setZero(np);
-  result.residual.setConstant(np, kNaN);
-  result.solution.setConstant(np, dim, kNaN);
+  // The per-point arrays (60 MB at 10^6 points) in huge pages too: see detail/huge_pages.h.
+  const auto advised = [](auto& m) {
+    detail::advise_huge_pages(m.data(), static_cast<std::size_t>(m.size()) * sizeof(*m.data()));
+  };
+  if (result.hull_location.capacity() >= static_cast<std::size_t>(np))
+    result.hull_location.assign(static_cast<std::size_t>(np), CelestialLocation::Inside);
+  else
+    detail::assign_huge(result.hull_location, static_cast<std::size_t>(np), CelestialLocation::Inside);
+  // Every entry of these (and every row of W) is written by the solve below.
+  result.iterations.resize(np);
+  advised(result.iterations);
+  result.residual.resize(np);
+  advised(result.residual);
+  result.solution.resize(np, dim);
+  advised(result.solution);
   if (np == 0)
   {
     result.seconds =
@@ -1821,7 +1947,11 @@ CelestialResult CelestialCoordinates::Impl::compute(const Points& Xin,
     fill_weights_result(result, im.facets());
     return result;
   }
-  const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> X = Xin;
+  Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> Xrows(np, dim);
+  advised(Xrows);
+  Xrows = Xin;
+  const auto& X = Xrows;
+
 
   const int threads = detail::thread_count(opt.threads);
 
@@ -1838,7 +1968,7 @@ CelestialResult CelestialCoordinates::Impl::compute(const Points& Xin,
       const Eigen::Matrix<double, 1, Eigen::Dynamic> r = R.row(p);
       const CelestialLocation where = im.classify(r.data());
       if (where == CelestialLocation::Outside || where == CelestialLocation::Boundary)
-        return with_hull_points();
+        return with_hull_points(&result);
     }
   }
   else if (auto_hull)
@@ -1846,11 +1976,12 @@ CelestialResult CelestialCoordinates::Impl::compute(const Points& Xin,
     {
       const CelestialLocation where = result.hull_location[static_cast<std::size_t>(p)];
       if (where == CelestialLocation::Outside || where == CelestialLocation::Boundary)
-        return with_hull_points();
+        return with_hull_points(&result);
     }
   for (Index p = 0; p < np; ++p)
     if (result.hull_location[static_cast<std::size_t>(p)] == CelestialLocation::Outside)
       result.outside.push_back(p);
+
   if (!result.outside.empty() && opt.outside == CelestialOutsidePolicy::Error)
   {
     std::string ids;
@@ -1902,6 +2033,7 @@ CelestialResult CelestialCoordinates::Impl::compute(const Points& Xin,
   Index warm_starts = 0, cold_restarts = 0;
   const double* s = im.s.empty() ? nullptr : im.s.data();
 
+
   auto run = [&](auto tag) {
     constexpr int D = decltype(tag)::value;
     using Vec = typename Newton<D>::Vec;
@@ -1912,6 +2044,17 @@ CelestialResult CelestialCoordinates::Impl::compute(const Points& Xin,
       std::vector<Vec> ys;
       std::vector<char> solved;
       std::vector<Predictor<D>> predictors; // of the chunk's solved points (kernels' path)
+      // The chunk's rows of W in curve order, copied to W's rows at the chunk's end: written
+      // where they are computed, W's rows (in no order, far apart) stalled the kernels' stores.
+      std::vector<double> rows;
+      // The chunk's iterations, residuals and solutions in curve order (the same reason).
+      std::vector<int> its;
+      std::vector<double> residuals;
+      std::vector<Vec> solutions;
+      // The chunk's points and locations in curve order, gathered at its start.
+      std::vector<Vec> xs;
+      std::vector<CelestialLocation> locs;
+      std::vector<Index> failed; // points solved without converging (NaN rows)
       long long iterations = 0;
       Index warm = 0, restarts = 0;
       Vec given = Vec::Zero(); // the start from `initial`
@@ -1920,29 +2063,40 @@ CelestialResult CelestialCoordinates::Impl::compute(const Points& Xin,
       np, kChunk, static_cast<int>(std::min<Index>(threads, chunks)), reporter,
       "celestial coordinates",
       [&] {
-        return ThreadState{ ChunkSolver<D>(im.V, opt, s, X),
+        return ThreadState{ ChunkSolver<D>(im.V, opt, s),
           std::vector<Vec>(static_cast<std::size_t>(kChunk)),
           std::vector<char>(static_cast<std::size_t>(kChunk)),
-          std::vector<Predictor<D>>(static_cast<std::size_t>(kChunk)) };
+          std::vector<Predictor<D>>(static_cast<std::size_t>(kChunk)),
+          std::vector<double>(static_cast<std::size_t>(kChunk * nc)),
+          std::vector<int>(static_cast<std::size_t>(kChunk)),
+          std::vector<double>(static_cast<std::size_t>(kChunk)),
+          std::vector<Vec>(static_cast<std::size_t>(kChunk)),
+          std::vector<Vec>(static_cast<std::size_t>(kChunk)),
+          std::vector<CelestialLocation>(static_cast<std::size_t>(kChunk)), std::vector<Index>() };
       },
       [&](ThreadState& t, Index begin, Index end) {
         std::fill(t.solved.begin(), t.solved.end(), 0);
         Index last = -1; // last solved position in this chunk
+        for (Index k = begin; k < end; ++k) // independent loads, many in flight
+        {
+          const Index p = order[static_cast<std::size_t>(k)];
+          t.locs[static_cast<std::size_t>(k - begin)] = result.hull_location[static_cast<std::size_t>(p)];
+          for (int d = 0; d < D; ++d)
+            t.xs[static_cast<std::size_t>(k - begin)][d] = X(p, d);
+        }
         for (Index k = begin; k < end; ++k)
         {
-          if (k + 2 < end) // the point after next: its memory, at random places in curve order
-          {
-            const Index a = order[static_cast<std::size_t>(k + 2)];
-            prefetch(X.row(a).data(), D * sizeof(double), false);
-            prefetch(result.W.row(a).data(), static_cast<std::size_t>(nc) * sizeof(double), true);
-            prefetch(&result.iterations[a], sizeof(int), true);
-            prefetch(&result.residual[a], sizeof(double), true);
-            for (int d = 0; d < D; ++d)
-              prefetch(&result.solution(a, d), sizeof(double), true);
-          }
           const Index p = order[static_cast<std::size_t>(k)];
-          double* w = result.W.row(p).data();
-          const CelestialLocation loc = result.hull_location[static_cast<std::size_t>(p)];
+          const std::size_t at = static_cast<std::size_t>(k - begin);
+          double* w = t.rows.data() + (k - begin) * nc;
+          int& its = t.its[at];
+          double& residual = t.residuals[at];
+          Vec& solution = t.solutions[at];
+          its = 0;
+          residual = kNaN;
+          solution.setConstant(kNaN);
+          const CelestialLocation loc = t.locs[at];
+          const double* x = t.xs[at].data();
           if (loc == CelestialLocation::Outside)
           {
             std::fill(w, w + nc, kNaN);
@@ -1951,10 +2105,10 @@ CelestialResult CelestialCoordinates::Impl::compute(const Points& Xin,
           if (loc != CelestialLocation::Inside)
           {
             std::fill(w, w + nc, 0.0);
-            const SolveStats st = im.solve_on_face(0, X.row(p).data(), w);
+            const SolveStats st = im.solve_on_face(0, x, w);
             t.iterations += st.iterations;
-            result.iterations[p] = st.iterations;
-            result.residual[p] = st.residual;
+            its = st.iterations;
+            residual = st.residual;
             if (!st.converged)
               std::fill(w, w + nc, kNaN);
             continue;
@@ -2002,11 +2156,11 @@ CelestialResult CelestialCoordinates::Impl::compute(const Points& Xin,
           }
           Vec& y = t.ys[static_cast<std::size_t>(k - begin)];
           bool restarted = false;
-          const SolveStats st = t.solver.solve(p, warm, y, w, t.iterations, restarted, predict,
+          const SolveStats st = t.solver.solve(x, warm, y, w, t.iterations, restarted, predict,
             &t.predictors[static_cast<std::size_t>(k - begin)]);
           t.restarts += restarted ? 1 : 0;
-          result.iterations[p] = st.iterations;
-          result.residual[p] = st.residual;
+          its = st.iterations;
+          residual = st.residual;
           if (!st.converged)
           {
             std::fill(w, w + nc, kNaN);
@@ -2015,22 +2169,48 @@ CelestialResult CelestialCoordinates::Impl::compute(const Points& Xin,
           t.solved[static_cast<std::size_t>(k - begin)] = 1;
           last = k;
           if (opt.scheme == CelestialScheme::T)
-            for (int d = 0; d < D; ++d)
-              result.solution(p, d) = y[d];
+            solution = y;
           else
           {
             // c = lambda m(|y|) y
             const double ny = y.norm();
             const double f = opt.lambda * m_of(ny, std::sqrt(ny * ny + 1.0));
-            for (int d = 0; d < D; ++d)
-              result.solution(p, d) = f * y[d];
+            solution = f * y;
           }
+        }
+        // The rows to W and the rest to theirs, a few points ahead in flight.
+        const auto prefetch_outputs = [&](Index a) {
+          prefetch(result.W.row(a).data(), static_cast<std::size_t>(nc) * sizeof(double), true);
+          prefetch(&result.iterations[a], sizeof(int), true);
+          prefetch(&result.residual[a], sizeof(double), true);
+          for (int d = 0; d < D; ++d)
+            prefetch(&result.solution(a, d), sizeof(double), true);
+        };
+        constexpr Index ahead = 8;
+        for (Index k = begin; k < std::min(end, begin + ahead); ++k)
+          prefetch_outputs(order[static_cast<std::size_t>(k)]);
+        for (Index k = begin; k < end; ++k)
+        {
+          if (k + ahead < end)
+            prefetch_outputs(order[static_cast<std::size_t>(k + ahead)]);
+          const Index p = order[static_cast<std::size_t>(k)];
+          const std::size_t at = static_cast<std::size_t>(k - begin);
+          const double* row = t.rows.data() + (k - begin) * nc;
+          std::copy(row, row + nc, result.W.row(p).data());
+          const CelestialLocation loc = t.locs[at];
+          if (loc != CelestialLocation::Outside && std::isnan(row[0]))
+            t.failed.push_back(p);
+          result.iterations[p] = t.its[at];
+          result.residual[p] = loc == CelestialLocation::AtControl ? 0.0 : t.residuals[at];
+          for (int d = 0; d < D; ++d)
+            result.solution(p, d) = t.solutions[at][d];
         }
       },
       [&](ThreadState& t) {
         total_iterations += t.iterations;
         warm_starts += t.warm;
         cold_restarts += t.restarts;
+        result.not_converged.insert(result.not_converged.end(), t.failed.begin(), t.failed.end());
       });
   };
   if (dim == 2)
@@ -2045,18 +2225,15 @@ CelestialResult CelestialCoordinates::Impl::compute(const Points& Xin,
     {
       case CelestialLocation::Inside: ++result.inside; break;
       case CelestialLocation::Boundary: ++result.boundary; break;
-      case CelestialLocation::AtControl:
-        ++result.at_control;
-        result.residual[p] = 0.0;
-        break;
+      case CelestialLocation::AtControl: ++result.at_control; break;
       case CelestialLocation::Outside: break;
     }
-    if (loc != CelestialLocation::Outside && std::isnan(result.W(p, 0)))
-      result.not_converged.push_back(p);
   }
+  std::sort(result.not_converged.begin(), result.not_converged.end());
   result.total_iterations = total_iterations;
   result.warm_starts = warm_starts;
   result.cold_restarts = cold_restarts;
+
 
   if (!result.not_converged.empty() && opt.require_convergence)
   {

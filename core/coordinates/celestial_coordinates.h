@@ -235,6 +235,15 @@ public:
   /// Error(Cancelled) if @p progress returned false.
   CelestialResult compute(const Points& X, const ProgressCallback& progress = {}) const;
 
+  /// Same, into @p result, reusing the storage of its arrays (W, hull_location, iterations,
+  /// residual, solution) where their sizes match, e.g. across the frames of an animation: every
+  /// field is overwritten, and the result equals compute(X)'s bit for bit. Saves allocating
+  /// and first touching #P x #C doubles a call (240 MB at 10^6 points and 30 controls).
+  /// @throws as compute(X); for bad points (wrong dimension, non-finite) before @p result is
+  /// touched; after that (points outside, not converged, cancelled) @p result is left valid
+  /// but unspecified.
+  void compute(const Points& X, CelestialResult& result, const ProgressCallback& progress = {}) const;
+
   /// Same, with the warm starts ordered breadth-first over the mesh @p edges (#E by 2, indices
   /// into the rows of X; neighbours visited nearest first, as in Sect. 4.2), each point started
   /// from its nearest already solved neighbour. Points without edges are visited in Hilbert

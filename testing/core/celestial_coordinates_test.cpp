@@ -1501,4 +1501,105 @@ TEST(Celestial, WarmStartFromAGivenSolution)
   }
 }
 
+/// Every field of two results, bit for bit (NaN equal to NaN), but the wall-clock time.
+void expect_same_result(const CelestialResult& a, const CelestialResult& b)
+{
+  const auto same_bits = [](const auto& x, const auto& y) {
+    return x.rows() == y.rows() && x.cols() == y.cols() &&
+      std::memcmp(x.data(), y.data(), sizeof(*x.data()) * static_cast<std::size_t>(x.size())) == 0;
+  };
+  EXPECT_TRUE(same_bits(a.W, b.W));
+  EXPECT_TRUE(same_bits(a.iterations, b.iterations));
+  EXPECT_TRUE(same_bits(a.residual, b.residual));
+  EXPECT_TRUE(same_bits(a.solution, b.solution));
+  EXPECT_TRUE(same_bits(a.added_controls, b.added_controls));
+  EXPECT_EQ(a.hull_location, b.hull_location);
+  EXPECT_EQ(a.outside, b.outside);
+  EXPECT_EQ(a.not_converged, b.not_converged);
+  EXPECT_EQ(a.location, b.location);
+  EXPECT_EQ(a.undefined, b.undefined);
+  EXPECT_EQ(a.converged, b.converged);
+  EXPECT_EQ(a.inside, b.inside);
+  EXPECT_EQ(a.boundary, b.boundary);
+  EXPECT_EQ(a.at_control, b.at_control);
+  EXPECT_EQ(a.total_iterations, b.total_iterations);
+  EXPECT_EQ(a.warm_starts, b.warm_starts);
+  EXPECT_EQ(a.cold_restarts, b.cold_restarts);
+  ASSERT_EQ(a.statistics.size(), b.statistics.size());
+  for (std::size_t k = 0; k < a.statistics.size(); ++k)
+  {
+    EXPECT_EQ(a.statistics[k].first, b.statistics[k].first);
+    if (a.statistics[k].first != "solve_seconds")
+    {
+      EXPECT_EQ(a.statistics[k].second, b.statistics[k].second) << a.statistics[k].first;
+    }
+  }
+}
+
+// compute(X, result) reuses result's storage: the same result as compute(X) whatever result
+// held before (another run's fields, NaN everywhere, another shape), with points outside, on
+// the hull and at a control, and with the hull points added (Auto).
+TEST(Celestial, ReusedResultEqualsAFreshOne)
+{
+  for (int dim : { 2, 3 })
+    for (CelestialScheme scheme : { CelestialScheme::T, CelestialScheme::S })
+      for (bool auto_hull : { false, true })
+      {
+        SCOPED_TRACE(std::to_string(dim) + "D, " + (scheme == CelestialScheme::S ? "S" : "T") +
+          (auto_hull ? ", hull points" : ""));
+        const Points V = random_controls(dim, 14, 131, true);
+        Points X = random_inside(V, 700, 132);
+        X.row(5) = V.row(3);                   // at a control
+        X.row(9) = 0.5 * (V.row(0) + V.row(1)); // on an edge of the box's hull
+        X.row(11).setConstant(7.0);             // outside
+        CelestialOptions o = options_for(scheme);
+        o.outside = CelestialOutsidePolicy::Flag;
+        o.hull_points = auto_hull ? CelestialHullPoints::Auto : CelestialHullPoints::None;
+        const CelestialCoordinates cc(V, o);
+        const CelestialResult fresh = cc.compute(X);
+        ASSERT_EQ(fresh.added_controls.rows() > 0, auto_hull);
+        CelestialResult reused = cc.compute(random_inside(V, 333, 133)); // another shape
+        cc.compute(X, reused);
+        expect_same_result(fresh, reused);
+        // the same shape, full of NaN and of another run's lists
+        reused.W.setConstant(std::numeric_limits<double>::quiet_NaN());
+        reused.residual.setConstant(std::numeric_limits<double>::quiet_NaN());
+        reused.solution.setConstant(std::numeric_limits<double>::quiet_NaN());
+        reused.iterations.setConstant(-1);
+        std::fill(reused.hull_location.begin(), reused.hull_location.end(),
+          CelestialLocation::Outside);
+        reused.outside = { 1, 2, 3 };
+        reused.not_converged = { 4 };
+        reused.added_controls = Points::Ones(2, dim);
+        const double* storage = reused.W.data();
+        cc.compute(X, reused);
+        expect_same_result(fresh, reused);
+        if (!auto_hull)
+        {
+          EXPECT_EQ(reused.W.data(), storage) << "W's storage was not reused";
+        }
+      }
+}
+
+TEST(Celestial, ReusingComputeRejectsBadPointsAndKeepsTheResult)
+{
+  const Points V = random_controls(3, 10, 141, true);
+  const CelestialCoordinates cc(V);
+  const Points X = random_inside(V, 50, 142);
+  CelestialResult r = cc.compute(X);
+  const CelestialResult before = r;
+  Points bad = X;
+  bad(7, 1) = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_TRUE(throws_error([&] { cc.compute(bad, r); }, ErrorCode::NonFinite, { "7" }));
+  expect_same_result(before, r);
+  EXPECT_TRUE(throws_error(
+    [&] { cc.compute(Points(4, 2), r); }, ErrorCode::SizeMismatch, { "2 coordinates" }));
+  expect_same_result(before, r);
+  cc.compute(Points(0, 3), r);
+  EXPECT_EQ(r.W.rows(), 0);
+  EXPECT_EQ(r.W.cols(), V.rows());
+  EXPECT_EQ(r.iterations.size(), 0);
+  EXPECT_TRUE(r.hull_location.empty());
+}
+
 } // namespace
