@@ -42,7 +42,7 @@ public:
   void solve(RowMatrix& B, int threads) const;
 
 private:
-  /// Columns [c0, c1) of B (W = c1 - c0 when W > 0: fixed-size, unrolled Eigen packets).
+  /// Columns [c0, c1) of B (W = c1 - c0 when W > 0: fixed size, unrolled loops).
   template<int W>
   void solve_columns(RowMatrix& B, Index c0, Index c1) const;
 

@@ -23,9 +23,14 @@
 /// Compiles a function for AVX2 and FMA, fusing a * b + c (it must only run where simd_level()
 /// says so).
 #define BARY_TARGET_AVX2 __attribute__((target("avx2,fma"), optimize("fp-contract=fast")))
+/// Compiles a function for AVX2 without FMA: plain loops vectorised four doubles wide, the
+/// same IEEE operations in the same order as the portable build, so bitwise the same results
+/// (for element-wise loops; it must only run where simd_level() says so).
+#define BARY_TARGET_AVX2_EXACT __attribute__((target("avx2")))
 #else
 #define BARY_HAVE_AVX2_DISPATCH 0
 #define BARY_TARGET_AVX2
+#define BARY_TARGET_AVX2_EXACT
 #endif
 
 #if defined(__GNUC__)
