@@ -3,6 +3,7 @@
 #include "core/detail/anderson.h"
 #include "core/detail/parallel_for.h"
 #include "core/detail/row_cholesky.h"
+#include "core/detail/simd.h"
 #include "core/detail/format.h"
 #include "core/detail/timing.h"
 #include "core/common/error.h"
@@ -12,6 +13,10 @@
 #include <Eigen/Dense>
 #include <Eigen/OrderingMethods>
 #include <Eigen/SparseCholesky>
+
+#if BARY_HAVE_AVX2_DISPATCH
+#include <immintrin.h>
+#endif
 
 #include <algorithm>
 #include <array>
@@ -425,6 +430,112 @@ double LocalBarycentricCoordinates::Impl::cage_edge_length(const DomainMesh& mes
   return sum / static_cast<double>(nc);
 }
 
+// ------------------------------------------------------------------------------------------
+// Row kernels of the ADMM step compiled for AVX2 without FMA (BARY_TARGET_AVX2_EXACT): plain
+// loops over a row of n columns, the same IEEE operations in the same order as the Eigen
+// expressions of the portable step (maximum as (x < y ? y : x), like Eigen's), so that the
+// result is bitwise the portable one (test LBC.AVX2AndPortableStepsAreBitwiseEqual), with four
+// doubles a vector where Eigen's packets are SSE2's two. The reflection's square root and
+// division in intrinsics (a loop's std::sqrt keeps errno and stays scalar).
+#if BARY_HAVE_AVX2_DISPATCH
+namespace
+{
+/// reflect_gradients' cell without relaxation: |s| per control point over the dim rows,
+/// f = 2 max(0, 1 - kappa / |s|) - 1 as (max(0, |s| - kappa) / max(|s|, 1e-300)) times 2 minus 1,
+/// r = f s.
+template <int Dim>
+BARY_TARGET_AVX2_EXACT BARY_NOINLINE void reflect_cell_avx2(
+  Index n, const double* st, const double* w, double inv_mu_a, double* rt)
+{
+  Index i = 0;
+  const __m256d zero = _mm256_setzero_pd(), tiny = _mm256_set1_pd(1e-300),
+                inv = _mm256_set1_pd(inv_mu_a), two = _mm256_set1_pd(2.0),
+                one = _mm256_set1_pd(1.0);
+  for (; i + 4 <= n; i += 4)
+  {
+    __m256d sk[Dim];
+    sk[0] = _mm256_loadu_pd(st + i);
+    __m256d q = _mm256_mul_pd(sk[0], sk[0]);
+    for (int k = 1; k < Dim; ++k)
+    {
+      sk[k] = _mm256_loadu_pd(st + k * n + i);
+      q = _mm256_add_pd(q, _mm256_mul_pd(sk[k], sk[k]));
+    }
+    q = _mm256_sqrt_pd(q);
+    // max(x, y) as (x < y ? y : x): maxpd(y, x) returns x when they are equal or unordered
+    const __m256d kappa = _mm256_mul_pd(_mm256_loadu_pd(w + i), inv);
+    const __m256d num = _mm256_max_pd(zero, _mm256_sub_pd(q, kappa));
+    const __m256d f = _mm256_div_pd(num, _mm256_max_pd(tiny, q));
+    const __m256d g = _mm256_sub_pd(_mm256_mul_pd(two, f), one);
+    for (int k = 0; k < Dim; ++k)
+      _mm256_storeu_pd(rt + k * n + i, _mm256_mul_pd(g, sk[k]));
+  }
+  for (; i < n; ++i)
+  {
+    double q = st[i] * st[i];
+    for (int k = 1; k < Dim; ++k)
+      q += st[k * n + i] * st[k * n + i];
+    q = std::sqrt(q);
+    const double num = q - w[i] * inv_mu_a;
+    const double f = (num < 0.0 ? 0.0 : num) / (q < 1e-300 ? 1e-300 : q);
+    const double g = 2.0 * f - 1.0;
+    for (int k = 0; k < Dim; ++k)
+      rt[k * n + i] = g * st[k * n + i];
+  }
+}
+
+/// q = e (or 0) + sum_p values[p] B[inner[p]] over a gradient row's entries, then the plain
+/// step s += alpha (q - (r + s) / 2). @p q: n doubles of scratch.
+BARY_TARGET_AVX2_EXACT BARY_NOINLINE void gradient_row_step_avx2(Index n, const double* e,
+  int begin, int end, const int* inner, const double* values, const double* B, Index width,
+  const double* rr, double* sr, double alpha, double* q)
+{
+  if (e != nullptr)
+    for (Index i = 0; i < n; ++i)
+      q[i] = e[i];
+  else
+    for (Index i = 0; i < n; ++i)
+      q[i] = 0.0;
+  for (int p = begin; p < end; ++p)
+  {
+    const double v = values[p];
+    const double* b = B + static_cast<Index>(inner[p]) * width;
+    for (Index i = 0; i < n; ++i)
+      q[i] += v * b[i];
+  }
+  for (Index i = 0; i < n; ++i)
+    sr[i] += alpha * (q[i] - 0.5 * (rr[i] + sr[i]));
+}
+
+/// A weight row's plain step: s += alpha (b z - max(s, 0)).
+BARY_TARGET_AVX2_EXACT BARY_NOINLINE void weight_row_step_avx2(
+  Index n, const double* z, double bv, double alpha, double* sw)
+{
+  for (Index i = 0; i < n; ++i)
+    sw[i] += alpha * (bv * z[i] - (sw[i] < 0.0 ? 0.0 : sw[i]));
+}
+
+/// y_update's row before the projection: z = b |s_W| - c0 (when given) + sum_p values[p] r_X.
+BARY_TARGET_AVX2_EXACT BARY_NOINLINE void y_row_avx2(Index n, const double* sw, double bv,
+  const double* c0, int begin, int end, const int* inner, const double* values,
+  const double* rx, double* z)
+{
+  for (Index i = 0; i < n; ++i)
+    z[i] = bv * std::abs(sw[i]);
+  if (c0 != nullptr)
+    for (Index i = 0; i < n; ++i)
+      z[i] -= c0[i];
+  for (int p = begin; p < end; ++p)
+  {
+    const double v = values[p];
+    const double* x = rx + static_cast<Index>(inner[p]) * n;
+    for (Index i = 0; i < n; ++i)
+      z[i] += v * x[i];
+  }
+}
+} // namespace
+#endif
+
 /// Calls f(std::integral_constant<int, N>) with N = n for the small column counts the kernels
 /// are unrolled for (the square, the octahedron and 6-vertex polygons, the cube: 4, 6, 8; each
 /// value instantiates every kernel, which costs compile time), N = 0 (run-time count) otherwise.
@@ -449,6 +560,7 @@ void LocalBarycentricCoordinates::Impl::reflect_gradients(
   const double eps = o.relaxed_tv_epsilon;
   using Array = Eigen::Array<double, N == 0 ? Eigen::Dynamic : N, 1>;
   r.resize(nt * dim, n);
+  [[maybe_unused]] const bool avx2 = N == 0 && detail::simd_level() == detail::SimdLevel::AVX2;
 #pragma omp parallel num_threads(threads)
   {
     Array q(n), f(n);
@@ -457,6 +569,17 @@ void LocalBarycentricCoordinates::Impl::reflect_gradients(
     {
       const double* st = s.data() + t * dim * n;
       double* rt = r.data() + t * dim * n;
+#if BARY_HAVE_AVX2_DISPATCH
+      if (avx2 && eps <= 0.0)
+      {
+        const double inv = 1.0 / (mu_now * a(t));
+        if (dim == 2)
+          reflect_cell_avx2<2>(n, st, weight.data() + t * n, inv, rt);
+        else
+          reflect_cell_avx2<3>(n, st, weight.data() + t * n, inv, rt);
+        continue;
+      }
+#endif
       const Eigen::Map<const Array> w(weight.data() + t * n, n);
       q = Eigen::Map<const Array>(st, n).square();
       for (int k = 1; k < dim; ++k)
@@ -494,6 +617,7 @@ void LocalBarycentricCoordinates::Impl::y_update(const RowMatrix& s, Work& w, in
   const double* values = GtA.valuePtr();
   const Index d1 = Ur.cols();
   const double* rx_data = w.r.data();
+  [[maybe_unused]] const bool avx2 = N == 0 && detail::simd_level() == detail::SimdLevel::AVX2;
 #pragma omp parallel num_threads(threads)
   {
     std::vector<double> proj(static_cast<std::size_t>(d1));
@@ -504,13 +628,21 @@ void LocalBarycentricCoordinates::Impl::y_update(const RowMatrix& s, Work& w, in
       const double* sw = s.data() + (rx + v) * n;
       const double bv = b(v);
       // r_W = 2 max(0, s_W) - s_W = |s_W|; - c0; + Ga^T r_X gathered from the incident cells
-      VecMap zv(z, n);
-      zv = bv * ConstMap(sw, n).cwiseAbs();
       const int crow = c0_row[static_cast<std::size_t>(v)];
-      if (crow >= 0)
-        zv -= ConstMap(c0.data() + static_cast<Index>(crow) * n, n);
-      for (int p = outer[v]; p < outer[v + 1]; ++p)
-        zv += values[p] * ConstMap(rx_data + static_cast<Index>(inner[p]) * n, n);
+#if BARY_HAVE_AVX2_DISPATCH
+      if (avx2)
+        y_row_avx2(n, sw, bv, crow >= 0 ? c0.data() + static_cast<Index>(crow) * n : nullptr,
+          outer[v], outer[v + 1], inner, values, rx_data, z);
+      else
+#endif
+      {
+        VecMap zv(z, n);
+        zv = bv * ConstMap(sw, n).cwiseAbs();
+        if (crow >= 0)
+          zv -= ConstMap(c0.data() + static_cast<Index>(crow) * n, n);
+        for (int p = outer[v]; p < outer[v + 1]; ++p)
+          zv += values[p] * ConstMap(rx_data + static_cast<Index>(inner[p]) * n, n);
+      }
       if (WithState)
       {
         VecMap zs(z + n, n);
@@ -572,6 +704,7 @@ void LocalBarycentricCoordinates::Impl::finish_step(RowMatrix& s, RowMatrix* g, 
   const double* values = Ga.valuePtr();
   constexpr int sums = Check ? 5 : 1;
   double* partial = w.sums.data();
+  [[maybe_unused]] const bool avx2 = N == 0 && detail::simd_level() == detail::SimdLevel::AVX2;
   // With l^k = (a (G Z^k + E), b Z^k) and q = p + g / alpha:
   //   r_p = (1 - alpha/2)(p - l^k) - g/2,  r_d = mu_paper ((alpha/2)(p - l^k) + g/2),
   // each row divided by its scale (a for gradient rows, b for weight rows).
@@ -591,6 +724,15 @@ void LocalBarycentricCoordinates::Impl::finish_step(RowMatrix& s, RowMatrix* g, 
         const Index row = t * dim + k;
         double* sr = s.data() + row * n;
         const double* rr = w.r.data() + row * n;
+#if BARY_HAVE_AVX2_DISPATCH
+        if (!Check && !StoreG && avx2)
+        {
+          const double* e = erow >= 0 ? ea.data() + (static_cast<Index>(erow) + k) * n : nullptr;
+          gradient_row_step_avx2(
+            n, e, outer[row], outer[row + 1], inner, values, w.B.data(), width, rr, sr, alpha, q);
+          continue;
+        }
+#endif
         VecMap qm(q, n), lm(l, n);
         if (erow >= 0)
         {
@@ -660,6 +802,13 @@ void LocalBarycentricCoordinates::Impl::finish_step(RowMatrix& s, RowMatrix* g, 
       const double* zp = Check ? zk + v * zk_stride : nullptr;
       if (!Check && !StoreG)
       {
+#if BARY_HAVE_AVX2_DISPATCH
+        if (avx2)
+        {
+          weight_row_step_avx2(n, z, bv, alpha, sw);
+          continue;
+        }
+#endif
         VecMap sv(sw, n);
         sv += alpha * (bv * ConstMap(z, n) - sv.cwiseMax(0.0));
         continue;

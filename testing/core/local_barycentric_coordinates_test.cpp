@@ -37,6 +37,7 @@
 #include "core/coordinates/harmonic_coordinates.h"
 #include "core/coordinates/local_barycentric_coordinates.h"
 #include "core/analysis/locality_statistics.h"
+#include "core/detail/simd.h"
 #include "error_matchers.h"
 #include "statistics_matchers.h"
 
@@ -45,6 +46,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -281,6 +283,38 @@ TEST(LBC, ResultsDoNotDependOnTheThreadCount)
   EXPECT_EQ(a.objective, b.objective);
   EXPECT_EQ((a.W - b.W).cwiseAbs().maxCoeff(), 0.0);
   EXPECT_EQ((a.W - c.W).cwiseAbs().maxCoeff(), 0.0);
+}
+
+// The step's row kernels compiled for AVX2 without FMA (the general column count: not 4, 6 or
+// 8) run the portable build's operations: whole runs, polish included, give the same bits, in
+// 2D and 3D.
+TEST(LBC, AVX2AndPortableStepsAreBitwiseEqual)
+{
+  if (detail::supported_simd_level() != detail::SimdLevel::AVX2)
+    GTEST_SKIP() << "this CPU has no AVX2 and FMA";
+  SurfaceMeshOptions so;
+  so.target_cells = 300;
+  const std::vector<DomainMesh> meshes = { polygon_mesh(test::star_polygon(5, 1.0, 0.45), 300),
+    mesh_closed_surface(test::u_box(), so) };
+  for (const DomainMesh& mesh : meshes)
+  {
+    const Index n = mesh.control_vertex.size();
+    ASSERT_TRUE(n != 4 && n != 6 && n != 8) << "a fixed-size instantiation: not the kernels";
+    LBCOptions o = one_thread();
+    o.max_iterations = 80;
+    o.require_convergence = false;
+    detail::set_simd_level(detail::SimdLevel::Portable);
+    const LBCResult portable = local_barycentric_coordinates(mesh, o);
+    detail::set_simd_level(detail::SimdLevel::AVX2);
+    const LBCResult avx2 = local_barycentric_coordinates(mesh, o);
+    detail::set_simd_level(detail::supported_simd_level());
+    EXPECT_EQ(portable.iterations, avx2.iterations);
+    EXPECT_EQ(portable.primal_history, avx2.primal_history);
+    EXPECT_EQ(portable.dual_history, avx2.dual_history);
+    ASSERT_EQ(portable.W.size(), avx2.W.size());
+    EXPECT_EQ(std::memcmp(portable.W.data(), avx2.W.data(), sizeof(double) * portable.W.size()), 0)
+      << mesh.V.cols() << "D";
+  }
 }
 
 // --- Appendix B, literally ------------------------------------------------------------------
