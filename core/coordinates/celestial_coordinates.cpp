@@ -1438,7 +1438,6 @@ SolveStats CelestialCoordinates::Impl::solve_on_face(int index, const double* p,
     run(std::integral_constant<int, 2>{});
   else
     run(std::integral_constant<int, 3>{});
-
   double sum = 0.0;
   for (Index j = 0; j < m; ++j)
     sum += beta[static_cast<std::size_t>(j)] * inv_d[static_cast<std::size_t>(j)];
@@ -1864,7 +1863,7 @@ CelestialResult CelestialCoordinates::compute(
 void CelestialCoordinates::compute(
   const Points& X, CelestialResult& result, const ProgressCallback& progress) const
 {
-  check_query(X, Eigen::MatrixXi(0, 2), impl_->dim); // before result is touched
+  // (Impl::compute checks X before it takes result's storage)
   result = impl_->compute(X, Eigen::MatrixXi(0, 2), nullptr, progress, &result);
 }
 
@@ -1929,10 +1928,7 @@ CelestialResult CelestialCoordinates::Impl::compute(const Points& Xin,
   const auto advised = [](auto& m) {
     detail::advise_huge_pages(m.data(), static_cast<std::size_t>(m.size()) * sizeof(*m.data()));
   };
-  if (result.hull_location.capacity() >= static_cast<std::size_t>(np))
-    result.hull_location.assign(static_cast<std::size_t>(np), CelestialLocation::Inside);
-  else
-    detail::assign_huge(result.hull_location, static_cast<std::size_t>(np), CelestialLocation::Inside);
+  detail::assign_huge(result.hull_location, static_cast<std::size_t>(np), CelestialLocation::Inside);
   // Every entry of these (and every row of W) is written by the solve below.
   result.iterations.resize(np);
   advised(result.iterations);
@@ -1951,7 +1947,6 @@ CelestialResult CelestialCoordinates::Impl::compute(const Points& Xin,
   advised(Xrows);
   Xrows = Xin;
   const auto& X = Xrows;
-
 
   const int threads = detail::thread_count(opt.threads);
 
@@ -1981,7 +1976,6 @@ CelestialResult CelestialCoordinates::Impl::compute(const Points& Xin,
   for (Index p = 0; p < np; ++p)
     if (result.hull_location[static_cast<std::size_t>(p)] == CelestialLocation::Outside)
       result.outside.push_back(p);
-
   if (!result.outside.empty() && opt.outside == CelestialOutsidePolicy::Error)
   {
     std::string ids;
