@@ -2,6 +2,8 @@
 
 #include "core/detail/format.h"
 #include "core/common/error.h"
+#include "core/detail/huge_pages.h"
+#include "core/detail/simd.h"
 
 #include <Eigen/Dense>
 #include <Eigen/OrderingMethods>
@@ -13,11 +15,17 @@
 #include <omp.h>
 #endif
 
+#if BARY_HAVE_AVX2_DISPATCH
+#include <immintrin.h>
+#endif
+
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
 #include <limits>
 #include <mutex>
+#include <type_traits>
+#include <utility>
 #include <string>
 #include <vector>
 
@@ -102,6 +110,34 @@ private:
 };
 #endif
 
+/// An allocator that leaves new elements uninitialized (default-initialized): the factor's
+/// values are first written by the numeric factorization, supernode by supernode, so zeroing
+/// the whole array beforehand only costs a pass over memory (and its page faults) up front.
+template<class T>
+struct UninitializedAllocator : std::allocator<T>
+{
+  template<class U>
+  struct rebind
+  {
+    using other = UninitializedAllocator<U>;
+  };
+  UninitializedAllocator() noexcept = default;
+  template<class U>
+  UninitializedAllocator(const UninitializedAllocator<U>&) noexcept
+  {
+  }
+  template<class U>
+  void construct(U* p) noexcept(std::is_nothrow_default_constructible_v<U>)
+  {
+    ::new (static_cast<void*>(p)) U;
+  }
+  template<class U, class... Args>
+  void construct(U* p, Args&&... args)
+  {
+    ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
+  }
+};
+
 using DenseBlock = Eigen::Map<Eigen::MatrixXd, 0, Eigen::OuterStride<>>;
 using ConstDenseBlock = Eigen::Map<const Eigen::MatrixXd, 0, Eigen::OuterStride<>>;
 
@@ -117,7 +153,7 @@ struct SupernodalFactor
   int supernodes = 0;
   std::vector<int> super, row_start, rows, perm;
   std::vector<std::ptrdiff_t> value_start;
-  std::vector<double> values;
+  std::vector<double, UninitializedAllocator<double>> values; ///< written by supernodal_numeric
   std::size_t max_update = 0; ///< bound on the entries of one descendant's update
   double flops = 0.0;         ///< sum of the squared column counts
 };
@@ -157,30 +193,44 @@ SupernodalFactor supernodal_symbolic(
     source0[static_cast<std::size_t>(k)] = a;
     node0[static_cast<std::size_t>(a)] = static_cast<int>(k);
   }
-  // M's graph in node numbering, read from A once (the passes below read it several times).
-  std::vector<int> adjacency_start(mu + 1), adjacency;
-  adjacency.reserve(static_cast<std::size_t>(A.nonZeros()));
+  // M's graph in node numbering, read from A once (the passes below read it several times),
+  // split into the neighbours eliminated before each node (the elimination tree reads those) and
+  // after it (the column counts and the row structures read those).
+  std::vector<int> lower_start(mu + 1), upper_start(mu + 1), lower, upper;
+  lower.reserve(static_cast<std::size_t>(A.nonZeros()) / 2 + mu);
+  upper.reserve(static_cast<std::size_t>(A.nonZeros()) / 2 + mu);
   for (Index k = 0; k < m; ++k)
   {
-    adjacency_start[static_cast<std::size_t>(k)] = static_cast<int>(adjacency.size());
+    lower_start[static_cast<std::size_t>(k)] = static_cast<int>(lower.size());
+    upper_start[static_cast<std::size_t>(k)] = static_cast<int>(upper.size());
     for (SparseMatrix::InnerIterator it(A, source0[static_cast<std::size_t>(k)]); it; ++it)
     {
       const int i = node0[static_cast<std::size_t>(it.row())];
-      if (i >= 0 && i != k)
-        adjacency.push_back(i);
+      if (i < 0 || i == k)
+        continue;
+      if (i < k)
+        lower.push_back(i);
+      else
+        upper.push_back(i);
     }
   }
-  adjacency_start[mu] = static_cast<int>(adjacency.size());
-  auto for_each_neighbour = [&](int k, auto&& visit) {
-    const int end = adjacency_start[static_cast<std::size_t>(k) + 1];
-    for (int q = adjacency_start[static_cast<std::size_t>(k)]; q < end; ++q)
-      visit(adjacency[static_cast<std::size_t>(q)]);
+  lower_start[mu] = static_cast<int>(lower.size());
+  upper_start[mu] = static_cast<int>(upper.size());
+  auto for_each_earlier = [&](int k, auto&& visit) {
+    const int end = lower_start[static_cast<std::size_t>(k) + 1];
+    for (int q = lower_start[static_cast<std::size_t>(k)]; q < end; ++q)
+      visit(lower[static_cast<std::size_t>(q)]);
+  };
+  auto for_each_later = [&](int k, auto&& visit) {
+    const int end = upper_start[static_cast<std::size_t>(k) + 1];
+    for (int q = upper_start[static_cast<std::size_t>(k)]; q < end; ++q)
+      visit(upper[static_cast<std::size_t>(q)]);
   };
 
   // 1. Elimination tree.
   std::vector<int> parent(mu, -1), ancestor(mu, -1);
   for (int k = 0; k < static_cast<int>(m); ++k)
-    for_each_neighbour(k, [&](int i) {
+    for_each_earlier(k, [&](int i) {
       while (i != -1 && i < k)
       {
         const int next = ancestor[static_cast<std::size_t>(i)];
@@ -245,10 +295,10 @@ SupernodalFactor supernodal_symbolic(
     const auto ju = static_cast<std::size_t>(j);
     if (parent[ju] != -1)
       --count[static_cast<std::size_t>(parent[ju])];
-    for_each_neighbour(j, [&](int i) {
+    for_each_later(j, [&](int i) {
       const auto iu = static_cast<std::size_t>(i);
       // Is j a leaf of the i-th row subtree?
-      if (i <= j || first[ju] <= max_first[iu])
+      if (first[ju] <= max_first[iu])
         return;
       max_first[iu] = first[ju];
       const int previous = previous_leaf[iu];
@@ -365,9 +415,11 @@ SupernodalFactor supernodal_symbolic(
     }
   }
   std::vector<int> super_of(mu);
+  std::size_t structure = 0; // entries of the supernodes' row structures
   for (int s = 0; s < nf; ++s)
     if (merged[static_cast<std::size_t>(s)] == -1)
     {
+      structure += static_cast<std::size_t>(height[static_cast<std::size_t>(s)]);
       const int begin = fsuper[static_cast<std::size_t>(s)];
       const int end = begin + width[static_cast<std::size_t>(s)];
       for (int t = begin; t < end; ++t)
@@ -383,6 +435,7 @@ SupernodalFactor supernodal_symbolic(
   std::vector<int> shead(static_cast<std::size_t>(ns), -1), snext(static_cast<std::size_t>(ns), -1),
     mark(mu, -1), below;
   f.row_start.assign(static_cast<std::size_t>(ns) + 1, 0);
+  f.rows.reserve(structure);
   f.value_start.assign(static_cast<std::size_t>(ns) + 1, 0);
   for (int s = 0; s < ns; ++s)
   {
@@ -397,7 +450,7 @@ SupernodalFactor supernodal_symbolic(
       }
     };
     for (int c = c1; c < c2; ++c)
-      for_each_neighbour(post[static_cast<std::size_t>(c)],
+      for_each_later(post[static_cast<std::size_t>(c)], // ancestors: relabelled > c
         [&](int i) { add(relabel[static_cast<std::size_t>(i)]); });
     for (int child = shead[su]; child != -1; child = snext[static_cast<std::size_t>(child)])
     {
@@ -423,9 +476,144 @@ SupernodalFactor supernodal_symbolic(
       shead[target] = s;
     }
   }
-  f.values.resize(static_cast<std::size_t>(f.value_start[static_cast<std::size_t>(ns)]));
+  // Uninitialized, advised huge pages before the numeric factorization's first touch.
+  const auto entries = static_cast<std::size_t>(f.value_start[static_cast<std::size_t>(ns)]);
+  f.values.reserve(entries);
+  detail::advise_huge_pages(f.values.data(), entries * sizeof(double));
+  f.values.resize(entries);
   return f;
 }
+
+#if BARY_HAVE_AVX2_DISPATCH
+/// One panel of C = X Y^T (or C -= X Y^T when @p Subtract): the @p rows <= 8 rows starting at
+/// X, C and the W <= 4 columns starting at Y, C (X, Y column-major with k columns). Products
+/// summed over k in order with FMA in registers, then stored (or subtracted from C once).
+template<int W, bool Subtract>
+BARY_TARGET_AVX2 BARY_ALWAYS_INLINE void nt_panel_avx2(const double* X, std::ptrdiff_t ldx,
+  const double* Y, std::ptrdiff_t ldy, int rows, int k, double* C, std::ptrdiff_t ldc)
+{
+  __m256d lo[W], hi[W];
+  for (int q = 0; q < W; ++q)
+    lo[q] = hi[q] = _mm256_setzero_pd();
+  if (rows == 8)
+  {
+    for (int p = 0; p < k; ++p, X += ldx, Y += ldy)
+    {
+      const __m256d a0 = _mm256_loadu_pd(X), a1 = _mm256_loadu_pd(X + 4);
+      for (int q = 0; q < W; ++q)
+      {
+        const __m256d b = _mm256_broadcast_sd(Y + q);
+        lo[q] = _mm256_fmadd_pd(a0, b, lo[q]);
+        hi[q] = _mm256_fmadd_pd(a1, b, hi[q]);
+      }
+    }
+    for (int q = 0; q < W; ++q)
+    {
+      double* c = C + q * ldc;
+      if (Subtract)
+      {
+        lo[q] = _mm256_sub_pd(_mm256_loadu_pd(c), lo[q]);
+        hi[q] = _mm256_sub_pd(_mm256_loadu_pd(c + 4), hi[q]);
+      }
+      _mm256_storeu_pd(c, lo[q]);
+      _mm256_storeu_pd(c + 4, hi[q]);
+    }
+    return;
+  }
+  // 1-7 rows: masked loads and stores (lanes past the end are neither read nor written).
+  const __m256i lane = _mm256_set_epi64x(3, 2, 1, 0);
+  const __m256i m0 = _mm256_cmpgt_epi64(_mm256_set1_epi64x(rows), lane);
+  const __m256i m1 = _mm256_cmpgt_epi64(_mm256_set1_epi64x(rows - 4), lane);
+  for (int p = 0; p < k; ++p, X += ldx, Y += ldy)
+  {
+    const __m256d a0 = _mm256_maskload_pd(X, m0), a1 = _mm256_maskload_pd(X + 4, m1);
+    for (int q = 0; q < W; ++q)
+    {
+      const __m256d b = _mm256_broadcast_sd(Y + q);
+      lo[q] = _mm256_fmadd_pd(a0, b, lo[q]);
+      hi[q] = _mm256_fmadd_pd(a1, b, hi[q]);
+    }
+  }
+  for (int q = 0; q < W; ++q)
+  {
+    double* c = C + q * ldc;
+    if (Subtract)
+    {
+      lo[q] = _mm256_sub_pd(_mm256_maskload_pd(c, m0), lo[q]);
+      hi[q] = _mm256_sub_pd(_mm256_maskload_pd(c + 4, m1), hi[q]);
+    }
+    _mm256_maskstore_pd(c, m0, lo[q]);
+    _mm256_maskstore_pd(c + 4, m1, hi[q]);
+  }
+}
+
+/// Rows [i0, m) of C = X Y^T (Subtract: C -= X Y^T) for the W <= 4 columns at Y and C, in
+/// panels of 8 rows.
+template<int W, bool Subtract>
+BARY_TARGET_AVX2 BARY_ALWAYS_INLINE void nt_columns_avx2(const double* X, std::ptrdiff_t ldx,
+  const double* Y, std::ptrdiff_t ldy, int i0, int m, int k, double* C, std::ptrdiff_t ldc)
+{
+  for (int i = i0; i < m; i += 8)
+    nt_panel_avx2<W, Subtract>(X + i, ldx, Y, ldy, std::min(8, m - i), k, C + i, ldc);
+}
+
+/// The update of a descendant supernode, C = X X1^T: X is m2 x k (column-major, leading
+/// dimension ldx), X1 its first m1 rows, C m2 x m1 (leading dimension m2). Only the entries
+/// C(i, j) with i >= j rounded down to a multiple of 4 are computed (the scatter reads i >= j).
+/// Compiled for AVX2 + FMA: it must only run where simd_level() says so.
+BARY_TARGET_AVX2 BARY_NOINLINE void descendant_update_avx2(
+  const double* X, std::ptrdiff_t ldx, int m2, int m1, int k, double* C)
+{
+  int j = 0;
+  for (; j + 4 <= m1; j += 4)
+    nt_columns_avx2<4, false>(X, ldx, X + j, ldx, j, m2, k, C + j * std::ptrdiff_t{ m2 }, m2);
+  for (; j < m1; ++j)
+    nt_columns_avx2<1, false>(X, ldx, X + j, ldx, j, m2, k, C + j * std::ptrdiff_t{ m2 }, m2);
+}
+
+/// Cholesky factorization of a supernode's panel in place: P is h x w (column-major, leading
+/// dimension h, h >= w) holding the updated columns; on return its top w x w block is L11 (lower
+/// triangle) and the rows below are L21 = P21 L11^-T. Left-looking by blocks of 4 columns: the
+/// block's columns minus the product of the finished columns (the FMA panels above), then the
+/// block itself column by column. Returns -1, or the column whose pivot is not positive (or
+/// NaN). Compiled for AVX2 + FMA: it must only run where simd_level() says so.
+BARY_TARGET_AVX2 BARY_NOINLINE int panel_cholesky_avx2(double* P, int h, int w)
+{
+  const std::ptrdiff_t ld = h;
+  for (int j = 0; j < w; j += 4)
+  {
+    const int jb = std::min(4, w - j);
+    double* block = P + j * ld;
+    if (j > 0)
+      switch (jb)
+      {
+        case 4: nt_columns_avx2<4, true>(P, ld, P + j, ld, j, h, j, block, ld); break;
+        case 3: nt_columns_avx2<3, true>(P, ld, P + j, ld, j, h, j, block, ld); break;
+        case 2: nt_columns_avx2<2, true>(P, ld, P + j, ld, j, h, j, block, ld); break;
+        default: nt_columns_avx2<1, true>(P, ld, P + j, ld, j, h, j, block, ld); break;
+      }
+    for (int c = j; c < j + jb; ++c)
+    {
+      double* column = P + c * ld;
+      for (int q = j; q < c; ++q)
+      {
+        const double* finished = P + q * ld;
+        const double lcq = finished[c];
+        for (int i = c; i < h; ++i)
+          column[i] -= finished[i] * lcq;
+      }
+      const double pivot = column[c];
+      if (!(pivot > 0.0))
+        return c;
+      const double diagonal = std::sqrt(pivot);
+      column[c] = diagonal;
+      for (int i = c + 1; i < h; ++i)
+        column[i] /= diagonal;
+    }
+  }
+  return -1;
+}
+#endif
 
 /// Left-looking supernodal numeric factorization of P M~ P^T, M~ = S M S with the scaling
 /// given per row of A (@p scale), M's entries read from A through @p columns (A: both
@@ -449,6 +637,7 @@ Index supernodal_numeric(SupernodalFactor& f, const SparseMatrix& A, const Facto
   std::vector<double> update(std::max<std::size_t>(f.max_update, 1));
   const SingleThreadedProducts single_threaded;
   const bool blocked = single_threaded.sequential();
+  [[maybe_unused]] const bool avx2 = detail::simd_level() == detail::SimdLevel::AVX2;
   const int* rows = f.rows.data();
   const int* node = columns.node.data();
 
@@ -495,19 +684,27 @@ Index supernodal_numeric(SupernodalFactor& f, const SparseMatrix& A, const Facto
       const ConstDenseBlock Ld(f.values.data() + f.value_start[du], d_height, d_columns,
         Eigen::OuterStride<>(d_height));
       DenseBlock C(update.data(), m2, m1, Eigen::OuterStride<>(m2));
-      const auto within = Ld.middleRows(p1 - d0, m1);
-      const auto further = Ld.middleRows(p2 - d0, m2 - m1);
-      // The lower triangle of the top m1 x m1 block (symmetric rank-k update), then the rows
-      // below it (GEMM).
-      auto top = C.topRows(m1);
-      top.triangularView<Eigen::Lower>().setZero();
-      top.selfadjointView<Eigen::Lower>().rankUpdate(within);
-      if (m2 > m1)
+#if BARY_HAVE_AVX2_DISPATCH
+      if (avx2)
+        descendant_update_avx2(
+          f.values.data() + f.value_start[du] + (p1 - d0), d_height, m2, m1, d_columns, update.data());
+      else
+#endif
       {
-        if (blocked)
-          C.bottomRows(m2 - m1).noalias() = further * within.transpose();
-        else
-          C.bottomRows(m2 - m1).noalias() = further.lazyProduct(within.transpose());
+        const auto within = Ld.middleRows(p1 - d0, m1);
+        const auto further = Ld.middleRows(p2 - d0, m2 - m1);
+        // The lower triangle of the top m1 x m1 block (symmetric rank-k update), then the rows
+        // below it (GEMM).
+        auto top = C.topRows(m1);
+        top.triangularView<Eigen::Lower>().setZero();
+        top.selfadjointView<Eigen::Lower>().rankUpdate(within);
+        if (m2 > m1)
+        {
+          if (blocked)
+            C.bottomRows(m2 - m1).noalias() = further * within.transpose();
+          else
+            C.bottomRows(m2 - m1).noalias() = further.lazyProduct(within.transpose());
+        }
       }
       map.resize(static_cast<std::size_t>(m2));
       for (int i = 0; i < m2; ++i)
@@ -531,6 +728,15 @@ Index supernodal_numeric(SupernodalFactor& f, const SparseMatrix& A, const Facto
     head[su] = -1;
     // Factor the diagonal block, then the rows below it: L21 = A21 L11^-T.
     DenseBlock block(Ls, height, width, Eigen::OuterStride<>(height));
+#if BARY_HAVE_AVX2_DISPATCH
+    if (avx2)
+    {
+      const int failed = panel_cholesky_avx2(Ls, height, width);
+      if (failed >= 0)
+        return k1 + failed;
+    }
+    else
+#endif
     {
       Eigen::Ref<Eigen::MatrixXd, 0, Eigen::OuterStride<>> diagonal = block.topRows(width);
       const Index failed = Eigen::internal::llt_inplace<double, Eigen::Lower>::blocked(diagonal);
@@ -539,8 +745,9 @@ Index supernodal_numeric(SupernodalFactor& f, const SparseMatrix& A, const Facto
     }
     if (height > width)
     {
-      block.topRows(width).transpose().triangularView<Eigen::Upper>().solveInPlace<Eigen::OnTheRight>(
-        block.bottomRows(height - width));
+      if (!avx2)
+        block.topRows(width).transpose().triangularView<Eigen::Upper>().solveInPlace<Eigen::OnTheRight>(
+          block.bottomRows(height - width));
       next_row[su] = width;
       const auto target = static_cast<std::size_t>(supernode_of[static_cast<std::size_t>(rows[r0 + width])]);
       next[su] = head[target];

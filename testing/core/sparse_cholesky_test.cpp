@@ -7,6 +7,7 @@
 // eps times the fill (~ 1e-15) and a relative error below cond(A) times that. 1e-12 leaves a
 // margin of 100x on both.
 #include "core/common/error.h"
+#include "core/detail/simd.h"
 #include "core/solvers/sparse_cholesky.h"
 #include "error_matchers.h"
 
@@ -676,6 +677,70 @@ TEST(SparseCholesky, SupernodalFactorDoesNotDependOnTheThreadCount)
   if (two_threads[1].size() != 0)
   {
     EXPECT_EQ(two_threads[1], outside);
+  }
+}
+
+TEST(SparseCholesky, SupernodalKernelsOnEitherInstructionSetAgree)
+{
+  // The supernodal backend's dense kernels (descendant updates, the panels' LL^T and triangular
+  // solves) run on AVX2 + FMA where the CPU has them and on Eigen's portable kernels otherwise:
+  // the same factorization up to rounding. Sizes 11^3 (blocks of ~200 columns) and 6^3 with a
+  // random ordering (odd block shapes: the masked row tails, 1-3 column tails), each against a
+  // dense LLT: relative error <= cond (169) * ~1e-15, with margin.
+  struct LevelScope
+  {
+    ~LevelScope() { detail::set_simd_level(detail::supported_simd_level()); }
+  } restore;
+  for (int size : { 11, 6 })
+  {
+    const SparseMatrix A = grid_bilaplacian_3d(size);
+    const Index n = A.rows();
+    const Eigen::MatrixXd B = random_matrix(n, 2, 21);
+    const Eigen::MatrixXd reference = Eigen::MatrixXd(A).llt().solve(B);
+    SparseCholeskySettings settings;
+    if (size == 6)
+    {
+      settings.ordering = Eigen::VectorXi::LinSpaced(n, 0, int(n) - 1);
+      std::mt19937 rng(5);
+      std::shuffle(settings.ordering.data(), settings.ordering.data() + n, rng);
+    }
+    std::vector<Eigen::MatrixXd> solutions;
+    for (detail::SimdLevel level : { detail::SimdLevel::Portable, detail::SimdLevel::AVX2 })
+    {
+      if (detail::set_simd_level(level) != level)
+        continue; // no AVX2 here: the portable path alone
+      SparseCholesky solver(Backend::Supernodal);
+      solver.compute(A, {}, settings);
+      solutions.push_back(solver.solve(B));
+      EXPECT_LT(relative_residual(A, solutions.back(), B), 1e-12) << size;
+      EXPECT_LT((solutions.back() - reference).cwiseAbs().maxCoeff() / reference.cwiseAbs().maxCoeff(),
+        1e-11)
+        << size;
+    }
+    if (solutions.size() == 2)
+    {
+      EXPECT_LT((solutions[0] - solutions[1]).cwiseAbs().maxCoeff() / reference.cwiseAbs().maxCoeff(),
+        1e-12)
+        << size;
+    }
+  }
+  // A pivot that fails inside a large panel is reported at its row on either path: A's last
+  // row (eliminated last by the natural ordering, deep in the root supernode) lowered by 1.5
+  // times its Schur complement, so only the last pivot is negative.
+  SparseMatrix A = grid_bilaplacian_3d(8);
+  const Index n = A.rows();
+  const Eigen::VectorXd last = Eigen::MatrixXd(A).llt().solve(Eigen::VectorXd::Unit(n, n - 1));
+  A.coeffRef(n - 1, n - 1) -= 1.5 / last(n - 1);
+  SparseCholeskySettings natural;
+  natural.ordering = Eigen::VectorXi::LinSpaced(n, 0, int(n) - 1);
+  for (detail::SimdLevel level : { detail::SimdLevel::Portable, detail::SimdLevel::AVX2 })
+  {
+    if (detail::set_simd_level(level) != level)
+      continue;
+    SparseCholesky solver(Backend::Supernodal);
+    EXPECT_TRUE(throws_error([&] { solver.compute(A, {}, natural); }, ErrorCode::InvalidArgument,
+      { "not positive definite", "failed at row " + std::to_string(n - 1) }))
+      << static_cast<int>(level);
   }
 }
 
