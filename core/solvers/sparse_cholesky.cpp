@@ -771,9 +771,106 @@ Index supernodal_numeric(SupernodalFactor& f, const SparseMatrix& A, const Facto
   return -1;
 }
 
+#if BARY_HAVE_AVX2_DISPATCH
+/// sum_i a[i] b[i] over n entries, four FMA lanes twice over.
+BARY_TARGET_AVX2 BARY_ALWAYS_INLINE double dot_avx2(const double* a, const double* b, int n)
+{
+  __m256d s0 = _mm256_setzero_pd(), s1 = _mm256_setzero_pd();
+  int i = 0;
+  for (; i + 8 <= n; i += 8)
+  {
+    s0 = _mm256_fmadd_pd(_mm256_loadu_pd(a + i), _mm256_loadu_pd(b + i), s0);
+    s1 = _mm256_fmadd_pd(_mm256_loadu_pd(a + i + 4), _mm256_loadu_pd(b + i + 4), s1);
+  }
+  if (i + 4 <= n)
+  {
+    s0 = _mm256_fmadd_pd(_mm256_loadu_pd(a + i), _mm256_loadu_pd(b + i), s0);
+    i += 4;
+  }
+  s0 = _mm256_add_pd(s0, s1);
+  const __m128d h = _mm_add_pd(_mm256_castpd256_pd128(s0), _mm256_extractf128_pd(s0, 1));
+  double sum = _mm_cvtsd_f64(_mm_add_sd(h, _mm_unpackhi_pd(h, h)));
+  for (; i < n; ++i)
+    sum += a[i] * b[i];
+  return sum;
+}
+
+/// y[i] -= a[i] t over n entries.
+BARY_TARGET_AVX2 BARY_ALWAYS_INLINE void axpy_avx2(double* y, const double* a, double t, int n)
+{
+  const __m256d tv = _mm256_set1_pd(t);
+  int i = 0;
+  for (; i + 4 <= n; i += 4)
+    _mm256_storeu_pd(y + i, _mm256_fnmadd_pd(_mm256_loadu_pd(a + i), tv, _mm256_loadu_pd(y + i)));
+  for (; i < n; ++i)
+    y[i] -= a[i] * t;
+}
+
+/// Solves (L L^T) x = b in place for one right-hand side (x in the factor's order): per
+/// supernode, the columns of its panel once forward (x_s = L11^-1 x_s, then x_below -= L21 x_s,
+/// column by column) and once backward (dot products of each column with the gathered x).
+/// @p y: scratch of the largest supernode height. Compiled for AVX2 + FMA: it must only run where
+/// simd_level() says so.
+BARY_TARGET_AVX2 BARY_NOINLINE void supernodal_solve_vector_avx2(
+  const SupernodalFactor& f, double* x, double* y)
+{
+  const int* rows = f.rows.data();
+  for (int s = 0; s < f.supernodes; ++s)
+  {
+    const auto su = static_cast<std::size_t>(s);
+    const int k1 = f.super[su], w = f.super[su + 1] - k1;
+    const int r0 = f.row_start[su], h = f.row_start[su + 1] - r0;
+    const double* L = f.values.data() + f.value_start[su];
+    for (int i = 0; i < w; ++i)
+      y[i] = x[k1 + i];
+    std::fill(y + w, y + h, 0.0);
+    for (int j = 0; j < w; ++j)
+    {
+      const double* column = L + static_cast<std::ptrdiff_t>(j) * h;
+      const double xj = y[j] / column[j];
+      y[j] = xj;
+      axpy_avx2(y + j + 1, column + j + 1, xj, h - j - 1);
+    }
+    for (int i = 0; i < w; ++i)
+      x[k1 + i] = y[i];
+    for (int i = w; i < h; ++i)
+      x[rows[r0 + i]] += y[i];
+  }
+  for (int s = f.supernodes - 1; s >= 0; --s)
+  {
+    const auto su = static_cast<std::size_t>(s);
+    const int k1 = f.super[su], w = f.super[su + 1] - k1;
+    const int r0 = f.row_start[su], h = f.row_start[su + 1] - r0;
+    const double* L = f.values.data() + f.value_start[su];
+    for (int i = 0; i < w; ++i)
+      y[i] = x[k1 + i];
+    for (int i = w; i < h; ++i)
+      y[i] = x[rows[r0 + i]];
+    for (int j = w - 1; j >= 0; --j)
+    {
+      const double* column = L + static_cast<std::ptrdiff_t>(j) * h;
+      y[j] = (y[j] - dot_avx2(column + j + 1, y + j + 1, h - j - 1)) / column[j];
+    }
+    for (int i = 0; i < w; ++i)
+      x[k1 + i] = y[i];
+  }
+}
+#endif
+
 /// Solves (L L^T) X = B in place for X, B in the factor's (permuted) order.
 void supernodal_solve(const SupernodalFactor& f, Eigen::MatrixXd& X)
 {
+#if BARY_HAVE_AVX2_DISPATCH
+  if (X.cols() == 1 && detail::simd_level() == detail::SimdLevel::AVX2)
+  {
+    int tallest = 0;
+    for (int s = 0; s < f.supernodes; ++s)
+      tallest = std::max(tallest, f.row_start[static_cast<std::size_t>(s) + 1] - f.row_start[static_cast<std::size_t>(s)]);
+    std::vector<double> y(static_cast<std::size_t>(tallest));
+    supernodal_solve_vector_avx2(f, X.data(), y.data());
+    return;
+  }
+#endif
   const SingleThreadedProducts single_threaded;
   const bool blocked = single_threaded.sequential();
   const Index k = X.cols();
