@@ -171,87 +171,194 @@ std::array<double, 3> mixed_voronoi_areas(
   return part;
 }
 
-/// A convex polyhedron as its faces, each a polygon ordered counter-clockwise seen from outside.
-using Polyhedron = std::vector<std::vector<Eigen::Vector3d>>;
+/// A convex polyhedron as its faces, each a polygon ordered counter-clockwise seen from outside,
+/// in fixed storage (the clipped tetrahedra below have at most 7 faces of at most 7 points; the
+/// capacities leave room, and clip_polyhedron reports an overflow rather than write past them).
+struct Polyhedron
+{
+  static constexpr int max_faces = 10, max_points = 24;
+  int faces = 0;
+  int size[max_faces] = {};
+  Eigen::Vector3d point[max_faces][max_points];
+
+  void add_triangle(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c)
+  {
+    point[faces][0] = a;
+    point[faces][1] = b;
+    point[faces][2] = c;
+    size[faces++] = 3;
+  }
+};
 
 /// Volume of a closed polyhedron with outward-oriented faces (divergence theorem, fans from each
 /// face's first point; the origin should be near the polyhedron to limit rounding).
 double polyhedron_volume(const Polyhedron& P)
 {
   double six = 0.0;
-  for (const auto& f : P)
-    for (std::size_t k = 1; k + 1 < f.size(); ++k)
-      six += f[0].dot(f[k].cross(f[k + 1]));
+  for (int f = 0; f < P.faces; ++f)
+    for (int k = 1; k + 1 < P.size[f]; ++k)
+      six += P.point[f][0].dot(P.point[f][k].cross(P.point[f][k + 1]));
   return six / 6.0;
 }
 
+/// A monotone stand-in for atan2(y, x) (the "diamond angle" in [0, 4)): orders points by angle
+/// without a transcendental function.
+double pseudo_angle(double y, double x)
+{
+  const double s = std::abs(x) + std::abs(y);
+  if (s == 0.0)
+    return 0.0;
+  const double r = y / s;
+  return x >= 0.0 ? (y >= 0.0 ? r : 4.0 + r) : 2.0 - r;
+}
+
 /// P clipped to the half-space n . x <= d (Sutherland-Hodgman on every face, then the cap
-/// polygon on the plane, ordered counter-clockwise around n). Signed distances within
-/// @p on_plane of 0 count as on the plane.
-Polyhedron clip_polyhedron(const Polyhedron& P, const Eigen::Vector3d& n, double d, double on_plane)
+/// polygon on the plane, ordered counter-clockwise around n), into @p clipped; @p changed is
+/// false (and @p clipped untouched) when P lies in the half-space. Signed distances within
+/// @p on_plane of 0 count as on the plane. Returns false if the result would not fit the fixed
+/// storage (it always fits for a tetrahedron clipped three times: at most 7 faces; a cap has at
+/// most 14 points, each shared one counted twice, and each later clip adds at most one).
+bool clip_polyhedron(
+  const Polyhedron& P, const Eigen::Vector3d& n, double d, double on_plane, Polyhedron& clipped,
+  bool& changed)
 {
   bool outside = false;
-  for (const auto& f : P)
-    for (const auto& p : f)
-      outside = outside || n.dot(p) - d > on_plane;
+  for (int f = 0; f < P.faces; ++f)
+    for (int k = 0; k < P.size[f]; ++k)
+      outside = outside || n.dot(P.point[f][k]) - d > on_plane;
+  changed = outside;
   if (!outside)
-    return P;
-  Polyhedron clipped;
-  std::vector<Eigen::Vector3d> cap;
-  for (const auto& f : P)
+    return true;
+  clipped.faces = 0;
+  constexpr int max_cap = 2 * Polyhedron::max_points;
+  Eigen::Vector3d cap[max_cap];
+  int caps = 0;
+  for (int f = 0; f < P.faces; ++f)
   {
-    std::vector<Eigen::Vector3d> g;
-    for (std::size_t k = 0; k < f.size(); ++k)
+    if (clipped.faces == Polyhedron::max_faces)
+      return false;
+    Eigen::Vector3d* g = clipped.point[clipped.faces];
+    int points = 0;
+    const int m = P.size[f];
+    for (int k = 0; k < m; ++k)
     {
-      const Eigen::Vector3d& a = f[k];
-      const Eigen::Vector3d& b = f[(k + 1) % f.size()];
+      const Eigen::Vector3d& a = P.point[f][k];
+      const Eigen::Vector3d& b = P.point[f][(k + 1) % m];
       const double sa = n.dot(a) - d, sb = n.dot(b) - d;
+      if (points + 2 > Polyhedron::max_points || caps + 2 > max_cap)
+        return false;
       if (sa <= on_plane)
       {
-        g.push_back(a);
+        g[points++] = a;
         if (sa >= -on_plane)
-          cap.push_back(a);
+          cap[caps++] = a;
       }
       if ((sa < -on_plane && sb > on_plane) || (sa > on_plane && sb < -on_plane))
       {
         const Eigen::Vector3d x = a + (sa / (sa - sb)) * (b - a);
-        g.push_back(x);
-        cap.push_back(x);
+        g[points++] = x;
+        cap[caps++] = x;
       }
     }
-    if (g.size() >= 3)
-      clipped.push_back(std::move(g));
+    if (points >= 3)
+      clipped.size[clipped.faces++] = points;
   }
-  if (cap.size() >= 3)
+  if (caps >= 3)
   {
+    if (clipped.faces == Polyhedron::max_faces || caps > Polyhedron::max_points)
+      return false;
     Eigen::Vector3d centre = Eigen::Vector3d::Zero();
-    for (const auto& p : cap)
-      centre += p;
-    centre /= static_cast<double>(cap.size());
+    for (int k = 0; k < caps; ++k)
+      centre += cap[k];
+    centre /= static_cast<double>(caps);
     const Eigen::Vector3d axis = n.normalized();
     const Eigen::Vector3d u = (std::abs(axis.x()) < 0.9 ? Eigen::Vector3d::UnitX()
                                                         : Eigen::Vector3d::UnitY())
                                 .cross(axis)
                                 .normalized();
     const Eigen::Vector3d v = axis.cross(u);
-    std::vector<std::pair<double, Eigen::Vector3d>> ordered;
-    ordered.reserve(cap.size());
-    for (const auto& p : cap)
-      ordered.emplace_back(std::atan2((p - centre).dot(v), (p - centre).dot(u)), p);
-    std::sort(ordered.begin(), ordered.end(),
-      [](const auto& a, const auto& b) { return a.first < b.first; });
-    std::vector<Eigen::Vector3d> face;
-    face.reserve(ordered.size());
-    for (const auto& [angle, p] : ordered)
-      face.push_back(p);
-    clipped.push_back(std::move(face));
+    double angle[max_cap];
+    int order[max_cap];
+    for (int k = 0; k < caps; ++k)
+    {
+      angle[k] = pseudo_angle((cap[k] - centre).dot(v), (cap[k] - centre).dot(u));
+      order[k] = k;
+    }
+    // Insertion sort by angle (a handful of points), stable like the points' order.
+    for (int k = 1; k < caps; ++k)
+      for (int q = k; q > 0 && angle[order[q]] < angle[order[q - 1]]; --q)
+        std::swap(order[q], order[q - 1]);
+    for (int k = 0; k < caps; ++k)
+      clipped.point[clipped.faces][k] = cap[order[k]];
+    clipped.size[clipped.faces++] = caps;
   }
-  return clipped;
+  return true;
+}
+
+/// The circumcentric parts of a well-centred tetrahedron @p p (its circumcentre inside or on
+/// it, every face's circumcentre inside or on the face: then the part nearest to each corner is
+/// its circumcentric part), in closed form: corner i's part is bounded by the three faces
+/// through p_i and by a quadrilateral (m_ij, c_ijk, c, c_ijl) in the bisector plane of each edge
+/// ij (edge midpoint, the circumcentres of the two faces on ij, the tetrahedron's
+/// circumcentre), |p_j - p_i| / 2 from p_i, so by the divergence theorem it is the sum over j of
+/// |p_j - p_i| / 6 times that quadrilateral's area. Returns false, and leaves @p part alone,
+/// when the tetrahedron is not well-centred (the caller clips instead).
+bool well_centred_voronoi_volumes(const std::array<Eigen::Vector3d, 4>& p, std::array<double, 4>& part)
+{
+  // Every face non-obtuse (contains its circumcentre): at each corner of each face the two
+  // edges make a non-negative dot product.
+  for (std::size_t i = 0; i < 4; ++i)
+    for (std::size_t j = 0; j < 4; ++j)
+      for (std::size_t k = j + 1; k < 4; ++k)
+        if (j != i && k != i && (p[j] - p[i]).dot(p[k] - p[i]) < 0.0)
+          return false;
+  // The circumcentre c, relative to p_0: 2 (p_k - p_0) . c = |p_k - p_0|^2, k = 1, 2, 3.
+  const Eigen::Vector3d a = p[1] - p[0], b = p[2] - p[0], d = p[3] - p[0];
+  const double six = a.dot(b.cross(d)); // 6 x the signed volume
+  if (six == 0.0)
+    return false;
+  const Eigen::Vector3d c = p[0] +
+    (a.squaredNorm() * b.cross(d) + b.squaredNorm() * d.cross(a) + d.squaredNorm() * a.cross(b)) /
+      (2.0 * six);
+  // Inside or on: on the inner side of every face plane, as the opposite corner is.
+  for (std::size_t l = 0; l < 4; ++l)
+  {
+    const std::size_t i = (l + 1) % 4, j = (l + 2) % 4, k = (l + 3) % 4;
+    const Eigen::Vector3d normal = (p[j] - p[i]).cross(p[k] - p[i]);
+    if (normal.dot(c - p[i]) * normal.dot(p[l] - p[i]) < 0.0)
+      return false;
+  }
+  // Circumcentre of face (i, j, k), relative to p_i: ((|u|^2 v - |v|^2 u) x (u x v)) / (2 |u x v|^2).
+  auto face_centre = [&p](std::size_t i, std::size_t j, std::size_t k) {
+    const Eigen::Vector3d u = p[j] - p[i], v = p[k] - p[i], w = u.cross(v);
+    return Eigen::Vector3d(
+      p[i] + (u.squaredNorm() * v - v.squaredNorm() * u).cross(w) / (2.0 * w.squaredNorm()));
+  };
+  std::array<double, 4> result{};
+  for (std::size_t i = 0; i < 4; ++i)
+    for (std::size_t j = 0; j < 4; ++j)
+    {
+      if (j == i)
+        continue;
+      // The two other corners k, l: the faces (i, j, k) and (i, j, l) share the edge ij.
+      std::size_t k = 0;
+      while (k == i || k == j)
+        ++k;
+      const std::size_t l = 6 - i - j - k;
+      const Eigen::Vector3d m = 0.5 * (p[i] + p[j]);
+      const Eigen::Vector3d ck = face_centre(i, j, k) - m, cl = face_centre(i, j, l) - m;
+      const Eigen::Vector3d cm = c - m;
+      const double area = 0.5 * (ck.cross(cm).norm() + cm.cross(cl).norm());
+      result[i] += (p[j] - p[i]).norm() / 6.0 * area;
+    }
+  part = result;
+  return true;
 }
 
 /// The part of tetrahedron t (volume @p volume) nearer to each corner than to its other three
 /// corners (see MassMatrixType::Voronoi), scaled so that the four parts sum to @p volume
-/// exactly (they do up to rounding).
+/// exactly (they do up to rounding): in closed form when the tetrahedron is well-centred, else
+/// by clipping it with the bisector planes.
 std::array<double, 4> tetrahedron_voronoi_volumes(
   const Eigen::MatrixXd& V, const Eigen::MatrixXi& T, Index t, double volume)
 {
@@ -260,6 +367,14 @@ std::array<double, 4> tetrahedron_voronoi_volumes(
     p[static_cast<std::size_t>(i)] = V.row(T(t, i)).transpose();
   std::array<double, 4> part{};
   double sum = 0.0;
+  if (well_centred_voronoi_volumes(p, part))
+  {
+    for (const double v : part)
+      sum += v;
+    for (double& v : part)
+      v *= volume / sum;
+    return part;
+  }
   for (std::size_t i = 0; i < 4; ++i)
   {
     // Corners relative to corner i (less rounding in the volume formula).
@@ -272,17 +387,27 @@ std::array<double, 4> tetrahedron_voronoi_volumes(
     }
     if ((q[1] - q[0]).dot((q[2] - q[0]).cross(q[3] - q[0])) < 0.0)
       std::swap(q[1], q[2]); // positively oriented: the faces below point outwards
-    Polyhedron P = { { q[0], q[2], q[1] }, { q[0], q[1], q[3] }, { q[0], q[3], q[2] },
-      { q[1], q[2], q[3] } };
+    Polyhedron buffer[2];
+    int current = 0;
+    buffer[0].add_triangle(q[0], q[2], q[1]);
+    buffer[0].add_triangle(q[0], q[1], q[3]);
+    buffer[0].add_triangle(q[0], q[3], q[2]);
+    buffer[0].add_triangle(q[1], q[2], q[3]);
     for (std::size_t j = 0; j < 4; ++j)
       if (j != i)
       {
         // Nearer to corner i (the origin) than to corner j: n . x <= |n|^2 / 2, n = p_j - p_i.
         const Eigen::Vector3d n = p[j] - p[i];
         const double on_plane = 64.0 * std::numeric_limits<double>::epsilon() * h * n.norm();
-        P = clip_polyhedron(P, n, 0.5 * n.squaredNorm(), on_plane);
+        bool changed = false;
+        if (!clip_polyhedron(buffer[current], n, 0.5 * n.squaredNorm(), on_plane,
+              buffer[1 - current], changed))
+          throw Error(ErrorCode::Internal,
+            "clipping tetrahedron " + std::to_string(t) + " for its Voronoi volumes overflowed");
+        if (changed)
+          current = 1 - current;
       }
-    part[i] = std::max(0.0, polyhedron_volume(P));
+    part[i] = std::max(0.0, polyhedron_volume(buffer[current]));
     sum += part[i];
   }
   for (double& v : part)

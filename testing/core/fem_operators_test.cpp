@@ -658,6 +658,63 @@ TEST(MassMatrix, VoronoiOfTetrahedra)
     EXPECT_NEAR(M(i) / volume, double(nearest[std::size_t(i)]) / samples, 0.006) << "corner " << i;
 }
 
+TEST(MassMatrix, VoronoiOfRandomTetrahedra)
+{
+  // Jittered regular tetrahedra, some well-centred (their Voronoi parts have a closed form,
+  // checked against the circumcentric parts computed above by another construction), some not
+  // (clipped by the bisector planes): every part positive, the parts sum to the volume.
+  const Eigen::MatrixXi T = (Eigen::MatrixXi(1, 4) << 0, 1, 2, 3).finished();
+  std::uint64_t state = 777;
+  auto uniform = [&state] {
+    state = state * 6364136223846793005ULL + 1442695040888963407ULL;
+    return double(state >> 11) / 9007199254740992.0;
+  };
+  int well_centred = 0, other = 0;
+  for (int trial = 0; trial < 400; ++trial)
+  {
+    Eigen::MatrixXd P(4, 3);
+    P << 1, 1, 1, 1, -1, -1, -1, 1, -1, -1, -1, 1;
+    for (int i = 0; i < 4; ++i)
+      for (int k = 0; k < 3; ++k)
+        P(i, k) += 1.2 * (uniform() - 0.5);
+    const double volume = simplex_volumes(P, T)(0);
+    if (!(volume > 1e-3))
+      continue;
+    // Well-centred: the circumcentre's barycentric coordinates >= 0 and no obtuse face angle.
+    Eigen::Matrix4d A;
+    for (int i = 0; i < 4; ++i)
+      A.col(i) << P.row(i).transpose(), 1.0;
+    Eigen::Matrix3d E;
+    Eigen::Vector3d rhs;
+    for (int r = 0; r < 3; ++r)
+    {
+      E.row(r) = P.row(r + 1) - P.row(0);
+      rhs(r) = 0.5 * E.row(r).squaredNorm();
+    }
+    const Eigen::Vector3d c = P.row(0).transpose() + E.fullPivLu().solve(rhs);
+    const Eigen::Vector4d bary = A.fullPivLu().solve((Eigen::Vector4d() << c, 1.0).finished());
+    bool well = bary.minCoeff() >= 0.0;
+    for (int i = 0; i < 4; ++i)
+      for (int j = 0; j < 4; ++j)
+        for (int k = j + 1; k < 4; ++k)
+          if (j != i && k != i && (P.row(j) - P.row(i)).dot(P.row(k) - P.row(i)) < 0.0)
+            well = false;
+    const Eigen::VectorXd M = positive_diagonal(mass_matrix(P, T, MassMatrixType::Voronoi));
+    EXPECT_NEAR(M.sum(), volume, 1e-14 * volume) << "trial " << trial;
+    if (well)
+    {
+      ++well_centred;
+      const std::array<double, 4> dual = circumcentric_parts(P);
+      for (int i = 0; i < 4; ++i)
+        EXPECT_NEAR(M(i), dual[std::size_t(i)], 1e-13 * volume) << "trial " << trial << " corner " << i;
+    }
+    else
+      ++other;
+  }
+  EXPECT_GT(well_centred, 20);
+  EXPECT_GT(other, 20);
+}
+
 // --- gradient operator ----------------------------------------------------------------------
 
 TEST(GradientOperator, ExactOnLinearFunctions)
