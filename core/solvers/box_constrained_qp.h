@@ -77,12 +77,16 @@
 ///    (computed by precompute(); options.reuse_ordering), which skips the ordering's cost (as
 ///    much as the numeric factorization with a fresh AMD, measured) at the price of ~20-60% more
 ///    fill, and with the Supernodal backend reads A_FF from A without forming it; on the hand's
-///    blocks 6-25 ms, against 25-60 ms for Eigen's SimplicialLDLT with its AMD; or
+///    blocks 5.6 ms on average (symbolic analysis ~2 ms, numeric 3.4 ms with the AVX2 kernels
+///    of sparse_cholesky.h; AMD EPYC), against 25-60 ms for Eigen's SimplicialLDLT with its AMD
+///    (an earlier measurement); or
 ///  - when at most max(8, |F| / 64) variables changed sets (and |F| / 4 since the last fresh
 ///    factorization), CHOLMOD's row deletions and additions on the last factorization
-///    (options.modify_factorizations, Supernodal backend): 0.07-0.2 ms per changed variable on
-///    the hand, ~1/100 of a factorization. Late iterations change few variables (on the hand, a
-///    third of the iterations change <= 30), so 264 of its 646 iterations are modifications.
+///    (options.modify_factorizations, Supernodal backend): 0.15 ms per changed variable on the
+///    hand on average. Late iterations change few variables (on the hand, a third of the
+///    iterations change <= 30), so 258 of its 634 iterations are modifications. (With the
+///    threshold at |F| / 128 the fresh factorizations and modifications cost the same in
+///    total: 2.88 s against 2.86 s on the hand.)
 ///    When an iteration with a modified factorization finds no violator but the free variables'
 ///    gradient exceeds a quarter of the threshold (rounding accumulated), the active set is
 ///    solved again with a fresh factorization before "converged" is decided.
