@@ -192,6 +192,7 @@ BoxQPResult BoxConstrainedQP::solve(const Eigen::VectorXd& b, const Eigen::Vecto
   BoxQPResult result;
   Eigen::VectorXd x = Eigen::VectorXd::Zero(n), y(n), r(n), magnitude(n);
   std::vector<int> free;
+  std::vector<int> slot(static_cast<std::size_t>(n), -1); // a free row's place in the factor
   std::vector<Index> violators;
   const double half_tolerance = 0.5 * options.tolerance;
 
@@ -281,14 +282,33 @@ BoxQPResult BoxConstrainedQP::solve(const Eigen::VectorXd& b, const Eigen::Vecto
       const std::vector<int>& factor_rows = factor.rows();
       // x_F solves A_FF x_F = -(b_F + A_FN x_N), x_F = 0 meanwhile; rows in the factor's order.
       const Index nf = static_cast<Index>(factor_rows.size());
+      // Only the columns of the nonzero x_N contribute (for BBW: the fixed rows and the upper
+      // bounds, a few hundred columns), so A_FN x_N is scattered from them rather than
+      // gathered along every free row; columns in increasing order add each row's terms in
+      // the order of its own column (A symmetric).
       Eigen::VectorXd rhs(nf);
       for (Index k = 0; k < nf; ++k)
       {
         const int i = factor_rows[static_cast<std::size_t>(k)];
-        double sum = b(i);
-        for (SparseMatrix::InnerIterator it(A_, i); it; ++it) // column i = row i (symmetric)
-          sum += it.value() * x(it.row());
-        rhs(k) = -sum;
+        slot[static_cast<std::size_t>(i)] = static_cast<int>(k);
+        rhs(k) = b(i);
+      }
+      for (Index j = 0; j < n; ++j)
+      {
+        const double xj = x(j); // 0 on the free set
+        if (xj == 0.0)
+          continue;
+        for (SparseMatrix::InnerIterator it(A_, j); it; ++it)
+        {
+          const int k = slot[static_cast<std::size_t>(it.row())];
+          if (k >= 0)
+            rhs(k) += it.value() * xj;
+        }
+      }
+      for (Index k = 0; k < nf; ++k)
+      {
+        slot[static_cast<std::size_t>(factor_rows[static_cast<std::size_t>(k)])] = -1;
+        rhs(k) = -rhs(k);
       }
       const Eigen::VectorXd x_free = factor.solve(rhs);
       for (Index k = 0; k < nf; ++k)
