@@ -159,11 +159,16 @@ struct SupernodalFactor
 };
 
 /// How the factor's columns relate to the matrix A whose (principal sub)matrix is factored:
-/// column k of the factor is A's column source[k]; node[u] is the factor column of A's row u,
-/// -1 when u is not part of the factored matrix.
+/// column k of the factor is A's column source[k].
 struct FactorColumns
 {
-  std::vector<int> source, node;
+  std::vector<int> source;
+  /// The entries of P M P^T on and below the diagonal, column by column: those of factor column
+  /// k are entry_row / entry_value[entry_start[k] .. entry_start[k + 1]), its factor row and the
+  /// index of its value in A's value array, the diagonal first (built by the symbolic analysis,
+  /// read by the numeric factorization's assembly).
+  std::vector<int> entry_start;
+  std::vector<int, UninitializedAllocator<int>> entry_row, entry_value;
 };
 
 /// Relaxed supernode amalgamation parameters (CHOLMOD's defaults): supernodes of up to
@@ -177,8 +182,10 @@ constexpr double relax_zeros[3] = { 0.8, 0.1, 0.05 };
 /// empty) with the elimination order @p order (order[k]: the row of M eliminated k-th; m
 /// entries), which is then postordered: elimination tree (Liu's algorithm), postorder, column
 /// counts (Gilbert, Ng & Peyton 1994, as in Davis's CSparse), fundamental supernodes, relaxed
-/// amalgamation (as in CHOLMOD) and the supernodes' row structures. A must store both triangles
-/// of a symmetric pattern.
+/// amalgamation (as in CHOLMOD) and the supernodes' row structures; @p columns receives each
+/// factor column's A column and its entries on and below the diagonal. A must store both
+/// triangles of a symmetric pattern (an entry stored on one side only is used where it falls on
+/// or below the diagonal of P M P^T).
 SupernodalFactor supernodal_symbolic(
   const SparseMatrix& A, const std::vector<int>& sub, const int* order, Index m, FactorColumns& columns)
 {
@@ -199,18 +206,23 @@ SupernodalFactor supernodal_symbolic(
   // Written without branches (which neighbour goes where is unpredictable) into per-thread
   // buffers that only grow (A's nonzeros bound either half, even for a pattern stored on one
   // side only).
-  thread_local std::vector<int, UninitializedAllocator<int>> lower, upper;
+  // The later neighbours' values (their index in A's value array) and each node's diagonal
+  // entry are recorded too, for the numeric factorization's assembly.
+  thread_local std::vector<int, UninitializedAllocator<int>> lower, upper, upper_value;
   const auto bound = static_cast<std::size_t>(A.nonZeros()) + 1;
   if (lower.size() < bound)
   {
     lower.resize(bound);
     upper.resize(bound);
+    upper_value.resize(bound);
   }
-  std::vector<int> lower_start(mu + 1), upper_start(mu + 1);
+  std::vector<int> lower_start(mu + 1), upper_start(mu + 1), diagonal_value(mu, -1);
   {
     int nl = 0, nu = 0;
     int* lo = lower.data();
     int* up = upper.data();
+    int* up_value = upper_value.data();
+    const double* values = A.valuePtr();
     for (Index k = 0; k < m; ++k)
     {
       lower_start[static_cast<std::size_t>(k)] = nl;
@@ -219,10 +231,14 @@ SupernodalFactor supernodal_symbolic(
       for (SparseMatrix::InnerIterator it(A, source0[static_cast<std::size_t>(k)]); it; ++it)
       {
         const int i = node0[static_cast<std::size_t>(it.row())]; // -1 outside M
+        const int q = static_cast<int>(&it.value() - values);
         lo[nl] = i;
         up[nu] = i;
+        up_value[nu] = q;
         nl += (i >= 0) & (i < kk);
         nu += i > kk;
+        if (i == kk)
+          diagonal_value[static_cast<std::size_t>(k)] = q;
       }
     }
     lower_start[mu] = nl;
@@ -349,7 +365,6 @@ SupernodalFactor supernodal_symbolic(
   f.n = m;
   f.perm.resize(mu);
   columns.source.resize(mu);
-  columns.node.assign(static_cast<std::size_t>(nA), -1);
   std::vector<int> tparent(mu), tcount(mu), children(mu, 0);
   for (Index t = 0; t < m; ++t)
   {
@@ -357,7 +372,6 @@ SupernodalFactor supernodal_symbolic(
     const auto ju = static_cast<std::size_t>(j);
     f.perm[static_cast<std::size_t>(t)] = order[j];
     columns.source[static_cast<std::size_t>(t)] = source0[ju];
-    columns.node[static_cast<std::size_t>(source0[ju])] = static_cast<int>(t);
     tparent[static_cast<std::size_t>(t)] = parent[ju] == -1 ? -1 : relabel[static_cast<std::size_t>(parent[ju])];
     tcount[static_cast<std::size_t>(t)] = count[ju];
     f.flops += static_cast<double>(count[ju]) * count[ju];
@@ -365,6 +379,37 @@ SupernodalFactor supernodal_symbolic(
   for (Index t = 0; t < m; ++t)
     if (tparent[static_cast<std::size_t>(t)] != -1)
       ++children[static_cast<std::size_t>(tparent[static_cast<std::size_t>(t)])];
+  // The entries on and below the diagonal per factor column (the later neighbours, relabelled).
+  columns.entry_start.resize(mu + 1);
+  const std::size_t listed = static_cast<std::size_t>(upper_start[mu]) + mu;
+  if (columns.entry_row.size() < listed)
+  {
+    columns.entry_row.resize(listed);
+    columns.entry_value.resize(listed);
+  }
+  {
+    int e = 0;
+    int* entry_row = columns.entry_row.data();
+    int* entry_value = columns.entry_value.data();
+    for (Index t = 0; t < m; ++t)
+    {
+      const int j = post[static_cast<std::size_t>(t)];
+      columns.entry_start[static_cast<std::size_t>(t)] = e;
+      const int diagonal = diagonal_value[static_cast<std::size_t>(j)];
+      if (diagonal >= 0)
+      {
+        entry_row[e] = static_cast<int>(t);
+        entry_value[e++] = diagonal;
+      }
+      const int end = upper_start[static_cast<std::size_t>(j) + 1];
+      for (int q = upper_start[static_cast<std::size_t>(j)]; q < end; ++q)
+      {
+        entry_row[e] = relabel[static_cast<std::size_t>(upper[static_cast<std::size_t>(q)])];
+        entry_value[e++] = upper_value[static_cast<std::size_t>(q)];
+      }
+    }
+    columns.entry_start[mu] = e;
+  }
 
   // 5. Fundamental supernodes: chains t -> t+1 (only child) with nested column structures.
   std::vector<int> fsuper;
@@ -651,7 +696,10 @@ Index supernodal_numeric(SupernodalFactor& f, const SparseMatrix& A, const Facto
   const bool blocked = single_threaded.sequential();
   [[maybe_unused]] const bool avx2 = detail::simd_level() == detail::SimdLevel::AVX2;
   const int* rows = f.rows.data();
-  const int* node = columns.node.data();
+  const int* source = columns.source.data();
+  const int* entry_row = columns.entry_row.data();
+  const int* entry_value = columns.entry_value.data();
+  const double* values = A.valuePtr();
 
   for (int s = 0; s < ns; ++s)
   {
@@ -662,23 +710,21 @@ Index supernodal_numeric(SupernodalFactor& f, const SparseMatrix& A, const Facto
     for (int k = 0; k < height; ++k)
       relative[static_cast<std::size_t>(rows[r0 + k])] = k;
     std::fill(Ls, Ls + static_cast<std::ptrdiff_t>(height) * width, 0.0);
-    // The columns of P M~ P^T on and below the diagonal.
+    // The columns of P M~ P^T on and below the diagonal (listed by the symbolic analysis; each
+    // position receives one entry).
     for (int k = k1; k < k2; ++k)
     {
-      const int a = columns.source[static_cast<std::size_t>(k)];
-      const double sk = scale(a);
+      const double sk = scale(source[k]);
       double* column = Ls + static_cast<std::ptrdiff_t>(k - k1) * height;
-      for (SparseMatrix::InnerIterator it(A, a); it; ++it)
+      const int end = columns.entry_start[static_cast<std::size_t>(k) + 1];
+      for (int q = columns.entry_start[static_cast<std::size_t>(k)]; q < end; ++q)
       {
-        const int r = node[it.row()];
-        if (r < k)
-          continue;
+        const int r = entry_row[q];
         const int at = relative[static_cast<std::size_t>(r)];
         if (at < 0)
           throw Error(ErrorCode::Internal,
-            "the supernodal factorization met an entry outside the symbolic pattern; the "
-            "matrix's sparsity pattern must be symmetric");
-        column[at] += it.value() * scale(it.row()) * sk;
+            "the supernodal factorization met an entry outside the symbolic pattern");
+        column[at] += values[entry_value[q]] * scale(source[r]) * sk;
       }
     }
     // Updates from the descendants: C = L_d(rows >= k1) L_d(rows in [k1, k2))^T, scattered.
@@ -946,7 +992,7 @@ std::unique_ptr<SupernodalFactor> factor_supernodal(const SparseMatrix& A,
   const std::vector<int>& sub, const Eigen::VectorXi& order, const Eigen::VectorXd& scale,
   const Id& id, double& entries, double& flops, double& min_pivot, Index& min_row)
 {
-  FactorColumns columns;
+  thread_local FactorColumns columns; // per-thread buffers that only grow
   auto f = std::make_unique<SupernodalFactor>(
     supernodal_symbolic(A, sub, order.data(), order.size(), columns));
   // The scaling per row of A (only M's rows are read).
