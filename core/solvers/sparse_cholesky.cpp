@@ -486,52 +486,66 @@ SupernodalFactor supernodal_symbolic(
     }
   f.super.push_back(static_cast<int>(m));
 
-  // 7. Row structures, children before parents: the supernode's columns, then the rows below
-  //    from A's columns and from the children's structures.
+  // 7. Row structures, by the row subtrees of L (as CHOLMOD's super_symbolic does): row k of L
+  //    is nonzero in the columns on the etree paths from each earlier neighbour of k up to k,
+  //    so walking up the supernodal tree from the supernode of each earlier neighbour until a
+  //    supernode already met for k (k's own is met first) lists every supernode whose
+  //    structure holds k, once. Rows k taken in increasing order come out sorted, and the
+  //    sizes are known: a fundamental supernode's height is its first column's count, and a
+  //    merge adds the child's columns to the parent's structure (step 6).
   const int ns = f.supernodes;
-  std::vector<int> shead(static_cast<std::size_t>(ns), -1), snext(static_cast<std::size_t>(ns), -1),
-    mark(mu, -1), below;
   f.row_start.assign(static_cast<std::size_t>(ns) + 1, 0);
-  f.rows.reserve(structure);
   f.value_start.assign(static_cast<std::size_t>(ns) + 1, 0);
-  for (int s = 0; s < ns; ++s)
   {
-    const auto su = static_cast<std::size_t>(s);
-    const int c1 = f.super[su], c2 = f.super[su + 1];
-    below.clear();
-    auto add = [&](int r) {
-      if (r >= c2 && mark[static_cast<std::size_t>(r)] != s)
+    int t = 0;
+    for (int s = 0; s < nf; ++s)
+      if (merged[static_cast<std::size_t>(s)] == -1)
       {
-        mark[static_cast<std::size_t>(r)] = s;
-        below.push_back(r);
+        const auto tu = static_cast<std::size_t>(t);
+        const int h = height[static_cast<std::size_t>(s)], w = width[static_cast<std::size_t>(s)];
+        f.row_start[tu + 1] = f.row_start[tu] + h;
+        f.value_start[tu + 1] = f.value_start[tu] + static_cast<std::ptrdiff_t>(h) * w;
+        const auto b = static_cast<std::size_t>(h - w);
+        f.max_update = std::max(f.max_update, b * b);
+        ++t;
       }
-    };
-    for (int c = c1; c < c2; ++c)
-      for_each_later(post[static_cast<std::size_t>(c)], // ancestors: relabelled > c
-        [&](int i) { add(relabel[static_cast<std::size_t>(i)]); });
-    for (int child = shead[su]; child != -1; child = snext[static_cast<std::size_t>(child)])
+  }
+  f.rows.resize(structure);
+  {
+    std::vector<int> up(static_cast<std::size_t>(ns)), met(static_cast<std::size_t>(ns), -1),
+      fill(static_cast<std::size_t>(ns));
+    int* rows = f.rows.data();
+    for (int s = 0; s < ns; ++s)
     {
-      const auto cu = static_cast<std::size_t>(child);
-      const int child_columns = f.super[cu + 1] - f.super[cu];
-      for (int q = f.row_start[cu] + child_columns; q < f.row_start[cu + 1]; ++q)
-        add(f.rows[static_cast<std::size_t>(q)]);
+      const auto su = static_cast<std::size_t>(s);
+      const int p = tparent[static_cast<std::size_t>(f.super[su + 1] - 1)];
+      up[su] = p == -1 ? -1 : super_of[static_cast<std::size_t>(p)];
+      int at = f.row_start[su];
+      for (int c = f.super[su]; c < f.super[su + 1]; ++c)
+        rows[at++] = c;
+      fill[su] = at;
     }
-    std::sort(below.begin(), below.end());
-    f.row_start[su] = static_cast<int>(f.rows.size());
-    for (int c = c1; c < c2; ++c)
-      f.rows.push_back(c);
-    f.rows.insert(f.rows.end(), below.begin(), below.end());
-    f.row_start[su + 1] = static_cast<int>(f.rows.size());
-    const std::ptrdiff_t h = f.row_start[su + 1] - f.row_start[su];
-    f.value_start[su + 1] = f.value_start[su] + h * (c2 - c1);
-    const auto b = static_cast<std::size_t>(below.size());
-    f.max_update = std::max(f.max_update, b * b);
-    if (!below.empty())
+    for (int k = 0; k < static_cast<int>(m); ++k)
     {
-      const auto target = static_cast<std::size_t>(super_of[static_cast<std::size_t>(below.front())]);
-      snext[su] = shead[target];
-      shead[target] = s;
+      met[static_cast<std::size_t>(super_of[static_cast<std::size_t>(k)])] = k;
+      for_each_earlier(post[static_cast<std::size_t>(k)], [&](int i) {
+        int s = super_of[static_cast<std::size_t>(relabel[static_cast<std::size_t>(i)])];
+        while (s != -1 && met[static_cast<std::size_t>(s)] != k)
+        {
+          met[static_cast<std::size_t>(s)] = k;
+          int& at = fill[static_cast<std::size_t>(s)];
+          if (at < f.row_start[static_cast<std::size_t>(s) + 1])
+            rows[at] = k;
+          ++at;
+          s = up[static_cast<std::size_t>(s)];
+        }
+      });
     }
+    for (int s = 0; s < ns; ++s)
+      if (fill[static_cast<std::size_t>(s)] != f.row_start[static_cast<std::size_t>(s) + 1])
+        throw Error(ErrorCode::Internal,
+          "the supernodal symbolic analysis found a row structure of another size than its "
+          "column counts");
   }
   // Uninitialized, advised huge pages before the numeric factorization's first touch.
   const auto entries = static_cast<std::size_t>(f.value_start[static_cast<std::size_t>(ns)]);
