@@ -77,9 +77,9 @@
 ///    (computed by precompute(); options.reuse_ordering), which skips the ordering's cost (as
 ///    much as the numeric factorization with a fresh AMD, measured) at the price of ~20-60% more
 ///    fill, and with the Supernodal backend reads A_FF from A without forming it; on the hand's
-///    blocks 5.6 ms on average (symbolic analysis ~2 ms, numeric 3.4 ms with the AVX2 kernels
-///    of sparse_cholesky.h; AMD EPYC), against 25-60 ms for Eigen's SimplicialLDLT with its AMD
-///    (an earlier measurement); or
+///    blocks 4.8 ms on average (symbolic analysis 1.55 ms, numeric 3.2 ms with the AVX2
+///    kernels of sparse_cholesky.h; AMD EPYC), against 25-60 ms for Eigen's SimplicialLDLT with
+///    its AMD (an earlier measurement); or
 ///  - when at most max(8, |F| / 64) variables changed sets (and |F| / 4 since the last fresh
 ///    factorization), CHOLMOD's row deletions and additions on the last factorization
 ///    (options.modify_factorizations, Supernodal backend): 0.15 ms per changed variable on the
