@@ -1592,10 +1592,7 @@ void SparseCholesky::modify_principal(
   cholmod_common* c = mf.common.get();
   std::vector<char>& inside = mf.inside;
   auto scale_of = [&](int a) {
-    double d = 0.0;
-    for (SparseMatrix::InnerIterator it(A, a); it; ++it)
-      if (it.row() == a)
-        d += it.value();
+    const double d = A.coeff(a, a); // a binary search in column a (called per entry of a new row)
     if (!(d > 0.0))
       throw_not_positive_definite(
         "its diagonal entry (" + std::to_string(a) + ", " + std::to_string(a) + ") is " + detail::format_number(d) + ", not > 0");
