@@ -556,48 +556,45 @@ SupernodalFactor supernodal_symbolic(
 }
 
 #if BARY_HAVE_AVX2_DISPATCH
-/// One panel of C = X Y^T (or C -= X Y^T when @p Subtract): the @p rows <= 8 rows starting at
-/// X, C and the W <= 4 columns starting at Y, C (X, Y column-major with k columns). Products
-/// summed over k in order with FMA in registers, then stored (or subtracted from C once).
-template<int W, bool Subtract>
+/// Four rows at @p p: all of them (Full), or the lanes @p mask selects (the others are neither
+/// read nor written).
+template<bool Full>
+BARY_TARGET_AVX2 BARY_ALWAYS_INLINE __m256d load_rows(const double* p, __m256i mask)
+{
+  if constexpr (Full)
+  {
+    (void)mask;
+    return _mm256_loadu_pd(p);
+  }
+  else
+    return _mm256_maskload_pd(p, mask);
+}
+template<bool Full>
+BARY_TARGET_AVX2 BARY_ALWAYS_INLINE void store_rows(double* p, __m256i mask, __m256d v)
+{
+  if constexpr (Full)
+  {
+    (void)mask;
+    _mm256_storeu_pd(p, v);
+  }
+  else
+    _mm256_maskstore_pd(p, mask, v);
+}
+
+/// One panel of C = X Y^T (or C -= X Y^T when @p Subtract): 8 rows starting at X and C (Full),
+/// or the rows that @p m0 (first four) and @p m1 (last four) select, and the W <= 4 columns
+/// starting at Y, C (X, Y column-major with k columns). Products summed over k in order with
+/// FMA in registers, then stored (or subtracted from C once).
+template<int W, bool Subtract, bool Full>
 BARY_TARGET_AVX2 BARY_ALWAYS_INLINE void nt_panel_avx2(const double* X, std::ptrdiff_t ldx,
-  const double* Y, std::ptrdiff_t ldy, int rows, int k, double* C, std::ptrdiff_t ldc)
+  const double* Y, std::ptrdiff_t ldy, __m256i m0, __m256i m1, int k, double* C, std::ptrdiff_t ldc)
 {
   __m256d lo[W], hi[W];
   for (int q = 0; q < W; ++q)
     lo[q] = hi[q] = _mm256_setzero_pd();
-  if (rows == 8)
-  {
-    for (int p = 0; p < k; ++p, X += ldx, Y += ldy)
-    {
-      const __m256d a0 = _mm256_loadu_pd(X), a1 = _mm256_loadu_pd(X + 4);
-      for (int q = 0; q < W; ++q)
-      {
-        const __m256d b = _mm256_broadcast_sd(Y + q);
-        lo[q] = _mm256_fmadd_pd(a0, b, lo[q]);
-        hi[q] = _mm256_fmadd_pd(a1, b, hi[q]);
-      }
-    }
-    for (int q = 0; q < W; ++q)
-    {
-      double* c = C + q * ldc;
-      if (Subtract)
-      {
-        lo[q] = _mm256_sub_pd(_mm256_loadu_pd(c), lo[q]);
-        hi[q] = _mm256_sub_pd(_mm256_loadu_pd(c + 4), hi[q]);
-      }
-      _mm256_storeu_pd(c, lo[q]);
-      _mm256_storeu_pd(c + 4, hi[q]);
-    }
-    return;
-  }
-  // 1-7 rows: masked loads and stores (lanes past the end are neither read nor written).
-  const __m256i lane = _mm256_set_epi64x(3, 2, 1, 0);
-  const __m256i m0 = _mm256_cmpgt_epi64(_mm256_set1_epi64x(rows), lane);
-  const __m256i m1 = _mm256_cmpgt_epi64(_mm256_set1_epi64x(rows - 4), lane);
   for (int p = 0; p < k; ++p, X += ldx, Y += ldy)
   {
-    const __m256d a0 = _mm256_maskload_pd(X, m0), a1 = _mm256_maskload_pd(X + 4, m1);
+    const __m256d a0 = load_rows<Full>(X, m0), a1 = load_rows<Full>(X + 4, m1);
     for (int q = 0; q < W; ++q)
     {
       const __m256d b = _mm256_broadcast_sd(Y + q);
@@ -610,11 +607,11 @@ BARY_TARGET_AVX2 BARY_ALWAYS_INLINE void nt_panel_avx2(const double* X, std::ptr
     double* c = C + q * ldc;
     if (Subtract)
     {
-      lo[q] = _mm256_sub_pd(_mm256_maskload_pd(c, m0), lo[q]);
-      hi[q] = _mm256_sub_pd(_mm256_maskload_pd(c + 4, m1), hi[q]);
+      lo[q] = _mm256_sub_pd(load_rows<Full>(c, m0), lo[q]);
+      hi[q] = _mm256_sub_pd(load_rows<Full>(c + 4, m1), hi[q]);
     }
-    _mm256_maskstore_pd(c, m0, lo[q]);
-    _mm256_maskstore_pd(c + 4, m1, hi[q]);
+    store_rows<Full>(c, m0, lo[q]);
+    store_rows<Full>(c + 4, m1, hi[q]);
   }
 }
 
@@ -624,8 +621,19 @@ template<int W, bool Subtract>
 BARY_TARGET_AVX2 BARY_ALWAYS_INLINE void nt_columns_avx2(const double* X, std::ptrdiff_t ldx,
   const double* Y, std::ptrdiff_t ldy, int i0, int m, int k, double* C, std::ptrdiff_t ldc)
 {
-  for (int i = i0; i < m; i += 8)
-    nt_panel_avx2<W, Subtract>(X + i, ldx, Y, ldy, std::min(8, m - i), k, C + i, ldc);
+  const __m256i all = _mm256_set1_epi64x(-1);
+  int i = i0;
+  for (; i + 8 <= m; i += 8)
+    nt_panel_avx2<W, Subtract, true>(X + i, ldx, Y, ldy, all, all, k, C + i, ldc);
+  if (i < m)
+  {
+    // 1-7 rows left: lanes below the count.
+    const int rows = m - i;
+    const __m256i lane = _mm256_set_epi64x(3, 2, 1, 0);
+    const __m256i m0 = _mm256_cmpgt_epi64(_mm256_set1_epi64x(rows), lane);
+    const __m256i m1 = _mm256_cmpgt_epi64(_mm256_set1_epi64x(rows - 4), lane);
+    nt_panel_avx2<W, Subtract, false>(X + i, ldx, Y, ldy, m0, m1, k, C + i, ldc);
+  }
 }
 
 /// The update of a descendant supernode, C = X X1^T: X is m2 x k (column-major, leading
