@@ -99,8 +99,11 @@ void fill_statistics(BBWResult& result, Index vertices, Index cells, Index handl
     st.emplace_back("coupled_iterations", result.coupled_iterations);
     st.emplace_back("coupled_factorizations", result.coupled_factorizations);
     st.emplace_back("coupled_kkt_residual", result.coupled_kkt_residual);
-    st.emplace_back("fast_difference_mean", result.fast_difference_mean);
-    st.emplace_back("fast_difference_max", result.fast_difference_max);
+    if (!result.iterations.empty()) // compare_with_fast
+    {
+      st.emplace_back("fast_difference_mean", result.fast_difference_mean);
+      st.emplace_back("fast_difference_max", result.fast_difference_max);
+    }
   }
   st.emplace_back("max_kkt_residual", result.max_kkt_residual);
   st.emplace_back("max_bound_violation", result.max_bound_violation);
@@ -128,12 +131,12 @@ struct CoupledOutcome
 class CoupledSolver
 {
 public:
-  /// Starts from @p start (the normalized fast weights) and from the fast phase's
-  /// factorizations (@p warm, emptied). @p qp, @p o, @p box and @p reporter must outlive the
+  /// Starts from @p start, the unconstrained biharmonic weights (see
+  /// start_from_independent_solves). @p qp, @p o, @p box and @p reporter must outlive the
   /// solver.
   CoupledSolver(const BoxConstrainedQP& qp, const BBWBoundaryConditions& bc,
-    const Eigen::MatrixXd& start, std::vector<BoxQPWarmStart>& warm, const BBWOptions& o,
-    const BoxQPOptions& box, ProgressReporter& reporter);
+    const Eigen::MatrixXd& start, const BBWOptions& o, const BoxQPOptions& box,
+    ProgressReporter& reporter);
 
   /// Active-set iterations until no violator is left and the KKT residual and the partition
   /// error are within their tolerances (or max_outer_iterations), then the clamped weights
@@ -143,12 +146,14 @@ public:
 private:
   using States = Eigen::Matrix<BoxQPState, Eigen::Dynamic, Eigen::Dynamic>;
 
-  /// Active sets of the start: fixed rows Fixed, weights <= 0 Lower, >= 1 Upper, else Free.
+  /// Active sets of the iterate: fixed rows Fixed, weights <= 0 Lower, >= 1 Upper, else Free.
   void initialize_states();
+  /// The start: each handle solved alone on the active sets of the unconstrained weights
+  /// (mu = 0, the Fast mode's first iteration), clamped onto [0, 1], rows normalized (a row of
+  /// zeros becomes uniform), and the active sets of that; the factorizations are kept.
+  void start_from_independent_solves();
   /// max_i sum_j |Q_ij| (1 if 0): it bounds |Q w| for 0 <= w <= 1, the scale of the gradients.
   static double gradient_scale(const SparseMatrix& Q);
-  /// One FreeSetFactor per handle, adopting the fast phase's factorization where it has one.
-  void adopt_fast_factors(const BoxConstrainedQP& qp, std::vector<BoxQPWarmStart>& warm);
   /// FNV-1a hash of the active sets (the safeguard's record of the sets already solved).
   std::uint64_t state_hash() const;
 
@@ -237,8 +242,8 @@ private:
 };
 
 CoupledSolver::CoupledSolver(const BoxConstrainedQP& qp, const BBWBoundaryConditions& bc,
-  const Eigen::MatrixXd& start, std::vector<BoxQPWarmStart>& warm, const BBWOptions& o,
-  const BoxQPOptions& box, ProgressReporter& reporter)
+  const Eigen::MatrixXd& start, const BBWOptions& o, const BoxQPOptions& box,
+  ProgressReporter& reporter)
   : Q_(qp.matrix())
   , o_(o)
   , box_(box)
@@ -268,7 +273,9 @@ CoupledSolver::CoupledSolver(const BoxConstrainedQP& qp, const BBWBoundaryCondit
   for (Index k = 0; k < bc.vertices.size(); ++k)
     known_[static_cast<std::size_t>(bc.vertices(k))] = 1;
   initialize_states();
-  adopt_fast_factors(qp, warm);
+  factors_.reserve(static_cast<std::size_t>(m_));
+  for (Index j = 0; j < m_; ++j)
+    factors_.emplace_back(qp, box_);
 }
 
 void CoupledSolver::initialize_states()
@@ -288,6 +295,32 @@ void CoupledSolver::initialize_states()
     }
 }
 
+void CoupledSolver::start_from_independent_solves()
+{
+  collect_free_sets();
+  solve_free_sets();
+  for (Index j = 0; j < m_; ++j)
+  {
+    const auto ju = static_cast<std::size_t>(j);
+    if (free_[ju].empty())
+      continue;
+    const std::vector<int>& rows = factors_[ju].rows();
+    for (std::size_t k = 0; k < rows.size(); ++k)
+      X_(rows[k], j) = std::clamp(a_[ju](static_cast<Index>(k)), 0.0, 1.0);
+  }
+  for (Index i = 0; i < n_; ++i)
+  {
+    if (known_[static_cast<std::size_t>(i)])
+      continue;
+    const double sum = X_.row(i).sum();
+    if (sum > 0.0)
+      X_.row(i) /= sum;
+    else
+      X_.row(i).setConstant(1.0 / static_cast<double>(m_));
+  }
+  initialize_states();
+}
+
 double CoupledSolver::gradient_scale(const SparseMatrix& Q)
 {
   double sy = 0.0;
@@ -299,21 +332,6 @@ double CoupledSolver::gradient_scale(const SparseMatrix& Q)
     sy = std::max(sy, row);
   }
   return sy > 0.0 ? sy : 1.0;
-}
-
-void CoupledSolver::adopt_fast_factors(
-  const BoxConstrainedQP& qp, std::vector<BoxQPWarmStart>& warm)
-{
-  factors_.reserve(static_cast<std::size_t>(m_));
-  for (Index j = 0; j < m_; ++j)
-  {
-    factors_.emplace_back(qp, box_);
-    const BoxQPWarmStart& w = warm[static_cast<std::size_t>(j)];
-    if (w.factor.computed() && w.factor.rows() == w.factor_free.size())
-      factors_.back().adopt(
-        w.factor, std::vector<int>(w.factor_free.data(), w.factor_free.data() + w.factor_free.size()));
-  }
-  warm.clear();
 }
 
 std::uint64_t CoupledSolver::state_hash() const
@@ -329,6 +347,7 @@ std::uint64_t CoupledSolver::state_hash() const
 
 CoupledOutcome CoupledSolver::run()
 {
+  start_from_independent_solves();
   double last_violation = 1.0;
   bool tight = false, refactored_at_end = false;
   while (out_.iterations < o_.max_outer_iterations)
@@ -746,13 +765,13 @@ void CoupledSolver::clamp_and_certify()
 }
 
 /// The coupled problem (Eq. 8 subject to Eq. 3-6) by a primal-dual active-set method on all
-/// handles at once, started from @p start (the normalized fast weights) and from the fast
-/// phase's factorizations (@p warm). See BBWMode::Coupled for the method.
+/// handles at once, started from the active sets of @p start (the unconstrained biharmonic
+/// weights). See BBWMode::Coupled for the method.
 CoupledOutcome solve_coupled(const BoxConstrainedQP& qp, const BBWBoundaryConditions& bc,
-  const Eigen::MatrixXd& start, std::vector<BoxQPWarmStart>& warm, const BBWOptions& o,
-  const BoxQPOptions& box, ProgressReporter& reporter)
+  const Eigen::MatrixXd& start, const BBWOptions& o, const BoxQPOptions& box,
+  ProgressReporter& reporter)
 {
-  return CoupledSolver(qp, bc, start, warm, o, box, reporter).run();
+  return CoupledSolver(qp, bc, start, o, box, reporter).run();
 }
 
 [[noreturn]] void throw_not_converged(const std::string& what)
@@ -1086,7 +1105,9 @@ BBWResult BoundedBiharmonicWeights::compute(
   result.fixed_vertices = nk;
   result.operator_seconds = operator_seconds_;
   const bool coupled = o.mode == BBWMode::Coupled;
-  const double fast_end = coupled ? 0.4 : 1.0;
+  // The per-handle QPs: the fast mode's solve, in the coupled mode only for the comparison.
+  const bool fast_phase = !coupled || o.compare_with_fast;
+  const double fast_end = !fast_phase ? 0.1 : coupled ? 0.4 : 1.0;
 
   // 1. The unconstrained biharmonic weights (one factorization for all handles): the start of
   //    every handle's active set.
@@ -1101,17 +1122,19 @@ BBWResult BoundedBiharmonicWeights::compute(
   if (!o.bounded)
     return unbounded_result(result, X0, bc, Q_, o, cell_count_, start);
 
-  // 2. Each handle's bound-constrained QP.
+  // 2. Fast (or the coupled mode's comparison): each handle's bound-constrained QP.
   phase_start = Clock::now();
   const BoxConstrainedQP qp(Q_);
   Eigen::VectorXd lower = Eigen::VectorXd::Zero(n), upper = Eigen::VectorXd::Ones(n);
   Eigen::MatrixXd W(n, m); // column-major: one handle per column
+  result.converged = true;
+  if (fast_phase)
+  {
   result.iterations.assign(static_cast<std::size_t>(m), 0);
   result.factorizations.assign(static_cast<std::size_t>(m), 0);
   result.modifications.assign(static_cast<std::size_t>(m), 0);
   result.kkt_residual.assign(static_cast<std::size_t>(m), 0.0);
   std::vector<char> handle_converged(static_cast<std::size_t>(m), 0);
-  std::vector<BoxQPWarmStart> handle_warm(coupled ? static_cast<std::size_t>(m) : 0);
   {
     ProgressReporter reporter(progress, m, 0.1, fast_end);
     const BoxQPOptions box = qp_options(o, reporter);
@@ -1124,8 +1147,6 @@ BBWResult BoundedBiharmonicWeights::compute(
       BoxQPWarmStart warm;
       warm.state = active_set_from_guess(X0.col(j), l, u);
       const BoxQPResult r = qp.solve(Eigen::VectorXd::Zero(n), l, u, box, &warm);
-      if (coupled) // the coupled phase starts from these factorizations
-        handle_warm[static_cast<std::size_t>(j)] = std::move(warm);
       const auto jj = static_cast<std::size_t>(j);
       W.col(j) = r.x;
       result.iterations[jj] = r.iterations;
@@ -1144,7 +1165,6 @@ BBWResult BoundedBiharmonicWeights::compute(
       });
   }
   result.fast_seconds = seconds_since(phase_start);
-  result.converged = true;
   for (Index j = 0; j < m; ++j)
   {
     result.max_kkt_residual =
@@ -1160,9 +1180,11 @@ BBWResult BoundedBiharmonicWeights::compute(
           detail::format_number(o.tolerance) + ")");
     }
   }
+  }
 
   auto row_sums = [&](const Eigen::MatrixXd& X) { return Eigen::VectorXd(X.rowwise().sum()); };
-  // Rows divided by their sums. A zero row throws, or becomes uniform for a coupled start.
+  // Rows divided by their sums. A zero row throws, or becomes uniform for the coupled mode's
+  // comparison.
   auto normalized = [&](const Eigen::MatrixXd& X, bool start_of_coupled = false) {
     Eigen::VectorXd s = row_sums(X);
     Eigen::MatrixXd Y = X;
@@ -1187,11 +1209,14 @@ BBWResult BoundedBiharmonicWeights::compute(
   if (coupled)
   {
     phase_start = Clock::now();
-    const Eigen::MatrixXd W_fast = normalized(W, true);
     ProgressReporter reporter(progress, 1000, fast_end, 1.0);
     const BoxQPOptions box = qp_options(o, reporter);
-    const CoupledOutcome outcome =
-      solve_coupled(qp, bc, W_fast, handle_warm, o, box, reporter);
+    Eigen::MatrixXd unconstrained_start = X0;
+    for (Index k = 0; k < nk; ++k) // the fixed rows exactly
+      unconstrained_start.row(bc.vertices(k)) = bc.values.row(k);
+    const CoupledOutcome outcome = solve_coupled(qp, bc, unconstrained_start, o, box, reporter);
+    // The fast weights of the comparison (compare_with_fast), normalized.
+    const Eigen::MatrixXd W_fast = fast_phase ? normalized(W, true) : Eigen::MatrixXd();
     reporter.finish();
     reporter.throw_if_cancelled("bounded biharmonic weights (coupled)");
     W = outcome.W;
@@ -1214,9 +1239,12 @@ BBWResult BoundedBiharmonicWeights::compute(
     result.W = W;
     if (o.normalize)
       W = normalized(W);
-    const WeightDifference d = weight_difference(DenseWeights(W_fast), DenseWeights(W));
-    result.fast_difference_mean = d.mean;
-    result.fast_difference_max = d.max;
+    if (fast_phase)
+    {
+      const WeightDifference d = weight_difference(DenseWeights(W_fast), DenseWeights(W));
+      result.fast_difference_mean = d.mean;
+      result.fast_difference_max = d.max;
+    }
   }
 
   // 4. Partition of unity before and after normalizing; bounds.
