@@ -536,6 +536,48 @@ TEST_P(SparseCholeskyBackend, PrincipalSubmatrixWithoutFormingIt)
     ErrorCode::EmptyInput));
 }
 
+TEST(SparseCholesky, RefactoringInPlaceReusesStorageButNotACopysFactor)
+{
+  // An active-set solver refactors one SparseCholesky on growing and shrinking principal
+  // submatrices: each factorization (in the storage of the one it replaces when that is large
+  // enough, or new storage) solves its own submatrix, and a copy taken before a refactoring
+  // keeps solving the submatrix it was made for.
+  const SparseMatrix A = grid_bilaplacian_3d(8);
+  const Eigen::MatrixXd dense(A);
+  auto principal = [&](int count) {
+    return Eigen::VectorXi(Eigen::VectorXi::LinSpaced(count, 0, count - 1));
+  };
+  auto check = [&](const SparseCholesky& solver, const Eigen::VectorXi& rows, const char* what) {
+    const Index m = rows.size();
+    Eigen::MatrixXd M(m, m);
+    for (Index i = 0; i < m; ++i)
+      for (Index j = 0; j < m; ++j)
+        M(i, j) = dense(rows(i), rows(j));
+    const Eigen::MatrixXd B = random_matrix(m, 1, 21);
+    const Eigen::MatrixXd reference = M.llt().solve(B);
+    ASSERT_EQ(solver.rows(), m) << what;
+    EXPECT_LT((solver.solve(B) - reference).cwiseAbs().maxCoeff() / reference.cwiseAbs().maxCoeff(),
+      1e-11)
+      << what;
+  };
+  SparseCholeskySettings settings;
+  settings.trusted = true;
+  SparseCholesky solver(SparseCholesky::Backend::Supernodal);
+  solver.compute_principal(A, principal(200), settings);
+  check(solver, principal(200), "first");
+  solver.compute_principal(A, principal(400), settings); // larger: new storage, with room
+  check(solver, principal(400), "grown");
+  solver.compute_principal(A, principal(420), settings); // a little larger: in that room
+  check(solver, principal(420), "grown a little");
+  const SparseCholesky copy = solver; // shares the factor
+  solver.compute_principal(A, principal(300), settings); // smaller, while a copy shares it
+  check(solver, principal(300), "shrunk");
+  check(copy, principal(420), "the copy after its original was refactored");
+  solver.compute_principal(A, principal(150), settings);
+  check(solver, principal(150), "shrunk again");
+  check(copy, principal(420), "the copy, later");
+}
+
 TEST(SparseCholesky, RowAdditionsAndDeletionsMatchARefactorization)
 {
   if (!SparseCholesky::cholmod_available())
