@@ -184,6 +184,16 @@ std::vector<SettingField> make_fields()
     fields.push_back(f);
   }
   {
+    SettingField f = bool_field(&WeightsSettings::bbw_compare_fast);
+    describe(f, "bbw_compare_fast", "--compare-fast", "BBWCompareWithFast",
+      "Compare with fast (BBW)", bbw_group,
+      "coupled mode: also solve the fast mode and report how far the coupled weights are from "
+      "it (the paper's Table 2: fast_difference_mean / _max); the weights do not change, the "
+      "time about doubles",
+      { MethodId::BBW });
+    fields.push_back(f);
+  }
+  {
     SettingField f = number_field(&WeightsSettings::lambda);
     describe(f, "lambda", "--lambda", "Lambda", "Lambda (SCC)", celestial_group,
       "scc: wrapping-sphere parameter (> 1; the coordinates do not depend on it)",

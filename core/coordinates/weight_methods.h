@@ -100,6 +100,7 @@ struct WeightsSettings
   bool bbw_fast = false;
   BBWMassLumping bbw_mass_lumping = BBWOptions{}.mass_lumping;
   bool bbw_unbounded = !BBWOptions{}.bounded;
+  bool bbw_compare_fast = BBWOptions{}.compare_with_fast;
   // celestial coordinates
   double lambda = 2.0;              ///< SCC wrapping-sphere parameter (CelestialOptions')
   std::vector<double> user_weights; ///< TCC s_i, one per control point; empty: none (Eq. 7)

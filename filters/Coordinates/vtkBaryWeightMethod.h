@@ -177,6 +177,9 @@ public:
   void SetBBWUnbounded(bool v) { this->SetSetting("bbw_unbounded", v); }
   bool GetBBWUnbounded() const { return this->GetSetting("bbw_unbounded") != 0; }
   vtkBooleanMacro(BBWUnbounded, bool);
+  void SetBBWCompareWithFast(bool v) { this->SetSetting("bbw_compare_fast", v); }
+  bool GetBBWCompareWithFast() const { return this->GetSetting("bbw_compare_fast") != 0; }
+  vtkBooleanMacro(BBWCompareWithFast, bool);
   void SetLambda(double v) { this->SetSetting("lambda", v); }
   double GetLambda() const { return this->GetSetting("lambda"); }
   void SetCelestialHullPoints(int v) { this->SetSetting("celestial_hull_points", v); }

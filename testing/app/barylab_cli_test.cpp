@@ -783,6 +783,41 @@ TEST_F(CLI, BBWWeightsOfASkeletonInAPolygon)
   EXPECT_GT(s["solver"]["mesh_vertices"].get<double>(), 1000.0);
 }
 
+TEST_F(CLI, BBWCoupledComparesWithFastOnlyWhenAsked)
+{
+  // The coupled mode (the default) does not solve the fast mode unless --compare-fast asks for
+  // the paper's Table 2 comparison, which leaves the weights as they are.
+  std::string coupled = bbw2d_inputs();
+  coupled.erase(coupled.rfind(" --fast"));
+  ASSERT_EQ(run("weights" + coupled + " --output " + out("w.vtp") + " --json " + out("w.json") + " -q").code, 0);
+  ASSERT_EQ(run("weights" + coupled + " --compare-fast --output " + out("wc.vtp") + " --json " +
+              out("wc.json") + " -q")
+              .code,
+    0);
+  std::ifstream in(out("w.json")), in_compared(out("wc.json"));
+  const nlohmann::json s = nlohmann::json::parse(in), sc = nlohmann::json::parse(in_compared);
+  EXPECT_EQ(s["solver"]["coupled"].get<double>(), 1.0);
+  EXPECT_FALSE(s["solver"].contains("fast_difference_mean"));
+  EXPECT_EQ(s["solver"]["fast_iterations"].get<double>(), 0.0);
+  const double e_mean = sc["solver"]["fast_difference_mean"].get<double>();
+  const double e_max = sc["solver"]["fast_difference_max"].get<double>();
+  EXPECT_GT(e_mean, 1e-4); // the paper's Table 2: E_mean 1e-3 .. 5e-3, E_max 0.06 .. 0.4
+  EXPECT_LT(e_mean, 1e-2);
+  EXPECT_GT(e_max, e_mean);
+  EXPECT_LT(e_max, 0.5);
+  EXPECT_GT(sc["solver"]["fast_iterations"].get<double>(), 0.0);
+  EXPECT_EQ(sc["solver"]["outer_iterations"], s["solver"]["outer_iterations"]);
+  const auto plain = vtkBaryDataIO::Read(out("w.vtp")), compared = vtkBaryDataIO::Read(out("wc.vtp"));
+  vtkDataArray* w = plain->GetPointData()->GetArray("Weights");
+  vtkDataArray* wc = compared->GetPointData()->GetArray("Weights");
+  ASSERT_TRUE(w != nullptr && wc != nullptr);
+  ASSERT_EQ(w->GetNumberOfTuples(), wc->GetNumberOfTuples());
+  ASSERT_EQ(w->GetNumberOfComponents(), wc->GetNumberOfComponents());
+  for (vtkIdType i = 0; i < w->GetNumberOfTuples(); ++i)
+    for (int k = 0; k < w->GetNumberOfComponents(); ++k)
+      ASSERT_EQ(w->GetComponent(i, k), wc->GetComponent(i, k)) << "point " << i << ", handle " << k;
+}
+
 TEST_F(CLI, BBWDeformByPoseFileAndByMovedJoints)
 {
   ASSERT_EQ(run("weights" + bbw2d_inputs() + " --output " + out("w.vtp") + " -q").code, 0);

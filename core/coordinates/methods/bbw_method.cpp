@@ -134,6 +134,7 @@ private:
     options.threads = settings.threads;
     options.mass_lumping = settings.bbw_mass_lumping;
     options.bounded = !settings.bbw_unbounded;
+    options.compare_with_fast = settings.bbw_compare_fast;
     options.shape_preservation = brush;
     const BBWResult solved = bounded_biharmonic_weights(
       V, T, handles, options, detail::progress_slice(progress, 0.1, 0.95));
