@@ -47,7 +47,9 @@
 /// the previous augmented Lagrangian did not finish in 25 minutes. libigl's knight (1,822
 /// vertices, 7 bones): fast 0.4 s CPU (292 iterations), max |W - W_matlab| = 1.26e-6 against
 /// the libigl authors' MATLAB active-set weights (before normalization); coupled 2.2 s CPU
-/// (40 iterations; E_mean 0.013, E_max 0.15), previously 17 s.
+/// (40 iterations; E_mean 0.013, E_max 0.15), previously 17 s. Since then (2026-11-28, an
+/// AMD EPYC VM, one thread): the hand fast 3.5-4.7 s, coupled 5.0-6.7 s (33 iterations, 327 CG
+/// iterations, no fast phase first), libigl 33-39 s; docs/benchmarks.md has the history.
 ///
 /// Edge cases: every vertex must belong to an element and every connected component must hold
 /// a fixed vertex (else Q is singular there: Error(InvalidArgument) naming a vertex); a handle
@@ -152,8 +154,9 @@ enum class BBWMode
   /// biharmonic weights (the Fast mode's first iteration: weights <= 0 on the lower bound, >= 1
   /// on the upper), clamped onto [0, 1] and normalized, keeping those factorizations. Not from
   /// the converged Fast weights: they cost about as much as the coupled solve itself and save
-  /// it few iterations (libigl's hand: 29 instead of 33 iterations, 8.7 s instead of 5.4 s in
-  /// all). Each iteration, for the current active sets F_j (free weights of handle j):
+  /// it few iterations (libigl's hand: 29 instead of 33 iterations, 9.0-11.9 s instead of
+  /// 5.0-6.7 s in all, side by side). Each iteration, for the current active sets F_j (free
+  /// weights of handle j):
   ///  1. per handle, the factorization of Q on F_j is updated (FreeSetFactor: refactored, or
   ///     modified by row additions / deletions when few weights changed) and
   ///     a_j = -Q(F_j, F_j)^-1 Q(F_j, N_j) w_j(N_j), the free weights for mu = 0;
