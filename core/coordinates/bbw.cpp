@@ -163,6 +163,21 @@ private:
   /// Step 1: per handle, the factorization of Q(F_j, F_j) updated and
   /// a_j = -Q(F_j, F_j)^-1 Q(F_j, N_j) x_j(N_j), the free weights for mu = 0.
   void solve_free_sets();
+  /// fn(i, j, a) for every free weight (vertex i, handle j), a its value in a_j, handle by
+  /// handle in the factor's row order.
+  template<typename Fn>
+  void for_each_free_weight(const Fn& fn) const
+  {
+    for (Index j = 0; j < m_; ++j)
+    {
+      const auto ju = static_cast<std::size_t>(j);
+      if (free_[ju].empty())
+        continue;
+      const std::vector<int>& rows = factors_[ju].rows();
+      for (std::size_t k = 0; k < rows.size(); ++k)
+        fn(rows[k], j, a_[ju](static_cast<Index>(k)));
+    }
+  }
   /// Step 2: V, the unknown vertices with a free weight, and each vertex's position in it.
   void collect_multiplier_vertices();
   /// Step 2: the right-hand side sum_j E_j a_j - (1 - bound sums) on V: the partition
@@ -299,15 +314,7 @@ void CoupledSolver::start_from_independent_solves()
 {
   collect_free_sets();
   solve_free_sets();
-  for (Index j = 0; j < m_; ++j)
-  {
-    const auto ju = static_cast<std::size_t>(j);
-    if (free_[ju].empty())
-      continue;
-    const std::vector<int>& rows = factors_[ju].rows();
-    for (std::size_t k = 0; k < rows.size(); ++k)
-      X_(rows[k], j) = std::clamp(a_[ju](static_cast<Index>(k)), 0.0, 1.0);
-  }
+  for_each_free_weight([&](int i, Index j, double a) { X_(i, j) = std::clamp(a, 0.0, 1.0); });
   for (Index i = 0; i < n_; ++i)
   {
     if (known_[static_cast<std::size_t>(i)])
@@ -480,15 +487,7 @@ Eigen::VectorXd CoupledSolver::multiplier_rhs() const
   Eigen::VectorXd rhs(nv);
   for (Index v = 0; v < nv; ++v)
     rhs(v) = bound_sum_(V_[static_cast<std::size_t>(v)]) - 1.0;
-  for (Index j = 0; j < m_; ++j)
-  {
-    const auto ju = static_cast<std::size_t>(j);
-    if (free_[ju].empty())
-      continue;
-    const std::vector<int>& rows = factors_[ju].rows();
-    for (std::size_t k = 0; k < rows.size(); ++k)
-      rhs(vpos_[static_cast<std::size_t>(rows[k])]) += a_[ju](static_cast<Index>(k));
-  }
+  for_each_free_weight([&](int i, Index, double a) { rhs(vpos_[static_cast<std::size_t>(i)]) += a; });
   return rhs;
 }
 
@@ -1130,66 +1129,66 @@ BBWResult BoundedBiharmonicWeights::compute(
   result.converged = true;
   if (fast_phase)
   {
-  result.iterations.assign(static_cast<std::size_t>(m), 0);
-  result.factorizations.assign(static_cast<std::size_t>(m), 0);
-  result.modifications.assign(static_cast<std::size_t>(m), 0);
-  result.kkt_residual.assign(static_cast<std::size_t>(m), 0.0);
-  std::vector<char> handle_converged(static_cast<std::size_t>(m), 0);
-  {
-    ProgressReporter reporter(progress, m, 0.1, fast_end);
-    const BoxQPOptions box = qp_options(o, reporter);
-    // Handle j's QP: [0, 1] bounds, its fixed rows, started from the active set of its
-    // unconstrained weights; written into column j only.
-    auto solve_handle = [&](Index j) {
-      Eigen::VectorXd l = lower, u = upper;
-      for (Index k = 0; k < nk; ++k)
-        l(bc.vertices(k)) = u(bc.vertices(k)) = bc.values(k, j);
-      BoxQPWarmStart warm;
-      warm.state = active_set_from_guess(X0.col(j), l, u);
-      const BoxQPResult r = qp.solve(Eigen::VectorXd::Zero(n), l, u, box, &warm);
-      const auto jj = static_cast<std::size_t>(j);
-      W.col(j) = r.x;
-      result.iterations[jj] = r.iterations;
-      result.factorizations[jj] = r.factorizations;
-      result.modifications[jj] = r.modifications;
-      result.kkt_residual[jj] = r.kkt_residual;
-      handle_converged[jj] = r.converged;
-    };
-    // One handle per chunk (detail/parallel_for.h). Every handle is solved by the same
-    // sequential code into its own column, so the weights do not depend on the number of
-    // threads.
-    detail::parallel_for(m, 1, o.threads, reporter, "bounded biharmonic weights",
-      [&](Index begin, Index end) {
-        for (Index j = begin; j < end; ++j)
-          solve_handle(j);
-      });
-  }
-  result.fast_seconds = seconds_since(phase_start);
-  for (Index j = 0; j < m; ++j)
-  {
-    result.max_kkt_residual =
-      std::max(result.max_kkt_residual, result.kkt_residual[static_cast<std::size_t>(j)]);
-    if (!handle_converged[static_cast<std::size_t>(j)])
+    result.iterations.assign(static_cast<std::size_t>(m), 0);
+    result.factorizations.assign(static_cast<std::size_t>(m), 0);
+    result.modifications.assign(static_cast<std::size_t>(m), 0);
+    result.kkt_residual.assign(static_cast<std::size_t>(m), 0.0);
+    std::vector<char> handle_converged(static_cast<std::size_t>(m), 0);
     {
-      result.converged = false;
-      if (o.require_convergence)
-        throw_not_converged("the QP of handle " + std::to_string(j) + " did not converge in " +
-          std::to_string(result.iterations[static_cast<std::size_t>(j)]) +
-          " active-set iterations (KKT residual " +
-          detail::format_number(result.kkt_residual[static_cast<std::size_t>(j)]) + ", tolerance " +
-          detail::format_number(o.tolerance) + ")");
+      ProgressReporter reporter(progress, m, 0.1, fast_end);
+      const BoxQPOptions box = qp_options(o, reporter);
+      // Handle j's QP: [0, 1] bounds, its fixed rows, started from the active set of its
+      // unconstrained weights; written into column j only.
+      auto solve_handle = [&](Index j) {
+        Eigen::VectorXd l = lower, u = upper;
+        for (Index k = 0; k < nk; ++k)
+          l(bc.vertices(k)) = u(bc.vertices(k)) = bc.values(k, j);
+        BoxQPWarmStart warm;
+        warm.state = active_set_from_guess(X0.col(j), l, u);
+        const BoxQPResult r = qp.solve(Eigen::VectorXd::Zero(n), l, u, box, &warm);
+        const auto jj = static_cast<std::size_t>(j);
+        W.col(j) = r.x;
+        result.iterations[jj] = r.iterations;
+        result.factorizations[jj] = r.factorizations;
+        result.modifications[jj] = r.modifications;
+        result.kkt_residual[jj] = r.kkt_residual;
+        handle_converged[jj] = r.converged;
+      };
+      // One handle per chunk (detail/parallel_for.h). Every handle is solved by the same
+      // sequential code into its own column, so the weights do not depend on the number of
+      // threads.
+      detail::parallel_for(m, 1, o.threads, reporter, "bounded biharmonic weights",
+        [&](Index begin, Index end) {
+          for (Index j = begin; j < end; ++j)
+            solve_handle(j);
+        });
     }
-  }
+    result.fast_seconds = seconds_since(phase_start);
+    for (Index j = 0; j < m; ++j)
+    {
+      result.max_kkt_residual =
+        std::max(result.max_kkt_residual, result.kkt_residual[static_cast<std::size_t>(j)]);
+      if (!handle_converged[static_cast<std::size_t>(j)])
+      {
+        result.converged = false;
+        if (o.require_convergence)
+          throw_not_converged("the QP of handle " + std::to_string(j) + " did not converge in " +
+            std::to_string(result.iterations[static_cast<std::size_t>(j)]) +
+            " active-set iterations (KKT residual " +
+            detail::format_number(result.kkt_residual[static_cast<std::size_t>(j)]) + ", tolerance " +
+            detail::format_number(o.tolerance) + ")");
+      }
+    }
   }
 
   auto row_sums = [&](const Eigen::MatrixXd& X) { return Eigen::VectorXd(X.rowwise().sum()); };
   // Rows divided by their sums. A zero row throws, or becomes uniform for the coupled mode's
   // comparison.
-  auto normalized = [&](const Eigen::MatrixXd& X, bool start_of_coupled = false) {
+  auto normalized = [&](const Eigen::MatrixXd& X, bool zero_rows_uniform = false) {
     Eigen::VectorXd s = row_sums(X);
     Eigen::MatrixXd Y = X;
     for (Index i = 0; i < n; ++i)
-      if (!(s(i) > 0.0) && start_of_coupled)
+      if (!(s(i) > 0.0) && zero_rows_uniform)
       {
         Y.row(i).setConstant(1.0);
         s(i) = static_cast<double>(m);
