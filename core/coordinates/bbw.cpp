@@ -161,7 +161,8 @@ private:
   /// each vertex's count of free weights and sum of upper bounds.
   void collect_free_sets();
   /// Step 1: per handle, the factorization of Q(F_j, F_j) updated and
-  /// a_j = -Q(F_j, F_j)^-1 Q(F_j, N_j) x_j(N_j), the free weights for mu = 0.
+  /// a_j = Q(F_j, F_j)^-1 (-Q(F_j, N_j) x_j(N_j) - mu(F_j)), the free weights for the current mu
+  /// (the last iteration's; 0 at the start).
   void solve_free_sets();
   /// fn(i, j, a) for every free weight (vertex i, handle j), a its value in a_j, handle by
   /// handle in the factor's row order.
@@ -180,20 +181,21 @@ private:
   }
   /// Step 2: V, the unknown vertices with a free weight, and each vertex's position in it.
   void collect_multiplier_vertices();
-  /// Step 2: the right-hand side sum_j E_j a_j - (1 - bound sums) on V: the partition
-  /// residual (Eq. 5) of the weights for mu = 0.
+  /// Step 2: sum_j E_j a_j - (1 - bound sums) on V, the partition residual (Eq. 5) of the
+  /// free weights a_j: with a_j(mu) = a_j(0) - Q(F_j, F_j)^-1 E_j^T mu it is the residual
+  /// rhs - S mu of the multiplier's system, rhs = sum_j E_j a_j(0) - (1 - bound sums).
   Eigen::VectorXd multiplier_rhs() const;
-  /// Step 2: S mu = @p rhs on V by conjugate gradients preconditioned with Q(V, V) / #handles,
-  /// started from the last mu, until max |residual| <= @p cg_tolerance (or at most cg_cap_
-  /// iterations); mu is 0 off V afterwards.
-  void solve_multiplier(const Eigen::VectorXd& rhs, double cg_tolerance);
+  /// Step 2: S mu = rhs on V by conjugate gradients preconditioned with Q(V, V) / #handles,
+  /// started from the current mu (whose residual multiplier_rhs() gives), until
+  /// max |residual| <= @p cg_tolerance (or at most cg_cap_ iterations); each step of mu moves
+  /// the a_j by the solves apply_S made for it, so the a_j are the free weights for the final mu
+  /// without solving again. mu is 0 off V afterwards.
+  void solve_multiplier(double cg_tolerance);
   /// S z = sum_j E_j^T Q(F_j, F_j)^-1 E_j z on V, the handles' solves in parallel, summed in
   /// handle order (so the result does not depend on the thread count).
   void apply_S(const Eigen::VectorXd& z, Eigen::VectorXd& result);
   /// The preconditioner z = Q(V, V) r / #handles: exactly S^-1 r when every handle is free on V.
   void precondition(const Eigen::VectorXd& r, Eigen::VectorXd& z);
-  /// Step 3: the free weights x_j(F_j) = a_j - Q(F_j, F_j)^-1 mu(F_j).
-  void update_free_weights();
   /// Y = Q X, one handle per column, in parallel.
   void compute_gradients();
   /// Step 3: mu where no weight is free: the middle of the interval that makes the multipliers
@@ -313,6 +315,7 @@ void CoupledSolver::initialize_states()
 void CoupledSolver::start_from_independent_solves()
 {
   collect_free_sets();
+  collect_multiplier_vertices();
   solve_free_sets();
   for_each_free_weight([&](int i, Index j, double a) { X_(i, j) = std::clamp(a, 0.0, 1.0); });
   for (Index i = 0; i < n_; ++i)
@@ -365,19 +368,19 @@ CoupledOutcome CoupledSolver::run()
     visited_.insert(state_hash());
 
     // 1. Active weights on their bounds; per handle, the factorization of Q on its free set and
-    //    a_j, the free weights for mu = 0.
+    //    a_j, the free weights for the last mu (on V, the vertices with a free weight).
     collect_free_sets();
+    collect_multiplier_vertices();
     solve_free_sets();
 
-    // 2. mu on V (vertices with a free weight) from S mu = sum_j a_j - (1 - bound sums), to a
-    //    tolerance that follows the violations (tight once they are gone).
-    collect_multiplier_vertices();
+    // 2. mu on V from S mu = sum_j a_j(0) - (1 - bound sums), to a tolerance that follows the
+    //    violations (tight once they are gone), started from the last mu; a_j follows mu.
     const double cg_tolerance = tight ? cg_floor_ : std::max(cg_floor_, 0.1 * last_violation);
-    solve_multiplier(multiplier_rhs(), cg_tolerance);
+    solve_multiplier(cg_tolerance);
 
-    // 3. The free weights, the gradients Y = Q X and the multipliers lambda = Y + mu of the
+    // 3. The free weights a_j, the gradients Y = Q X and the multipliers lambda = Y + mu of the
     //    bounds.
-    update_free_weights();
+    for_each_free_weight([&](int i, Index j, double a) { X_(i, j) = a; });
     compute_gradients();
     multiplier_where_no_weight_is_free();
 
@@ -461,7 +464,7 @@ void CoupledSolver::solve_free_sets()
       double sum = 0.0;
       for (SparseMatrix::InnerIterator it(Q_, rows[k]); it; ++it)
         sum += it.value() * X_(it.row(), j);
-      rhs(static_cast<Index>(k)) = -sum;
+      rhs(static_cast<Index>(k)) = -sum - mu_(rows[k]);
     }
     a_[ju] = factors_[ju].solve(rhs);
   });
@@ -491,16 +494,16 @@ Eigen::VectorXd CoupledSolver::multiplier_rhs() const
   return rhs;
 }
 
-void CoupledSolver::solve_multiplier(const Eigen::VectorXd& rhs, double cg_tolerance)
+void CoupledSolver::solve_multiplier(double cg_tolerance)
 {
   const Index nv = static_cast<Index>(V_.size());
-  Eigen::VectorXd z(nv), r(nv), p(nv), Sp(nv), x(nv);
+  Eigen::VectorXd z(nv), p(nv), Sp(nv), x(nv);
   if (nv > 0)
   {
     for (Index v = 0; v < nv; ++v)
       x(v) = mu_(V_[static_cast<std::size_t>(v)]);
-    apply_S(x, Sp);
-    r = rhs - Sp;
+    // The partition residual of the a_j (solved for the last mu) is rhs - S mu.
+    Eigen::VectorXd r = multiplier_rhs();
     precondition(r, z);
     p = z;
     double rz = r.dot(z);
@@ -513,6 +516,13 @@ void CoupledSolver::solve_multiplier(const Eigen::VectorXd& rhs, double cg_toler
       const double alpha = rz / curvature;
       x += alpha * p;
       r -= alpha * Sp;
+      // a_j = Q(F_j, F_j)^-1 (b_j - mu(F_j)) follows x: apply_S's solves are those of p.
+      for (Index j = 0; j < m_; ++j)
+      {
+        const auto ju = static_cast<std::size_t>(j);
+        if (!factors_[ju].empty() && !free_[ju].empty())
+          a_[ju] -= alpha * solved_[ju];
+      }
       precondition(r, z);
       const double rz_next = r.dot(z);
       p = z + (rz_next / rz) * p;
@@ -558,22 +568,6 @@ void CoupledSolver::precondition(const Eigen::VectorXd& r, Eigen::VectorXd& z)
   z.resize(static_cast<Index>(V_.size()));
   for (std::size_t v = 0; v < V_.size(); ++v)
     z(static_cast<Index>(v)) = product(V_[v]) / static_cast<double>(m_);
-}
-
-void CoupledSolver::update_free_weights()
-{
-  for_each_handle(m_, threads_, [&](Index j) {
-    const auto ju = static_cast<std::size_t>(j);
-    if (free_[ju].empty())
-      return;
-    const std::vector<int>& rows = factors_[ju].rows();
-    Eigen::VectorXd g(static_cast<Index>(rows.size()));
-    for (std::size_t k = 0; k < rows.size(); ++k)
-      g(static_cast<Index>(k)) = mu_(rows[k]);
-    const Eigen::VectorXd correction = factors_[ju].solve(g);
-    for (std::size_t k = 0; k < rows.size(); ++k)
-      X_(rows[k], j) = a_[ju](static_cast<Index>(k)) - correction(static_cast<Index>(k));
-  });
 }
 
 void CoupledSolver::compute_gradients()

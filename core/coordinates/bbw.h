@@ -159,16 +159,18 @@ enum class BBWMode
   /// weights of handle j):
   ///  1. per handle, the factorization of Q on F_j is updated (FreeSetFactor: refactored, or
   ///     modified by row additions / deletions when few weights changed) and
-  ///     a_j = -Q(F_j, F_j)^-1 Q(F_j, N_j) w_j(N_j), the free weights for mu = 0;
+  ///     a_j(mu) = Q(F_j, F_j)^-1 (-Q(F_j, N_j) w_j(N_j) - mu(F_j)), the free weights for the
+  ///     last iteration's mu (0 at the start);
   ///  2. the multiplier mu of Eq. 5 on the vertices V with a free weight solves the Schur
-  ///     complement system S mu = sum_j a_j - (1 - sum of the bounded weights), S = sum_j
+  ///     complement system S mu = sum_j a_j(0) - (1 - sum of the bounded weights), S = sum_j
   ///     E_j^T Q(F_j, F_j)^-1 E_j (E_j: F_j's rows of V), by conjugate gradients preconditioned
   ///     with Q(V, V) / #handles (exactly S^-1 where every handle is free; 10-40 iterations),
-  ///     each one solve per handle, started from the last mu, to a tolerance 0.1 x the largest
-  ///     violation (0.1 x partition_tolerance once no violator is left: a final iteration
-  ///     confirms);
-  ///  3. w_j(F_j) = a_j - Q(F_j, F_j)^-1 mu, then lambda_j = Q w_j + mu (mu where no weight is
-  ///     free: the middle of the interval that signs the multipliers correctly);
+  ///     started from the last mu (its residual is the partition residual of the a_j(mu)), to a
+  ///     tolerance 0.1 x the largest violation (0.1 x partition_tolerance once no violator is
+  ///     left: a final iteration confirms); each iteration one solve per handle, whose result
+  ///     also moves a_j along with mu;
+  ///  3. w_j(F_j) = a_j(mu), then lambda_j = Q w_j + mu (mu where no weight is free: the middle
+  ///     of the interval that signs the multipliers correctly);
   ///  4. the violators (free weights outside [0, 1] by more than min(tolerance,
   ///     partition_tolerance / #handles) / 2, multipliers of the wrong sign beyond tolerance / 2
   ///     relative to max_i sum_j |Q_ij|) change sets by a block step, with BoxConstrainedQP's
@@ -178,7 +180,7 @@ enum class BBWMode
   /// Converged when no violator is left, the KKT residual of the coupled problem (stationarity,
   /// sign and complementarity as in box_constrained_qp.h, on the clamped weights) is <=
   /// tolerance and max |sum_j w_j - 1| <= partition_tolerance. Cost: per iteration one factor
-  /// update per handle (as in the Fast mode) and (#CG iterations + 2) solves per handle; the
+  /// update per handle (as in the Fast mode) and (#CG iterations + 1) solves per handle; the
   /// handles' factorizations and solves run in parallel, summed in handle order (the weights do
   /// not depend on the thread count). 30-45 iterations on the knight and the hand.
   Coupled
