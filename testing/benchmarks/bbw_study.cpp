@@ -1,5 +1,6 @@
-// Two studies of bounded biharmonic weights against the paper (Jacobson et al. 2011), printed
-// as Markdown tables for docs/bounded-biharmonic-weights.md and docs/benchmarks.md:
+// Studies of bounded biharmonic weights against the paper (Jacobson et al. 2011) and of their
+// solver, printed as Markdown tables for docs/bounded-biharmonic-weights.md and
+// docs/benchmarks.md:
 //
 //   bbw_study lumping   Voronoi (§3.4) against barycentric mass lumping on the bundled cages
 //                       (data/cage2d.obj, data/cage3d.obj: cage-vertex handles) and libigl's
@@ -20,9 +21,24 @@
 //                       unbounded).
 //                       --barycentric: barycentric lumping instead of Voronoi; --raw: the
 //                       fast mode's weights before normalization.
+//   bbw_study interior [--mesh NAME] [--mu A,B,...]
+//                       The fast mode's QPs (Eq. 8 subject to Eq. 6, one per handle: BBW's
+//                       energy matrix with the default Voronoi lumping and tolerance) on
+//                       libigl's NAME (default hand; ../shared/data/igl/NAME.mesh / .tgf,
+//                       handles by libigl's rule): the active-set solver (BoxConstrainedQP)
+//                       from its default start, against a primal-dual interior-point method
+//                       (Mehrotra's predictor-corrector on 0 <= w <= 1 over the unknown rows,
+//                       one supernodal factorization of Q(U, U) + diag per iteration, one AMD
+//                       ordering) run until its mean complementarity mu / s_y <= A (each level
+//                       of --mu, default 1e-10,1e-12,1e-14,1e-16,1e-18), then the active-set
+//                       solver started from the interior point's active set (w < z / s_y:
+//                       lower; 1 - w < s / s_y: upper): does a good interior point shorten the
+//                       active-set iterations, and what does an interior-point iteration cost?
 #include "core/coordinates/bbw.h"
 #include "core/meshing/domain_mesh.h"
+#include "core/solvers/box_constrained_qp.h"
 #include "core/solvers/fem_operators.h"
+#include "core/solvers/sparse_cholesky.h"
 
 #include "cage_catalogue.h"
 #include "igl_formats.h"
@@ -36,6 +52,7 @@
 #include <random>
 #include <set>
 #include <sstream>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -309,6 +326,227 @@ Problem cage_problem(const std::string& name, const DomainMesh& mesh, Index cont
   return p;
 }
 
+std::vector<double> parse_numbers(const std::string& s)
+{
+  std::vector<double> out;
+  std::stringstream in(s);
+  std::string item;
+  while (std::getline(in, item, ','))
+    out.push_back(std::stod(item));
+  return out;
+}
+
+/// A primal-dual interior point of min 1/2 w^T A w + b^T w subject to 0 <= w <= 1: w strictly
+/// inside, z, s > 0 the multipliers of w >= 0 and w <= 1.
+struct InteriorPoint
+{
+  Eigen::VectorXd w, z, s;
+  int iterations = 0;
+  double factor_seconds = 0, seconds = 0;
+};
+
+/// Mehrotra's predictor-corrector (one factorization of A + Z W^-1 + S (1 - W)^-1 per
+/// iteration, two solves; one step length for primal and dual, 0.995 of the way to the
+/// boundary) from w = 1/2, z = s = 0.1 s_y, until the mean complementarity is <= mu_stop * s_y.
+InteriorPoint interior_point(const Eigen::SparseMatrix<double>& A, const Eigen::VectorXd& b,
+  const Eigen::VectorXi& ordering, double sy, double mu_stop)
+{
+  const auto start = Clock::now();
+  const Index n = A.rows();
+  InteriorPoint p;
+  p.w = Eigen::VectorXd::Constant(n, 0.5);
+  p.z = Eigen::VectorXd::Constant(n, 0.1 * sy);
+  p.s = p.z;
+  SparseCholeskySettings settings;
+  settings.ordering = ordering;
+  settings.trusted = true;
+  SparseCholesky factor(SparseCholesky::Backend::Supernodal);
+  Eigen::SparseMatrix<double> H = A;
+  auto complementarity = [&](const Eigen::VectorXd& w, const Eigen::VectorXd& z,
+                           const Eigen::VectorXd& s) {
+    return (w.dot(z) + (1.0 - w.array()).matrix().dot(s)) / (2.0 * static_cast<double>(n));
+  };
+  for (; p.iterations < 200; ++p.iterations)
+  {
+    Eigen::VectorXd& w = p.w;
+    Eigen::VectorXd& z = p.z;
+    Eigen::VectorXd& s = p.s;
+    const double mu = complementarity(w, z, s);
+    if (mu <= mu_stop * sy)
+      break;
+    const Eigen::VectorXd gap = (1.0 - w.array()).matrix();
+    const Eigen::VectorXd residual = A * w + b - z + s;
+    H = A;
+    for (Index i = 0; i < n; ++i)
+      H.coeffRef(i, i) += z(i) / w(i) + s(i) / gap(i);
+    const auto t = Clock::now();
+    factor.compute(H, Eigen::VectorXi(), settings);
+    p.factor_seconds += seconds_since(t);
+    // The Newton step for the targets w z = cz, (1 - w) s = cs.
+    Eigen::VectorXd dw, dz, ds;
+    auto direction = [&](const Eigen::VectorXd& cz, const Eigen::VectorXd& cs) {
+      const Eigen::VectorXd rhs = -residual - cz.cwiseQuotient(w) + cs.cwiseQuotient(gap);
+      dw = factor.solve(rhs);
+      dz = (-cz - z.cwiseProduct(dw)).cwiseQuotient(w);
+      ds = (-cs + s.cwiseProduct(dw)).cwiseQuotient(gap);
+    };
+    auto step_to_boundary = [&]() {
+      double a = 1.0;
+      for (Index i = 0; i < n; ++i)
+      {
+        if (dw(i) < 0.0)
+          a = std::min(a, -w(i) / dw(i));
+        if (dw(i) > 0.0)
+          a = std::min(a, gap(i) / dw(i));
+        if (dz(i) < 0.0)
+          a = std::min(a, -z(i) / dz(i));
+        if (ds(i) < 0.0)
+          a = std::min(a, -s(i) / ds(i));
+      }
+      return a;
+    };
+    const Eigen::VectorXd wz = w.cwiseProduct(z), gs = gap.cwiseProduct(s);
+    direction(wz, gs); // predictor (affine scaling)
+    const double a_aff = step_to_boundary();
+    const double mu_aff = complementarity(w + a_aff * dw, z + a_aff * dz, s + a_aff * ds);
+    const double sigma = std::pow(mu_aff / mu, 3.0);
+    const Eigen::VectorXd cz = (wz + dw.cwiseProduct(dz)).array() - sigma * mu;
+    const Eigen::VectorXd cs = (gs - dw.cwiseProduct(ds)).array() - sigma * mu;
+    direction(cz, cs); // corrector
+    const double a = std::min(1.0, 0.995 * step_to_boundary());
+    w += a * dw;
+    z += a * dz;
+    s += a * ds;
+  }
+  p.seconds = seconds_since(start);
+  return p;
+}
+
+int interior(int argc, char** argv)
+{
+  std::string name = "hand";
+  std::vector<double> levels = { 1e-10, 1e-12, 1e-14, 1e-16, 1e-18 };
+  for (int a = 2; a < argc; ++a)
+  {
+    const std::string arg = argv[a];
+    if (arg == "--mesh" && a + 1 < argc)
+      name = argv[++a];
+    else if (arg == "--mu" && a + 1 < argc)
+      levels = parse_numbers(argv[++a]);
+    else
+      throw std::invalid_argument("unknown argument " + arg);
+  }
+  const std::string dir = std::string(BARYLAB_SHARED_DIR) + "/igl/";
+  const auto mesh = test::read_medit_mesh(dir + name + ".mesh");
+  const auto tgf = test::read_tgf(dir + name + ".tgf");
+  const BBWHandles handles = handles_from_skeleton(mesh.V, tgf.C, Eigen::VectorXi(), tgf.E);
+  const BBWBoundaryConditions bc = bbw_boundary_conditions(handles, mesh.V.rows());
+  const BBWOptions defaults;
+  const BoundedBiharmonicWeights bbw(mesh.V, mesh.T, defaults);
+  const Eigen::SparseMatrix<double>& Q = bbw.energy_matrix();
+  const Index n = Q.rows();
+
+  // The unknown rows U and A = Q(U, U).
+  std::vector<int> position(static_cast<std::size_t>(n), 0), unknown;
+  for (Index k = 0; k < bc.vertices.size(); ++k)
+    position[static_cast<std::size_t>(bc.vertices(k))] = -1;
+  for (Index i = 0; i < n; ++i)
+    if (position[static_cast<std::size_t>(i)] == 0)
+    {
+      position[static_cast<std::size_t>(i)] = static_cast<int>(unknown.size());
+      unknown.push_back(static_cast<int>(i));
+    }
+  const Index nu = static_cast<Index>(unknown.size());
+  std::vector<Eigen::Triplet<double>> entries;
+  for (Index c = 0; c < n; ++c)
+    for (Eigen::SparseMatrix<double>::InnerIterator it(Q, c); it; ++it)
+      if (position[static_cast<std::size_t>(c)] >= 0 && position[static_cast<std::size_t>(it.row())] >= 0)
+        entries.emplace_back(position[static_cast<std::size_t>(it.row())], position[static_cast<std::size_t>(c)], it.value());
+  Eigen::SparseMatrix<double> A(nu, nu);
+  A.setFromTriplets(entries.begin(), entries.end());
+  const Eigen::VectorXi ordering = fill_reducing_ordering(A);
+
+  const BoxConstrainedQP qp(Q);
+  BoxQPOptions box;
+  box.tolerance = defaults.tolerance;
+  box.backend = defaults.backend;
+  const Index m = bc.values.cols();
+  std::cout << "libigl's " << name << ": " << n << " vertices, " << nu << " unknown, " << m
+            << " handles; BBW's Q, tolerance " << box.tolerance << ", one thread\n\n";
+
+  // The active-set solver from its default start, per handle.
+  std::vector<Eigen::VectorXd> b(static_cast<std::size_t>(m)), bu(static_cast<std::size_t>(m)),
+    lower(static_cast<std::size_t>(m)), upper(static_cast<std::size_t>(m));
+  std::vector<double> sy(static_cast<std::size_t>(m));
+  int pdas_iterations = 0, pdas_factorizations = 0;
+  double pdas_seconds = 0, pdas_factor_seconds = 0;
+  for (Index j = 0; j < m; ++j)
+  {
+    const auto ju = static_cast<std::size_t>(j);
+    Eigen::VectorXd& l = lower[ju];
+    Eigen::VectorXd& u = upper[ju];
+    l = Eigen::VectorXd::Zero(n);
+    u = Eigen::VectorXd::Ones(n);
+    Eigen::VectorXd known = Eigen::VectorXd::Zero(n);
+    for (Index k = 0; k < bc.vertices.size(); ++k)
+      l(bc.vertices(k)) = u(bc.vertices(k)) = known(bc.vertices(k)) = bc.values(k, j);
+    b[ju] = Eigen::VectorXd::Zero(n);
+    const BoxQPResult r = qp.solve(b[ju], l, u, box);
+    pdas_iterations += r.iterations;
+    pdas_factorizations += r.factorizations;
+    pdas_seconds += r.seconds;
+    pdas_factor_seconds += r.factor_seconds;
+    // The interior-point problem on U: b_U = Q(U, N) w_N, s_y as BoxConstrainedQP's (of w).
+    const Eigen::VectorXd qk = Q * known;
+    bu[ju].resize(nu);
+    for (Index k = 0; k < nu; ++k)
+      bu[ju](k) = qk(unknown[static_cast<std::size_t>(k)]);
+    const Eigen::VectorXd magnitude = Q.cwiseAbs() * r.x.cwiseAbs();
+    sy[ju] = 0.0;
+    for (Index k = 0; k < nu; ++k)
+      sy[ju] = std::max(sy[ju], magnitude(unknown[static_cast<std::size_t>(k)]));
+  }
+  std::cout << "| start | interior-point iterations | their time | per iteration | active-set "
+               "iterations after | their time | total |\n|---|---:|---:|---:|---:|---:|---:|\n";
+  std::printf("| the active-set solver's default | – | – | – | %d (%d new factorizations; "
+              "factoring and modifying %.2f s) | %.2f s | %.2f s |\n",
+    pdas_iterations, pdas_factorizations, pdas_factor_seconds, pdas_seconds, pdas_seconds);
+  for (const double level : levels)
+  {
+    int ip_iterations = 0, as_iterations = 0;
+    double ip_seconds = 0, ip_factor_seconds = 0, as_seconds = 0;
+    for (Index j = 0; j < m; ++j)
+    {
+      const auto ju = static_cast<std::size_t>(j);
+      const InteriorPoint p = interior_point(A, bu[ju], ordering, sy[ju], level);
+      ip_iterations += p.iterations;
+      ip_seconds += p.seconds;
+      ip_factor_seconds += p.factor_seconds;
+      BoxQPWarmStart warm;
+      warm.state = Eigen::Matrix<BoxQPState, Eigen::Dynamic, 1>::Constant(n, BoxQPState::Free);
+      for (Index k = 0; k < nu; ++k)
+      {
+        const int i = unknown[static_cast<std::size_t>(k)];
+        if (p.z(k) > p.w(k) * sy[ju])
+          warm.state(i) = BoxQPState::Lower;
+        else if (p.s(k) > (1.0 - p.w(k)) * sy[ju])
+          warm.state(i) = BoxQPState::Upper;
+      }
+      const BoxQPResult r = qp.solve(b[ju], lower[ju], upper[ju], box, &warm);
+      if (!r.converged)
+        throw std::runtime_error("the active-set solver did not converge from an interior point");
+      as_iterations += r.iterations;
+      as_seconds += r.seconds;
+    }
+    std::printf("| interior point to mu / s_y <= %.0e | %d | %.2f s | %.2f ms factorization, %.2f "
+                "ms in all | %d | %.2f s | %.2f s |\n",
+      level, ip_iterations, ip_seconds, 1e3 * ip_factor_seconds / std::max(1, ip_iterations),
+      1e3 * ip_seconds / std::max(1, ip_iterations), as_iterations, as_seconds,
+      ip_seconds + as_seconds);
+  }
+  return 0;
+}
+
 int lumping()
 {
   std::vector<Problem> problems;
@@ -406,6 +644,8 @@ int main(int argc, char** argv)
       return lumping();
     if (what == "maxima")
       return maxima(argc, argv);
+    if (what == "interior")
+      return interior(argc, argv);
   }
   catch (const std::exception& e)
   {
@@ -413,6 +653,6 @@ int main(int argc, char** argv)
     return 1;
   }
   std::cerr << "usage: bbw_study lumping | maxima [--handles N] [--seed S] [--levels A,B,...] "
-               "[--tolerance T] [--3d] [--barycentric] [--raw]\n";
+               "[--tolerance T] [--3d] [--barycentric] [--raw] | interior [--mesh NAME] [--mu A,B,...]\n";
   return 2;
 }
