@@ -189,6 +189,7 @@ int run_deform_bbw(const DeformArgs& a)
   model = a.points.empty() ? nullptr : ReadPiece(a.points);
   model = attach_weights(model, a.points, a.weights, a.parameters.weights_name,
     handle_count, "the handles '" + a.handles + "'");
+  CheckWritableData(model, a.output); // the skinned model has the model's type
   });
   const bool lead = ProcessRank() == 0;
   ProgressBar bar(!a.quiet && lead, "deform");
@@ -276,6 +277,7 @@ int run_deform(DeformArgs a)
   model = vtkPointSet::SafeDownCast(modelData);
   if (!model)
     throw bary::Error(bary::ErrorCode::Io, "the model does not hold a point set");
+  CheckWritableData(model, a.output); // the deformed model has the model's type
   });
   const bool lead = ProcessRank() == 0;
   ProgressBar bar(!a.quiet && lead, "deform");

@@ -84,6 +84,9 @@ int run_weights(WeightsArgs a)
     points = barylab::MeshCage(cage, nullptr, mp);
     domain = points; // used as is by the method: no second meshing
   }
+  // The result is a copy of the points with the weights added: a format that cannot hold them
+  // fails now, not after the solve.
+  Collective([&]() { CheckWritableData(points, a.output); });
   const bool lead = ProcessRank() == 0;
   ProgressBar bar(!a.quiet && lead, "weights");
   json summary;

@@ -414,6 +414,34 @@ vtkSmartPointer<vtkDataSet> OwnedPoints(vtkDataSet* piece)
   return out;
 }
 
+namespace
+{
+/// A parallel XML file holds pieces of one type: .pvtp vtkPolyData, .pvtu vtkUnstructuredGrid.
+void check_piece_type(vtkDataSet* piece, const std::string& path)
+{
+  const std::string ext = lower_extension(path);
+  const bool poly = vtkPolyData::SafeDownCast(piece) != nullptr;
+  const bool grid = vtkUnstructuredGrid::SafeDownCast(piece) != nullptr;
+  // the same decision on every process: the extension and the data type (the same filters)
+  if (!(ext == ".pvtp" && poly) && !(ext == ".pvtu" && grid))
+    throw bary::Error(bary::ErrorCode::InvalidArgument,
+      "'" + path + "': " +
+        (ProcessCount() > 1
+            ? "a distributed run writes VTK's parallel XML files, one piece per process: "
+            : "") +
+        "give the output a ." + (poly ? "pvtp" : grid ? "pvtu" : "vtk") + " name (the data is a " +
+        piece->GetClassName() + ")");
+}
+} // namespace
+
+void CheckWritableData(vtkDataSet* data, const std::string& path)
+{
+  if (IsParallelFile(path))
+    check_piece_type(data, path);
+  else
+    vtkBaryDataIO::CheckWritable(data, path);
+}
+
 void WriteData(vtkDataSet* data, const std::string& path)
 {
   if (IsParallelFile(path))
@@ -463,17 +491,8 @@ nlohmann::json PointCounts(
 void WritePiece(vtkDataSet* piece, const std::string& path)
 {
   const int rank = ProcessRank(), K = ProcessCount();
-  const std::string ext = lower_extension(path);
+  check_piece_type(piece, path);
   const bool poly = vtkPolyData::SafeDownCast(piece) != nullptr;
-  const bool grid = vtkUnstructuredGrid::SafeDownCast(piece) != nullptr;
-  // the same decision on every process: the extension and the data type (the same filters)
-  if (!(ext == ".pvtp" && poly) && !(ext == ".pvtu" && grid))
-    throw bary::Error(bary::ErrorCode::InvalidArgument,
-      "'" + path + "': " +
-        (K > 1 ? "a distributed run writes VTK's parallel XML files, one piece per process: "
-               : "") +
-        "give the output a ." + (poly ? "pvtp" : grid ? "pvtu" : "vtk") + " name (the data is a " +
-        piece->GetClassName() + ")");
   try
   {
     Collective([&]() {

@@ -97,6 +97,11 @@ void WritePiece(vtkDataSet* piece, const std::string& path);
 /// Writes @p data to @p path: WritePiece for .pvtp / .pvtu, else vtkBaryDataIO::Write.
 void WriteData(vtkDataSet* data, const std::string& path);
 
+/// Throws what WriteData(@p data, @p path) would for the pair's formats (a .pvtp / .pvtu of
+/// the wrong type, a surface-only format for a volume mesh, an unknown extension) without
+/// writing: commands call it with the data set their result copies before computing.
+void CheckWritableData(vtkDataSet* data, const std::string& path);
+
 /// True when this process reports an error the command line caught: every error in a serial
 /// run; in a distributed run the lowest failing process's (Collective), or process 0's for
 /// errors before any collective step (the same on every process: the same command line).

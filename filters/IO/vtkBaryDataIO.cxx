@@ -559,19 +559,28 @@ vtkSmartPointer<vtkPolyData> vtkBaryDataIO::ReadPolyData(const std::string& path
   return poly;
 }
 
-void vtkBaryDataIO::Write(vtkDataSet* data, const std::string& path)
+void vtkBaryDataIO::CheckWritable(vtkDataSet* data, const std::string& path)
 {
   if (!data)
     throw Error(ErrorCode::Io, "nothing to write to '" + path + "'");
   const std::string ext = Extension(path);
-  vtkPolyData* poly = vtkPolyData::SafeDownCast(data);
+  if (!CanWrite(path))
+    throw Error(ErrorCode::Io,
+      "cannot write '" + path + "': unknown file extension '" + ext +
+        "' (writable: .vtp, .vtu, .vtk, .obj, .stl, .ply, .off, .mrk.json, .fcsv)");
+  const bool surface_only = !vtkBaryMarkupsReader::IsMarkupsFile(path.c_str()) &&
+    (ext == ".vtp" || ext == ".obj" || ext == ".stl" || ext == ".ply" || ext == ".off");
+  if (surface_only && !vtkPolyData::SafeDownCast(data))
+    throw Error(ErrorCode::Io,
+      "cannot write a " + std::string(data->GetClassName()) + " to '" + path + "': " + ext +
+        " holds surfaces only; use .vtu or .vtk");
+}
+
+void vtkBaryDataIO::Write(vtkDataSet* data, const std::string& path)
+{
+  CheckWritable(data, path);
+  const std::string ext = Extension(path);
   vtkSmartPointer<vtkAlgorithm> writer;
-  auto need_poly = [&](const char* format) {
-    if (!poly)
-      throw Error(ErrorCode::Io,
-        "cannot write a " + std::string(data->GetClassName()) + " to '" + path + "': " +
-          format + " holds surfaces only; use .vtu or .vtk");
-  };
   // Temporary file beside the target (same file system, so rename is atomic); same extension,
   // since some writers look at it.
   vtkSmartPointer<vtkDataSet> converted;
@@ -586,7 +595,6 @@ void vtkBaryDataIO::Write(vtkDataSet* data, const std::string& path)
   }
   else if (ext == ".vtp")
   {
-    need_poly(".vtp");
     auto w = vtkSmartPointer<vtkXMLPolyDataWriter>::New();
     w->SetFileName(tmp.c_str());
     w->SetDataModeToAppended();
@@ -620,36 +628,30 @@ void vtkBaryDataIO::Write(vtkDataSet* data, const std::string& path)
   }
   else if (ext == ".obj")
   {
-    need_poly(".obj");
     auto w = vtkSmartPointer<vtkOBJWriter>::New();
     w->SetFileName(tmp.c_str());
     writer = w;
   }
   else if (ext == ".stl")
   {
-    need_poly(".stl");
     auto w = vtkSmartPointer<vtkSTLWriter>::New();
     w->SetFileName(tmp.c_str());
     writer = w;
   }
   else if (ext == ".ply")
   {
-    need_poly(".ply");
     auto w = vtkSmartPointer<vtkPLYWriter>::New();
     w->SetFileName(tmp.c_str());
     writer = w;
   }
   else if (ext == ".off")
   {
-    need_poly(".off");
     auto w = vtkSmartPointer<vtkBaryOFFWriter>::New();
     w->SetFileName(tmp.c_str());
     writer = w;
   }
   else
-    throw Error(ErrorCode::Io,
-      "cannot write '" + path + "': unknown file extension '" + ext +
-        "' (writable: .vtp, .vtu, .vtk, .obj, .stl, .ply, .off, .mrk.json, .fcsv)");
+    throw Error(ErrorCode::Internal, "vtkBaryDataIO::Write: no writer for '" + ext + "'");
 
   vtkNew<vtkBaryErrorObserver> collector;
   collector->Observe(writer);

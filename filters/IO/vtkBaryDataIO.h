@@ -53,6 +53,11 @@ public:
   static bool CanRead(const std::string& path);
   /// True if Write() knows the extension of @p path.
   static bool CanWrite(const std::string& path);
+  /// Throws what Write(@p data, @p path) would for the pair before anything is written: an
+  /// unknown extension, or a surface-only format (.vtp, .obj, .stl, .ply, .off) for data that is
+  /// not a vtkPolyData. Callers check their output before a long computation with the data set
+  /// the result will copy (the result has its type). @throws bary::Error(Io)
+  static void CheckWritable(vtkDataSet* data, const std::string& path);
 
 #ifndef __VTK_WRAP__
   /// libigl's ASCII .dmat matrix: header "columns rows", then the values column-major.

@@ -360,6 +360,41 @@ TEST_F(CLI, BadOutputPathsFailBeforeComputing)
   ExpectEmptyFolder();
 }
 
+TEST_F(CLI, OutputThatCannotHoldTheResultFailsBeforeComputing)
+{
+  // A tetrahedral mesh (an unstructured grid) as the points: the weights are written as a copy
+  // of it, which no surface-only format holds. The cage is open, so a run that computed first
+  // would fail on the cage instead: the output's message shows the check came first.
+  const fs::path grids = dir_.parent_path() / (dir_.filename().string() + "_inputs");
+  fs::remove_all(grids);
+  fs::create_directories(grids);
+  const std::string tets = (grids / "tets.vtu").string();
+  ASSERT_EQ(run("mesh --cage " + data("cage3d.obj") + " --cells 300 --output " + tets + " -q").code, 0);
+  const std::string open = " --cage " + data("bad/open_cage.obj") + " --points " + tets;
+  for (const char* name : { "w.vtp", "w.obj", "w.stl", "w.ply", "w.off" })
+  {
+    const CommandResult r = run("weights" + open + " --output " + out(name));
+    ExpectError(r, "holds surfaces only; use .vtu or .vtk");
+    EXPECT_EQ(r.output.find("not closed"), std::string::npos) << r.output;
+  }
+  // a parallel file of the other type
+  const CommandResult p = run("weights" + open + " --output " + out("w.pvtp"));
+  EXPECT_EQ(p.code, 1) << p.output;
+  EXPECT_NE(p.output.find("give the output a .pvtu name"), std::string::npos) << p.output;
+  // deform: the deformed model has the model's type
+  const CommandResult d = run("deform" + open + " --deformed-cage " + data("cage3d_posed.obj") +
+    " --output " + out("d.off"));
+  ExpectError(d, "holds surfaces only");
+  EXPECT_EQ(d.output.find("not closed"), std::string::npos) << d.output;
+  // the check is not a refusal of what works: the same grid written as .vtu, with a closed cage
+  EXPECT_EQ(run("weights --cage " + data("cage3d.obj") + " --points " + tets + " --output " +
+              out("w.vtu") + " -q").code, 0);
+  EXPECT_TRUE(fs::exists(out("w.vtu")));
+  fs::remove(out("w.vtu"));
+  ExpectEmptyFolder();
+  fs::remove_all(grids);
+}
+
 TEST_F(CLI, UnknownMethodAndMismatchedDeformedCage)
 {
   ExpectError(run("weights --method nope --cage " + data("cage3d.obj") + " --points " +

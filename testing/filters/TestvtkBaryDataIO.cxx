@@ -492,6 +492,49 @@ TEST(vtkBaryDataIO, WrongTypeForExtension)
   EXPECT_TRUE(ListFolder(dir).empty());
 }
 
+TEST(vtkBaryDataIO, CheckWritableSaysWhatWriteWouldWithoutWriting)
+{
+  const fs::path dir = Scratch("checkwritable");
+  const vtkSmartPointer<vtkDataSet> grid = ToGrid(SmallMesh());
+  vtkNew<vtkImageData> image;
+  image->SetDimensions(2, 2, 2);
+  // every surface-only format refuses a volume mesh and an image, with Write's message
+  for (const char* ext : { ".vtp", ".obj", ".stl", ".ply", ".off" })
+    for (vtkDataSet* data : { static_cast<vtkDataSet*>(grid), static_cast<vtkDataSet*>(image) })
+    {
+      const std::string path = (dir / (std::string("out") + ext)).string();
+      std::string checked, written;
+      try
+      {
+        vtkBaryDataIO::CheckWritable(data, path);
+      }
+      catch (const bary::Error& e)
+      {
+        checked = e.what();
+      }
+      try
+      {
+        vtkBaryDataIO::Write(data, path);
+      }
+      catch (const bary::Error& e)
+      {
+        written = e.what();
+      }
+      EXPECT_NE(checked.find("holds surfaces only"), std::string::npos) << ext << ": " << checked;
+      EXPECT_EQ(checked, written) << ext;
+    }
+  // what the formats hold is accepted, nothing is written
+  EXPECT_NO_THROW(vtkBaryDataIO::CheckWritable(SmallMesh(), (dir / "s.vtp").string()));
+  EXPECT_NO_THROW(vtkBaryDataIO::CheckWritable(SmallMesh(), (dir / "s.off").string()));
+  EXPECT_NO_THROW(vtkBaryDataIO::CheckWritable(grid, (dir / "g.vtu").string()));
+  EXPECT_NO_THROW(vtkBaryDataIO::CheckWritable(grid, (dir / "g.vtk").string()));
+  EXPECT_NO_THROW(vtkBaryDataIO::CheckWritable(grid, (dir / "g.fcsv").string())); // its points
+  EXPECT_NO_THROW(vtkBaryDataIO::CheckWritable(image, (dir / "i.vtu").string()));
+  EXPECT_THROW(vtkBaryDataIO::CheckWritable(grid, (dir / "g.xyz").string()), bary::Error);
+  EXPECT_THROW(vtkBaryDataIO::CheckWritable(nullptr, (dir / "n.vtu").string()), bary::Error);
+  EXPECT_TRUE(ListFolder(dir).empty());
+}
+
 // ---------------------------------------------------------------------------------------------
 // OFF reader on hand-written files
 // ---------------------------------------------------------------------------------------------
