@@ -54,6 +54,7 @@
 #include <sstream>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 namespace
@@ -148,13 +149,18 @@ ExtremaCount count_extrema(const DenseWeights& W, const std::vector<std::set<int
   return c;
 }
 
-std::vector<int> parse_list(const std::string& s)
+/// A comma-separated list of integers or numbers.
+template<typename T>
+std::vector<T> parse_list(const std::string& s)
 {
-  std::vector<int> out;
+  std::vector<T> out;
   std::stringstream in(s);
   std::string item;
   while (std::getline(in, item, ','))
-    out.push_back(std::stoi(item));
+    if constexpr (std::is_integral_v<T>)
+      out.push_back(static_cast<T>(std::stoi(item)));
+    else
+      out.push_back(static_cast<T>(std::stod(item)));
   return out;
 }
 
@@ -225,7 +231,7 @@ int maxima(int argc, char** argv)
       seed = static_cast<unsigned>(std::stoul(argv[++a]));
     else if (arg == "--levels" && a + 1 < argc)
     {
-      levels = parse_list(argv[++a]);
+      levels = parse_list<int>(argv[++a]);
       levels_given = true;
     }
     else if (arg == "--tolerance" && a + 1 < argc)
@@ -326,16 +332,6 @@ Problem cage_problem(const std::string& name, const DomainMesh& mesh, Index cont
   return p;
 }
 
-std::vector<double> parse_numbers(const std::string& s)
-{
-  std::vector<double> out;
-  std::stringstream in(s);
-  std::string item;
-  while (std::getline(in, item, ','))
-    out.push_back(std::stod(item));
-  return out;
-}
-
 /// A primal-dual interior point of min 1/2 w^T A w + b^T w subject to 0 <= w <= 1: w strictly
 /// inside, z, s > 0 the multipliers of w >= 0 and w <= 1.
 struct InteriorPoint
@@ -432,7 +428,7 @@ int interior(int argc, char** argv)
     if (arg == "--mesh" && a + 1 < argc)
       name = argv[++a];
     else if (arg == "--mu" && a + 1 < argc)
-      levels = parse_numbers(argv[++a]);
+      levels = parse_list<double>(argv[++a]);
     else
       throw std::invalid_argument("unknown argument " + arg);
   }
