@@ -315,8 +315,7 @@ void CoupledSolver::initialize_states()
 void CoupledSolver::start_from_independent_solves()
 {
   collect_free_sets();
-  collect_multiplier_vertices();
-  solve_free_sets();
+  solve_free_sets(); // mu = 0 still
   for_each_free_weight([&](int i, Index j, double a) { X_(i, j) = std::clamp(a, 0.0, 1.0); });
   for (Index i = 0; i < n_; ++i)
   {

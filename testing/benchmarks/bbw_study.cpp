@@ -45,6 +45,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -157,10 +158,22 @@ std::vector<T> parse_list(const std::string& s)
   std::stringstream in(s);
   std::string item;
   while (std::getline(in, item, ','))
-    if constexpr (std::is_integral_v<T>)
-      out.push_back(static_cast<T>(std::stoi(item)));
-    else
-      out.push_back(static_cast<T>(std::stod(item)));
+  {
+    std::size_t used = 0;
+    try
+    {
+      if constexpr (std::is_integral_v<T>)
+        out.push_back(static_cast<T>(std::stoi(item, &used)));
+      else
+        out.push_back(static_cast<T>(std::stod(item, &used)));
+    }
+    catch (const std::logic_error&)
+    {
+      used = 0;
+    }
+    if (used == 0 || used != item.size())
+      throw std::invalid_argument("'" + item + "' in the list '" + s + "' is not a number");
+  }
   return out;
 }
 
@@ -432,6 +445,9 @@ int interior(int argc, char** argv)
     else
       throw std::invalid_argument("unknown argument " + arg);
   }
+  for (const double level : levels)
+    if (!(level > 0.0) || !std::isfinite(level))
+      throw std::invalid_argument("--mu: every level must be finite and > 0");
   const std::string dir = std::string(BARYLAB_SHARED_DIR) + "/igl/";
   const auto mesh = test::read_medit_mesh(dir + name + ".mesh");
   const auto tgf = test::read_tgf(dir + name + ".tgf");
@@ -471,7 +487,9 @@ int interior(int argc, char** argv)
             << " handles; BBW's Q, tolerance " << box.tolerance << ", one thread\n\n";
 
   // The active-set solver from its default start, per handle.
-  std::vector<Eigen::VectorXd> b(static_cast<std::size_t>(m)), bu(static_cast<std::size_t>(m)),
+  const Eigen::VectorXd no_linear_term = Eigen::VectorXd::Zero(n); // Eq. 8 has none
+  const Eigen::SparseMatrix<double> Q_abs = Q.cwiseAbs();
+  std::vector<Eigen::VectorXd> bu(static_cast<std::size_t>(m)),
     lower(static_cast<std::size_t>(m)), upper(static_cast<std::size_t>(m));
   std::vector<double> sy(static_cast<std::size_t>(m));
   int pdas_iterations = 0, pdas_factorizations = 0;
@@ -486,8 +504,7 @@ int interior(int argc, char** argv)
     Eigen::VectorXd known = Eigen::VectorXd::Zero(n);
     for (Index k = 0; k < bc.vertices.size(); ++k)
       l(bc.vertices(k)) = u(bc.vertices(k)) = known(bc.vertices(k)) = bc.values(k, j);
-    b[ju] = Eigen::VectorXd::Zero(n);
-    const BoxQPResult r = qp.solve(b[ju], l, u, box);
+    const BoxQPResult r = qp.solve(no_linear_term, l, u, box);
     pdas_iterations += r.iterations;
     pdas_factorizations += r.factorizations;
     pdas_seconds += r.seconds;
@@ -497,7 +514,7 @@ int interior(int argc, char** argv)
     bu[ju].resize(nu);
     for (Index k = 0; k < nu; ++k)
       bu[ju](k) = qk(unknown[static_cast<std::size_t>(k)]);
-    const Eigen::VectorXd magnitude = Q.cwiseAbs() * r.x.cwiseAbs();
+    const Eigen::VectorXd magnitude = Q_abs * r.x.cwiseAbs();
     sy[ju] = 0.0;
     for (Index k = 0; k < nu; ++k)
       sy[ju] = std::max(sy[ju], magnitude(unknown[static_cast<std::size_t>(k)]));
@@ -528,7 +545,7 @@ int interior(int argc, char** argv)
         else if (p.s(k) > (1.0 - p.w(k)) * sy[ju])
           warm.state(i) = BoxQPState::Upper;
       }
-      const BoxQPResult r = qp.solve(b[ju], lower[ju], upper[ju], box, &warm);
+      const BoxQPResult r = qp.solve(no_linear_term, lower[ju], upper[ju], box, &warm);
       if (!r.converged)
         throw std::runtime_error("the active-set solver did not converge from an interior point");
       as_iterations += r.iterations;
