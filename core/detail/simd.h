@@ -27,10 +27,15 @@
 /// same IEEE operations in the same order as the portable build, so bitwise the same results
 /// (for element-wise loops; it must only run where simd_level() says so).
 #define BARY_TARGET_AVX2_EXACT __attribute__((target("avx2")))
+/// Compiles a function for AVX-512 (F and VL) with AVX2 and FMA, fusing a * b + c (it must only
+/// run where avx512_enabled() says so).
+#define BARY_TARGET_AVX512                                                                       \
+  __attribute__((target("avx512f,avx512vl,avx2,fma"), optimize("fp-contract=fast")))
 #else
 #define BARY_HAVE_AVX2_DISPATCH 0
 #define BARY_TARGET_AVX2
 #define BARY_TARGET_AVX2_EXACT
+#define BARY_TARGET_AVX512
 #endif
 
 #if defined(__GNUC__)
@@ -103,6 +108,50 @@ inline SimdLevel set_simd_level(SimdLevel level)
   const int used = std::min(static_cast<int>(level), static_cast<int>(supported_simd_level()));
   simd_internal::chosen.store(used, std::memory_order_relaxed);
   return static_cast<SimdLevel>(used);
+}
+
+/// True when the CPU and the operating system support AVX-512 F and VL.
+inline bool avx512_supported()
+{
+#if BARY_HAVE_AVX2_DISPATCH
+  static const bool supported = [] {
+    __builtin_cpu_init();
+    return __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512vl");
+  }();
+  return supported;
+#else
+  return false;
+#endif
+}
+namespace simd_internal
+{
+/// -1: not chosen yet; 0 / 1: the 512-bit variants off / on.
+inline std::atomic<int> avx512_chosen{ -1 };
+} // namespace simd_internal
+/// True when the kernels that have a 512-bit variant (the dense blocks of the supernodal
+/// Cholesky factorization, core/solvers/sparse_cholesky.cpp) use it: simd_level() is AVX2 and
+/// avx512_supported(), unless the environment variable BARYLAB_SIMD is "avx2" (256-bit vectors
+/// only) or set_avx512_enabled(false) was called. The 512-bit variants run the same operations in
+/// the same order per entry as the AVX2 ones, only more entries per instruction, so their
+/// results are the same bit for bit (tested).
+inline bool avx512_enabled()
+{
+  int on = simd_internal::avx512_chosen.load(std::memory_order_relaxed);
+  if (on < 0)
+  {
+    const char* env = std::getenv("BARYLAB_SIMD");
+    on = avx512_supported() && !(env && std::strcmp(env, "avx2") == 0) ? 1 : 0;
+    simd_internal::avx512_chosen.store(on, std::memory_order_relaxed);
+  }
+  return on == 1 && simd_level() == SimdLevel::AVX2;
+}
+/// Allows or forbids the 512-bit variants (allowed only where avx512_supported(); for tests and
+/// benchmarks that compare the paths). Returns whether they are allowed now.
+inline bool set_avx512_enabled(bool on)
+{
+  const bool used = on && avx512_supported();
+  simd_internal::avx512_chosen.store(used ? 1 : 0, std::memory_order_relaxed);
+  return used;
 }
 
 /// A std::allocator that aligns to 64 bytes (a cache line, an AVX-512 vector): the kernels'

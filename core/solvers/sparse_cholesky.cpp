@@ -707,6 +707,130 @@ BARY_TARGET_AVX2 BARY_NOINLINE int panel_cholesky_avx2(double* P, int h, int w)
 }
 #endif
 
+#if BARY_HAVE_AVX2_DISPATCH
+/// The AVX-512 variants of the kernels above (used where detail::avx512_enabled()): panels of
+/// 16 rows (two 8-lane vectors) by W <= 8 columns, tails by lane masks. Each entry is summed over
+/// k in the same order with the same FMAs as in nt_panel_avx2, so the results are the same bit
+/// for bit; only more entries share an instruction.
+template<int R, int W, bool Subtract, bool Full>
+BARY_TARGET_AVX512 BARY_ALWAYS_INLINE void nt_panel_avx512(const double* X, std::ptrdiff_t ldx,
+  const double* Y, std::ptrdiff_t ldy, __mmask8 m0, __mmask8 m1, int k, double* C, std::ptrdiff_t ldc)
+{
+  __m512d acc[R][W];
+  for (int r = 0; r < R; ++r)
+    for (int q = 0; q < W; ++q)
+      acc[r][q] = _mm512_setzero_pd();
+  const __mmask8 mask[2] = { m0, m1 };
+  for (int p = 0; p < k; ++p, X += ldx, Y += ldy)
+  {
+    __m512d a[R];
+    for (int r = 0; r < R; ++r)
+      a[r] = Full ? _mm512_loadu_pd(X + 8 * r) : _mm512_maskz_loadu_pd(mask[r], X + 8 * r);
+    for (int q = 0; q < W; ++q)
+    {
+      const __m512d b = _mm512_set1_pd(Y[q]);
+      for (int r = 0; r < R; ++r)
+        acc[r][q] = _mm512_fmadd_pd(a[r], b, acc[r][q]);
+    }
+  }
+  for (int q = 0; q < W; ++q)
+  {
+    double* c = C + q * ldc;
+    for (int r = 0; r < R; ++r)
+    {
+      __m512d v = acc[r][q];
+      if (Subtract)
+        v = _mm512_sub_pd(
+          Full ? _mm512_loadu_pd(c + 8 * r) : _mm512_maskz_loadu_pd(mask[r], c + 8 * r), v);
+      if (Full)
+        _mm512_storeu_pd(c + 8 * r, v);
+      else
+        _mm512_mask_storeu_pd(c + 8 * r, mask[r], v);
+    }
+  }
+}
+
+/// Rows [i0, m) of C = X Y^T (Subtract: C -= X Y^T) for the W <= 8 columns at Y and C, in
+/// panels of 16 rows, the last 1-15 rows by masks.
+template<int W, bool Subtract>
+BARY_TARGET_AVX512 BARY_ALWAYS_INLINE void nt_columns_avx512(const double* X, std::ptrdiff_t ldx,
+  const double* Y, std::ptrdiff_t ldy, int i0, int m, int k, double* C, std::ptrdiff_t ldc)
+{
+  int i = i0;
+  for (; i + 16 <= m; i += 16)
+    nt_panel_avx512<2, W, Subtract, true>(X + i, ldx, Y, ldy, 0xFF, 0xFF, k, C + i, ldc);
+  const int rows = m - i;
+  if (rows > 8)
+    nt_panel_avx512<2, W, Subtract, false>(X + i, ldx, Y, ldy, 0xFF,
+      static_cast<__mmask8>((1u << (rows - 8)) - 1u), k, C + i, ldc);
+  else if (rows > 0)
+    nt_panel_avx512<1, W, Subtract, false>(X + i, ldx, Y, ldy,
+      static_cast<__mmask8>((1u << rows) - 1u), 0, k, C + i, ldc);
+}
+
+/// descendant_update_avx2 with the 512-bit panels, 8 columns at a time (the entries C(i, j) with
+/// i >= j rounded down to a multiple of 8 are computed).
+BARY_TARGET_AVX512 BARY_NOINLINE void descendant_update_avx512(
+  const double* X, std::ptrdiff_t ldx, int m2, int m1, int k, double* C)
+{
+  int j = 0;
+  for (; j + 8 <= m1; j += 8)
+    nt_columns_avx512<8, false>(X, ldx, X + j, ldx, j, m2, k, C + j * std::ptrdiff_t{ m2 }, m2);
+  double* Cj = C + j * std::ptrdiff_t{ m2 };
+  const double* Xj = X + j;
+  switch (m1 - j)
+  {
+    case 7: nt_columns_avx512<7, false>(X, ldx, Xj, ldx, j, m2, k, Cj, m2); break;
+    case 6: nt_columns_avx512<6, false>(X, ldx, Xj, ldx, j, m2, k, Cj, m2); break;
+    case 5: nt_columns_avx512<5, false>(X, ldx, Xj, ldx, j, m2, k, Cj, m2); break;
+    case 4: nt_columns_avx512<4, false>(X, ldx, Xj, ldx, j, m2, k, Cj, m2); break;
+    case 3: nt_columns_avx512<3, false>(X, ldx, Xj, ldx, j, m2, k, Cj, m2); break;
+    case 2: nt_columns_avx512<2, false>(X, ldx, Xj, ldx, j, m2, k, Cj, m2); break;
+    case 1: nt_columns_avx512<1, false>(X, ldx, Xj, ldx, j, m2, k, Cj, m2); break;
+    default: break;
+  }
+}
+
+/// panel_cholesky_avx2 with the 512-bit panels for the finished columns' product (the same
+/// blocks of 4 columns, so the same operations in the same order).
+BARY_TARGET_AVX512 BARY_NOINLINE int panel_cholesky_avx512(double* P, int h, int w)
+{
+  const std::ptrdiff_t ld = h;
+  for (int j = 0; j < w; j += 4)
+  {
+    const int jb = std::min(4, w - j);
+    double* block = P + j * ld;
+    if (j > 0)
+      switch (jb)
+      {
+        case 4: nt_columns_avx512<4, true>(P, ld, P + j, ld, j, h, j, block, ld); break;
+        case 3: nt_columns_avx512<3, true>(P, ld, P + j, ld, j, h, j, block, ld); break;
+        case 2: nt_columns_avx512<2, true>(P, ld, P + j, ld, j, h, j, block, ld); break;
+        default: nt_columns_avx512<1, true>(P, ld, P + j, ld, j, h, j, block, ld); break;
+      }
+    for (int c = j; c < j + jb; ++c)
+    {
+      double* column = P + c * ld;
+      for (int q = j; q < c; ++q)
+      {
+        const double* finished = P + q * ld;
+        const double lcq = finished[c];
+        for (int i = c; i < h; ++i)
+          column[i] -= finished[i] * lcq;
+      }
+      const double pivot = column[c];
+      if (!(pivot > 0.0))
+        return c;
+      const double diagonal = std::sqrt(pivot);
+      column[c] = diagonal;
+      for (int i = c + 1; i < h; ++i)
+        column[i] /= diagonal;
+    }
+  }
+  return -1;
+}
+#endif
+
 /// Left-looking supernodal numeric factorization of P M~ P^T, M~ = S M S with the scaling
 /// given per row of A (@p scale), M's entries read from A through @p columns (A: both
 /// triangles, a symmetric pattern). Returns -1, or the factor column whose pivot was not
@@ -735,6 +859,7 @@ Index supernodal_numeric(SupernodalFactor& f, const SparseMatrix& A, const Facto
   const SingleThreadedProducts single_threaded;
   const bool blocked = single_threaded.sequential();
   [[maybe_unused]] const bool avx2 = detail::simd_level() == detail::SimdLevel::AVX2;
+  [[maybe_unused]] const bool avx512 = detail::avx512_enabled();
   const int* rows = f.rows.data();
   const int* source = columns.source.data();
   const int* entry_row = columns.entry_row.data();
@@ -783,7 +908,10 @@ Index supernodal_numeric(SupernodalFactor& f, const SparseMatrix& A, const Facto
         Eigen::OuterStride<>(d_height));
       DenseBlock C(update.data(), m2, m1, Eigen::OuterStride<>(m2));
 #if BARY_HAVE_AVX2_DISPATCH
-      if (avx2)
+      if (avx512)
+        descendant_update_avx512(
+          f.values.data() + f.value_start[du] + (p1 - d0), d_height, m2, m1, d_columns, update.data());
+      else if (avx2)
         descendant_update_avx2(
           f.values.data() + f.value_start[du] + (p1 - d0), d_height, m2, m1, d_columns, update.data());
       else
@@ -829,7 +957,8 @@ Index supernodal_numeric(SupernodalFactor& f, const SparseMatrix& A, const Facto
 #if BARY_HAVE_AVX2_DISPATCH
     if (avx2)
     {
-      const int failed = panel_cholesky_avx2(Ls, height, width);
+      const int failed =
+        avx512 ? panel_cholesky_avx512(Ls, height, width) : panel_cholesky_avx2(Ls, height, width);
       if (failed >= 0)
         return k1 + failed;
     }
