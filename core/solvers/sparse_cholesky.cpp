@@ -1648,12 +1648,23 @@ void SparseCholesky::compute_principal(
   auto impl = std::make_shared<Impl>();
   impl->n = m;
   impl->scale.resize(m);
+  // A is compressed: each diagonal entry by bisection of its column rather than a pass over it
+  // (a column whose rows are not sorted, where bisection may miss it, is scanned).
+  const int* outer = A.outerIndexPtr();
+  const int* inner = A.innerIndexPtr();
+  const double* value = A.valuePtr();
   for (Index i = 0; i < m; ++i)
   {
+    const int r = rows(i);
+    const int* begin = inner + outer[r];
+    const int* end = inner + outer[r + 1];
+    const int* at = std::lower_bound(begin, end, r);
     double d = 0.0;
-    for (SparseMatrix::InnerIterator it(A, rows(i)); it; ++it)
-      if (it.row() == rows(i))
-        d += it.value();
+    if (at != end && *at == r)
+      d = value[at - inner];
+    else
+      for (const int* q = begin; q != end; ++q)
+        d += *q == r ? value[q - inner] : 0.0;
     if (!(d > 0.0))
       throw_not_positive_definite(
         "its diagonal entry (" + id(i) + ", " + id(i) + ") is " + detail::format_number(d) + ", not > 0");

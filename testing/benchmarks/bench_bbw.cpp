@@ -7,11 +7,15 @@
 #include "core/meshing/domain_mesh.h"
 #include "core/deformation/linear_blend_skinning.h"
 #include "core/deformation/skeleton.h"
+#include "core/detail/simd.h"
+#include "core/solvers/box_constrained_qp.h"
+#include "core/solvers/sparse_cholesky.h"
 
 #include "igl_formats.h"
 
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -186,6 +190,71 @@ void BBWHandFast(benchmark::State& state)
   report(state, r, mesh.V.rows(), r.seconds);
 }
 BENCHMARK(BBWHandFast)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1);
+
+/// One free block of the fast mode, factored again and again (symbolic analysis and numeric
+/// factorization, as the active-set solver does for a fresh factorization): handle 0's final
+/// free set on libigl's hand (its weight strictly between the bounds), ordered by the
+/// restriction of one AMD ordering of Q, Supernodal backend. range(0) = 0: the 256-bit (AVX2)
+/// kernels, 1: the 512-bit ones where the CPU has AVX-512 (skipped elsewhere). Counters: the
+/// block's size, the factor's entries and flops, GFlop/s of the whole factorization.
+void BBWHandBlock(benchmark::State& state)
+{
+  const std::string dir = std::string(BARYLAB_SHARED_DIR) + "/igl/";
+  if (!std::filesystem::exists(dir + "hand.mesh"))
+  {
+    state.SkipWithError("shared data not found (../shared/data/igl/hand.mesh)");
+    return;
+  }
+  const bool wide = state.range(0) == 1;
+  if (bary::detail::set_avx512_enabled(wide) != wide ||
+    bary::detail::simd_level() != bary::detail::SimdLevel::AVX2)
+  {
+    bary::detail::set_avx512_enabled(true);
+    state.SkipWithError("this CPU lacks the instruction set asked for");
+    return;
+  }
+  const auto mesh = bary::test::read_medit_mesh(dir + "hand.mesh");
+  const auto tgf = bary::test::read_tgf(dir + "hand.tgf");
+  const bary::BBWHandles h = bary::handles_from_skeleton(mesh.V, tgf.C, Eigen::VectorXi(), tgf.E);
+  const bary::BBWBoundaryConditions bc = bary::bbw_boundary_conditions(h, mesh.V.rows());
+  const bary::BBWOptions defaults;
+  const bary::BoundedBiharmonicWeights bbw(mesh.V, mesh.T, defaults);
+  const Eigen::SparseMatrix<double>& Q = bbw.energy_matrix();
+  const bary::Index n = Q.rows();
+  Eigen::VectorXd l = Eigen::VectorXd::Zero(n), u = Eigen::VectorXd::Ones(n);
+  for (bary::Index k = 0; k < bc.vertices.size(); ++k)
+    l(bc.vertices(k)) = u(bc.vertices(k)) = bc.values(k, 0);
+  bary::BoxQPOptions box;
+  box.tolerance = defaults.tolerance;
+  const bary::BoxQPResult r = bary::BoxConstrainedQP(Q).solve(Eigen::VectorXd::Zero(n), l, u, box);
+  const Eigen::VectorXi amd = bary::fill_reducing_ordering(Q);
+  std::vector<int> rank(static_cast<std::size_t>(n));
+  for (bary::Index k = 0; k < n; ++k)
+    rank[static_cast<std::size_t>(amd(k))] = static_cast<int>(k);
+  std::vector<int> free;
+  for (bary::Index i = 0; i < n; ++i)
+    if (l(i) < u(i) && r.x(i) > 0.0 && r.x(i) < 1.0)
+      free.push_back(static_cast<int>(i));
+  const Eigen::VectorXi rows = Eigen::Map<const Eigen::VectorXi>(free.data(), static_cast<Eigen::Index>(free.size()));
+  bary::SparseCholeskySettings settings;
+  settings.trusted = true;
+  settings.ordering = Eigen::VectorXi::LinSpaced(rows.size(), 0, static_cast<int>(rows.size()) - 1);
+  std::sort(settings.ordering.data(), settings.ordering.data() + rows.size(),
+    [&](int a, int b) { return rank[static_cast<std::size_t>(free[static_cast<std::size_t>(a)])] < rank[static_cast<std::size_t>(free[static_cast<std::size_t>(b)])]; });
+  bary::SparseCholesky solver(bary::SparseCholesky::Backend::Supernodal);
+  for (auto _ : state)
+  {
+    solver.compute_principal(Q, rows, settings);
+    benchmark::DoNotOptimize(solver.min_pivot());
+  }
+  bary::detail::set_avx512_enabled(true);
+  state.counters["block"] = static_cast<double>(rows.size());
+  state.counters["entries"] = solver.factor_entries();
+  state.counters["flops"] = solver.factor_flops();
+  state.counters["GFlop/s"] = benchmark::Counter(
+    solver.factor_flops() * 1e-9, benchmark::Counter::kIsIterationInvariantRate);
+}
+BENCHMARK(BBWHandBlock)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->MeasureProcessCPUTime();
 
 /// The page's bind-time table (docs/bounded-biharmonic-weights.md#speed): libigl's decimated
 /// knight (1,822 vertices, 7 bones) and hand (7,234 vertices, 20 bones) with the current
