@@ -2,6 +2,7 @@
 
 #include "core/detail/parallel_for.h"
 #include "core/detail/format.h"
+#include "core/detail/simd.h"
 #include "core/common/error.h"
 #include "core/solvers/fem_operators.h"
 #include "core/solvers/min_quad_with_fixed.h"
@@ -69,6 +70,71 @@ void for_each_handle(Index m, int threads, const Fn& fn)
       for (Index j = begin; j < end; ++j)
         fn(j);
     });
+}
+
+/// Columns [k0, k0 + w) of Y += Q X by rows (Y, X row-major with m columns): for each column c
+/// of Q in order, each of its entries (i, c) adds Q_ic X(c, k) to Y(i, k). The same multiplies
+/// and adds in the same order however it is compiled (no fused multiply-add: the AVX2 version
+/// is BARY_TARGET_AVX2_EXACT), so both versions give the same bits.
+template<bool Unused = true>
+BARY_ALWAYS_INLINE void add_product_rows(const SparseMatrix& Q, const double* X, double* Y, Index m,
+  Index k0, Index w)
+{
+  const int* outer = Q.outerIndexPtr();
+  const int* inner = Q.innerIndexPtr();
+  const double* value = Q.valuePtr();
+  for (Index c = 0; c < Q.outerSize(); ++c)
+  {
+    const double* x = X + c * m + k0;
+    for (int q = outer[c]; q < outer[c + 1]; ++q)
+    {
+      double* y = Y + static_cast<Index>(inner[q]) * m + k0;
+      const double v = value[q];
+      for (Index k = 0; k < w; ++k)
+        y[k] += v * x[k];
+    }
+  }
+}
+#if BARY_HAVE_AVX2_DISPATCH
+BARY_TARGET_AVX2_EXACT BARY_NOINLINE void add_product_rows_avx2(
+  const SparseMatrix& Q, const double* X, double* Y, Index m, Index k0, Index w)
+{
+  add_product_rows(Q, X, Y, m, k0, w);
+}
+#endif
+BARY_NOINLINE void add_product_rows_portable(
+  const SparseMatrix& Q, const double* X, double* Y, Index m, Index k0, Index w)
+{
+  add_product_rows(Q, X, Y, m, k0, w);
+}
+
+/// Y = Q X for every column of X at once, in one pass over Q per thread (instead of one per
+/// column): X and Y handled by rows (@p X_rows, @p Y_rows: row-major copies, reused between
+/// calls). Each entry sums its terms in the order of Q's columns, as Eigen's product of Q with
+/// one column does, so the results are those of Q * X.col(j) bit for bit; the columns are split
+/// into one block per thread (the same sums whatever the thread count).
+void multiply_all_columns(const SparseMatrix& Q, const Eigen::MatrixXd& X, int threads,
+  Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>& X_rows,
+  Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>& Y_rows, Eigen::MatrixXd& Y)
+{
+  const Index n = Q.rows(), m = X.cols();
+  X_rows = X;
+  Y_rows.setZero(n, m);
+  const Index tasks = std::max<Index>(1, std::min<Index>(m, detail::thread_count(threads)));
+  const Index block = (m + tasks - 1) / tasks;
+  [[maybe_unused]] const bool avx2 = detail::simd_level() == detail::SimdLevel::AVX2;
+  for_each_handle(tasks, threads, [&](Index b) {
+    const Index k0 = b * block, w = std::min(m, k0 + block) - k0;
+    if (w <= 0)
+      return;
+#if BARY_HAVE_AVX2_DISPATCH
+    if (avx2)
+      add_product_rows_avx2(Q, X_rows.data(), Y_rows.data(), m, k0, w);
+    else
+#endif
+      add_product_rows_portable(Q, X_rows.data(), Y_rows.data(), m, k0, w);
+  });
+  Y = Y_rows;
 }
 
 /// BBWResult::statistics (see its comment) from its fields, for a mesh of @p vertices and
@@ -229,6 +295,9 @@ private:
   const int threads_;
   std::vector<char> known_; ///< #V: 1 on the fixed rows
   Eigen::MatrixXd X_;       ///< #V by #handles: the iterate
+  Eigen::MatrixXd QX_;      ///< #V by #handles: Q X_ at the free sets' solve
+  /// Row-major copies of X_ and of Q X_ for multiply_all_columns (kept between calls).
+  Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> X_rows_, Y_rows_;
   States state_;            ///< #V by #handles: the active sets
   // The scale of the gradient's terms: max_i sum_j |Q_ij| bounds |Q| |w| for 0 <= w <= 1.
   const double sy_;
@@ -451,6 +520,9 @@ void CoupledSolver::collect_free_sets()
 
 void CoupledSolver::solve_free_sets()
 {
+  // Q(F_j, :) x_j for every handle from one product Q X (Q is exactly symmetric: row i of the
+  // product sums column i's entries in their order, as a pass along column i would).
+  multiply_all_columns(Q_, X_, threads_, X_rows_, Y_rows_, QX_);
   for_each_handle(m_, threads_, [&](Index j) {
     const auto ju = static_cast<std::size_t>(j);
     if (free_[ju].empty())
@@ -459,12 +531,7 @@ void CoupledSolver::solve_free_sets()
     const std::vector<int>& rows = factors_[ju].rows();
     Eigen::VectorXd rhs(static_cast<Index>(rows.size()));
     for (std::size_t k = 0; k < rows.size(); ++k)
-    {
-      double sum = 0.0;
-      for (SparseMatrix::InnerIterator it(Q_, rows[k]); it; ++it)
-        sum += it.value() * X_(it.row(), j);
-      rhs(static_cast<Index>(k)) = -sum - mu_(rows[k]);
-    }
+      rhs(static_cast<Index>(k)) = -QX_(rows[k], j) - mu_(rows[k]);
     a_[ju] = factors_[ju].solve(rhs);
   });
 }
@@ -571,7 +638,7 @@ void CoupledSolver::precondition(const Eigen::VectorXd& r, Eigen::VectorXd& z)
 
 void CoupledSolver::compute_gradients()
 {
-  for_each_handle(m_, threads_, [&](Index j) { Y_.col(j) = Q_ * X_.col(j); });
+  multiply_all_columns(Q_, X_, threads_, X_rows_, Y_rows_, Y_);
 }
 
 void CoupledSolver::multiplier_where_no_weight_is_free()
