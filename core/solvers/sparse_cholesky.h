@@ -38,7 +38,10 @@
 /// left-looking LL^T of the supernode's whole panel by blocks of 4 columns on the same panels;
 /// elsewhere (or with BARYLAB_SIMD=portable) Eigen's blocked GEMM, LLT and TRSM, compiled for the
 /// build's instruction set (SSE2 on x86-64 without -march). The two paths agree to rounding,
-/// not bit for bit (FMA). Either way the products run single-threaded whatever the OpenMP
+/// not bit for bit (FMA). Where the CPU also has AVX-512 (F and VL; detail::avx512_enabled(),
+/// BARYLAB_SIMD=avx2 turns it off) the products use panels of 16 rows by up to 8 columns of
+/// 512-bit vectors: every entry is still the same FMAs in the same order, so the factor is the
+/// AVX2 one bit for bit (tested). Either way the products run single-threaded whatever the OpenMP
 /// settings, so the factor does not depend on the thread count. One right-hand side is solved
 /// by an AVX2 kernel too (each panel read once forward, once backward). It can factor a
 /// principal submatrix of a matrix without forming it (compute_principal). Measured on the free
@@ -47,7 +50,12 @@
 /// average (20.6-20.9 GFlop/s, 37% of the core's 56 GFlop/s FMA peak; the rest is assembling
 /// the columns and scattering the updates) with the AVX2 kernels, 7.1 ms (9.3 GFlop/s) with
 /// Eigen's; the symbolic analysis 1.55 ms more. Eigen's SimplicialLDLT took 15-45 ms and CHOLMOD's numeric
-/// factorization with the reference BLAS 20-40 ms on them (an earlier measurement).
+/// factorization with the reference BLAS 20-40 ms on them (an earlier measurement). On handle
+/// 0's final free block (3,705 unknowns, 5.0e5 entries, 5.6e7 flops; bench_bbw BBWHandBlock), a
+/// whole fresh factorization, symbolic analysis included, took 4.30 / 4.53 ms with the 256-bit
+/// products and 4.05 / 4.59 ms with the 512-bit ones (best of 7, two alternations, AMD EPYC of
+/// the Zen 5 family): about a third of it is the symbolic analysis and a fifth the assembly and
+/// scattering, so wider products gain 0-6% there.
 
 #include "core/common/types.h"
 
