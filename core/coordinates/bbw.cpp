@@ -76,7 +76,6 @@ void for_each_handle(Index m, int threads, const Fn& fn)
 /// of Q in order, each of its entries (i, c) adds Q_ic X(c, k) to Y(i, k). The same multiplies
 /// and adds in the same order however it is compiled (no fused multiply-add: the AVX2 version
 /// is BARY_TARGET_AVX2_EXACT), so both versions give the same bits.
-template<bool Unused = true>
 BARY_ALWAYS_INLINE void add_product_rows(const SparseMatrix& Q, const double* X, double* Y, Index m,
   Index k0, Index w)
 {
@@ -262,7 +261,7 @@ private:
   void apply_S(const Eigen::VectorXd& z, Eigen::VectorXd& result);
   /// The preconditioner z = Q(V, V) r / #handles: exactly S^-1 r when every handle is free on V.
   void precondition(const Eigen::VectorXd& r, Eigen::VectorXd& z);
-  /// Y = Q X, one handle per column, in parallel.
+  /// Y = Q X, one handle per column, all handles in one pass over Q (multiply_all_columns).
   void compute_gradients();
   /// Step 3: mu where no weight is free: the middle of the interval that makes the multipliers
   /// lambda = Y + mu of the active bounds correctly signed (its best compromise when the
