@@ -83,22 +83,36 @@ namespace simd_internal
 {
 /// -1: not chosen yet; otherwise the level in use.
 inline std::atomic<int> chosen{ -1 };
+/// -1: not chosen yet; 0 / 1: the 512-bit variants off / on.
+inline std::atomic<int> avx512_chosen{ -1 };
+/// The value in @p slot, set by @p choose() when it is still -1 (the first call).
+template<class Choose>
+inline int chosen_once(std::atomic<int>& slot, const Choose& choose)
+{
+  int value = slot.load(std::memory_order_relaxed);
+  if (value < 0)
+  {
+    value = choose();
+    slot.store(value, std::memory_order_relaxed);
+  }
+  return value;
+}
+/// True when the environment variable BARYLAB_SIMD is @p a or @p b.
+inline bool environment_asks(const char* a, const char* b = nullptr)
+{
+  const char* env = std::getenv("BARYLAB_SIMD");
+  return env && (std::strcmp(env, a) == 0 || (b && std::strcmp(env, b) == 0));
+}
 } // namespace simd_internal
 
 /// The level the kernels use: the supported one, unless the environment variable BARYLAB_SIMD
 /// is "0" or "portable" (then Portable), or set_simd_level chose a lower one.
 inline SimdLevel simd_level()
 {
-  int level = simd_internal::chosen.load(std::memory_order_relaxed);
-  if (level < 0)
-  {
-    level = static_cast<int>(supported_simd_level());
-    if (const char* env = std::getenv("BARYLAB_SIMD"))
-      if (std::strcmp(env, "0") == 0 || std::strcmp(env, "portable") == 0)
-        level = static_cast<int>(SimdLevel::Portable);
-    simd_internal::chosen.store(level, std::memory_order_relaxed);
-  }
-  return static_cast<SimdLevel>(level);
+  return static_cast<SimdLevel>(simd_internal::chosen_once(simd_internal::chosen, [] {
+    return simd_internal::environment_asks("0", "portable") ? static_cast<int>(SimdLevel::Portable)
+                                                             : static_cast<int>(supported_simd_level());
+  }));
 }
 
 /// Chooses the kernels' level (at most the supported one; for tests and benchmarks that compare
@@ -123,11 +137,6 @@ inline bool avx512_supported()
   return false;
 #endif
 }
-namespace simd_internal
-{
-/// -1: not chosen yet; 0 / 1: the 512-bit variants off / on.
-inline std::atomic<int> avx512_chosen{ -1 };
-} // namespace simd_internal
 /// True when the kernels that have a 512-bit variant (the dense blocks of the supernodal
 /// Cholesky factorization, core/solvers/sparse_cholesky.cpp) use it: simd_level() is AVX2 and
 /// avx512_supported(), unless the environment variable BARYLAB_SIMD is "avx2" (256-bit vectors
@@ -136,14 +145,9 @@ inline std::atomic<int> avx512_chosen{ -1 };
 /// results are the same bit for bit (tested).
 inline bool avx512_enabled()
 {
-  int on = simd_internal::avx512_chosen.load(std::memory_order_relaxed);
-  if (on < 0)
-  {
-    const char* env = std::getenv("BARYLAB_SIMD");
-    on = avx512_supported() && !(env && std::strcmp(env, "avx2") == 0) ? 1 : 0;
-    simd_internal::avx512_chosen.store(on, std::memory_order_relaxed);
-  }
-  return on == 1 && simd_level() == SimdLevel::AVX2;
+  return simd_internal::chosen_once(simd_internal::avx512_chosen, [] {
+    return avx512_supported() && !simd_internal::environment_asks("avx2") ? 1 : 0;
+  }) == 1 && simd_level() == SimdLevel::AVX2;
 }
 /// Allows or forbids the 512-bit variants (allowed only where avx512_supported(); for tests and
 /// benchmarks that compare the paths). Returns whether they are allowed now.

@@ -663,6 +663,34 @@ BARY_TARGET_AVX2 BARY_NOINLINE void descendant_update_avx2(
     nt_columns_avx2<1, false>(X, ldx, X + j, ldx, j, m2, k, C + j * std::ptrdiff_t{ m2 }, m2);
 }
 
+/// The columns [j, j + jb) of a supernode's panel P (h rows, leading dimension h) once the
+/// finished columns' product has been subtracted: each minus its block's earlier columns, then
+/// its pivot's square root and the rows below divided by it. Returns -1, or the column whose
+/// pivot is not positive (or NaN). Inlined into each instruction set's panel_cholesky.
+BARY_ALWAYS_INLINE int factor_block_columns(double* P, int h, int j, int jb)
+{
+  const std::ptrdiff_t ld = h;
+  for (int c = j; c < j + jb; ++c)
+  {
+    double* column = P + c * ld;
+    for (int q = j; q < c; ++q)
+    {
+      const double* finished = P + q * ld;
+      const double lcq = finished[c];
+      for (int i = c; i < h; ++i)
+        column[i] -= finished[i] * lcq;
+    }
+    const double pivot = column[c];
+    if (!(pivot > 0.0))
+      return c;
+    const double diagonal = std::sqrt(pivot);
+    column[c] = diagonal;
+    for (int i = c + 1; i < h; ++i)
+      column[i] /= diagonal;
+  }
+  return -1;
+}
+
 /// Cholesky factorization of a supernode's panel in place: P is h x w (column-major, leading
 /// dimension h, h >= w) holding the updated columns; on return its top w x w block is L11 (lower
 /// triangle) and the rows below are L21 = P21 L11^-T. Left-looking by blocks of 4 columns: the
@@ -684,24 +712,9 @@ BARY_TARGET_AVX2 BARY_NOINLINE int panel_cholesky_avx2(double* P, int h, int w)
         case 2: nt_columns_avx2<2, true>(P, ld, P + j, ld, j, h, j, block, ld); break;
         default: nt_columns_avx2<1, true>(P, ld, P + j, ld, j, h, j, block, ld); break;
       }
-    for (int c = j; c < j + jb; ++c)
-    {
-      double* column = P + c * ld;
-      for (int q = j; q < c; ++q)
-      {
-        const double* finished = P + q * ld;
-        const double lcq = finished[c];
-        for (int i = c; i < h; ++i)
-          column[i] -= finished[i] * lcq;
-      }
-      const double pivot = column[c];
-      if (!(pivot > 0.0))
-        return c;
-      const double diagonal = std::sqrt(pivot);
-      column[c] = diagonal;
-      for (int i = c + 1; i < h; ++i)
-        column[i] /= diagonal;
-    }
+    const int failed = factor_block_columns(P, h, j, jb);
+    if (failed >= 0)
+      return failed;
   }
   return -1;
 }
@@ -808,24 +821,9 @@ BARY_TARGET_AVX512 BARY_NOINLINE int panel_cholesky_avx512(double* P, int h, int
         case 2: nt_columns_avx512<2, true>(P, ld, P + j, ld, j, h, j, block, ld); break;
         default: nt_columns_avx512<1, true>(P, ld, P + j, ld, j, h, j, block, ld); break;
       }
-    for (int c = j; c < j + jb; ++c)
-    {
-      double* column = P + c * ld;
-      for (int q = j; q < c; ++q)
-      {
-        const double* finished = P + q * ld;
-        const double lcq = finished[c];
-        for (int i = c; i < h; ++i)
-          column[i] -= finished[i] * lcq;
-      }
-      const double pivot = column[c];
-      if (!(pivot > 0.0))
-        return c;
-      const double diagonal = std::sqrt(pivot);
-      column[c] = diagonal;
-      for (int i = c + 1; i < h; ++i)
-        column[i] /= diagonal;
-    }
+    const int failed = factor_block_columns(P, h, j, jb);
+    if (failed >= 0)
+      return failed;
   }
   return -1;
 }
