@@ -694,30 +694,35 @@ BARY_ALWAYS_INLINE int factor_block_columns(double* P, int h, int j, int jb)
 /// Cholesky factorization of a supernode's panel in place: P is h x w (column-major, leading
 /// dimension h, h >= w) holding the updated columns; on return its top w x w block is L11 (lower
 /// triangle) and the rows below are L21 = P21 L11^-T. Left-looking by blocks of 4 columns: the
-/// block's columns minus the product of the finished columns (the FMA panels above), then the
-/// block itself column by column. Returns -1, or the column whose pivot is not positive (or
-/// NaN). Compiled for AVX2 + FMA: it must only run where simd_level() says so.
-BARY_TARGET_AVX2 BARY_NOINLINE int panel_cholesky_avx2(double* P, int h, int w)
-{
-  const std::ptrdiff_t ld = h;
-  for (int j = 0; j < w; j += 4)
-  {
-    const int jb = std::min(4, w - j);
-    double* block = P + j * ld;
-    if (j > 0)
-      switch (jb)
-      {
-        case 4: nt_columns_avx2<4, true>(P, ld, P + j, ld, j, h, j, block, ld); break;
-        case 3: nt_columns_avx2<3, true>(P, ld, P + j, ld, j, h, j, block, ld); break;
-        case 2: nt_columns_avx2<2, true>(P, ld, P + j, ld, j, h, j, block, ld); break;
-        default: nt_columns_avx2<1, true>(P, ld, P + j, ld, j, h, j, block, ld); break;
-      }
-    const int failed = factor_block_columns(P, h, j, jb);
-    if (failed >= 0)
-      return failed;
+/// block's columns minus the product of the finished columns (COLUMNS: an instruction set's
+/// FMA panels, nt_columns_avx2 or nt_columns_avx512), then the block itself column by column.
+/// The function NAME returns -1, or the column whose pivot is not positive (or NaN); it is
+/// compiled for TARGET and must only run where that instruction set is enabled. (A macro: one
+/// body, one function per instruction set, since GCC's target attribute cannot vary with a
+/// template argument.)
+#define BARY_DEFINE_PANEL_CHOLESKY(NAME, TARGET, COLUMNS)                                          \
+  TARGET BARY_NOINLINE int NAME(double* P, int h, int w)                                          \
+  {                                                                                               \
+    const std::ptrdiff_t ld = h;                                                                  \
+    for (int j = 0; j < w; j += 4)                                                                \
+    {                                                                                             \
+      const int jb = std::min(4, w - j);                                                          \
+      double* block = P + j * ld;                                                                 \
+      if (j > 0)                                                                                  \
+        switch (jb)                                                                               \
+        {                                                                                         \
+          case 4: COLUMNS<4, true>(P, ld, P + j, ld, j, h, j, block, ld); break;                  \
+          case 3: COLUMNS<3, true>(P, ld, P + j, ld, j, h, j, block, ld); break;                  \
+          case 2: COLUMNS<2, true>(P, ld, P + j, ld, j, h, j, block, ld); break;                  \
+          default: COLUMNS<1, true>(P, ld, P + j, ld, j, h, j, block, ld); break;                 \
+        }                                                                                         \
+      const int failed = factor_block_columns(P, h, j, jb);                                       \
+      if (failed >= 0)                                                                            \
+        return failed;                                                                            \
+    }                                                                                             \
+    return -1;                                                                                    \
   }
-  return -1;
-}
+BARY_DEFINE_PANEL_CHOLESKY(panel_cholesky_avx2, BARY_TARGET_AVX2, nt_columns_avx2)
 #endif
 
 #if BARY_HAVE_AVX2_DISPATCH
@@ -804,29 +809,10 @@ BARY_TARGET_AVX512 BARY_NOINLINE void descendant_update_avx512(
   }
 }
 
-/// panel_cholesky_avx2 with the 512-bit panels for the finished columns' product (the same
-/// blocks of 4 columns, so the same operations in the same order).
-BARY_TARGET_AVX512 BARY_NOINLINE int panel_cholesky_avx512(double* P, int h, int w)
-{
-  const std::ptrdiff_t ld = h;
-  for (int j = 0; j < w; j += 4)
-  {
-    const int jb = std::min(4, w - j);
-    double* block = P + j * ld;
-    if (j > 0)
-      switch (jb)
-      {
-        case 4: nt_columns_avx512<4, true>(P, ld, P + j, ld, j, h, j, block, ld); break;
-        case 3: nt_columns_avx512<3, true>(P, ld, P + j, ld, j, h, j, block, ld); break;
-        case 2: nt_columns_avx512<2, true>(P, ld, P + j, ld, j, h, j, block, ld); break;
-        default: nt_columns_avx512<1, true>(P, ld, P + j, ld, j, h, j, block, ld); break;
-      }
-    const int failed = factor_block_columns(P, h, j, jb);
-    if (failed >= 0)
-      return failed;
-  }
-  return -1;
-}
+/// The panel's LL^T with the 512-bit panels for the finished columns' product (the same blocks
+/// of 4 columns, so the same operations in the same order as panel_cholesky_avx2).
+BARY_DEFINE_PANEL_CHOLESKY(panel_cholesky_avx512, BARY_TARGET_AVX512, nt_columns_avx512)
+#undef BARY_DEFINE_PANEL_CHOLESKY
 #endif
 
 /// Left-looking supernodal numeric factorization of P M~ P^T, M~ = S M S with the scaling
