@@ -47,7 +47,7 @@
 /// principal submatrix of a matrix without forming it (compute_principal). Measured on the free
 /// blocks of bounded biharmonic weights on libigl's hand (3,000-5,000 unknowns, bi-Laplacian
 /// stencil, 6.6e7 flops on average), AMD EPYC at 2.1 GHz: numeric factorization 3.2 ms on
-/// average (20.6-20.9 GFlop/s, 37% of the core's 56 GFlop/s FMA peak; the rest is assembling
+/// average (20.6-20.9 GFlop/s, 37% of the core's 56 GFlop/s AVX2 FMA peak; the rest is assembling
 /// the columns and scattering the updates) with the AVX2 kernels, 7.1 ms (9.3 GFlop/s) with
 /// Eigen's; the symbolic analysis 1.55 ms more. Eigen's SimplicialLDLT took 15-45 ms and CHOLMOD's numeric
 /// factorization with the reference BLAS 20-40 ms on them (an earlier measurement). On handle
