@@ -206,10 +206,11 @@ void BBWHandBlock(benchmark::State& state)
     return;
   }
   const bool wide = state.range(0) == 1;
+  const bool before = bary::detail::avx512_enabled(); // restored after (BARYLAB_SIMD=avx2 stays)
   if (bary::detail::set_avx512_enabled(wide) != wide ||
     bary::detail::simd_level() != bary::detail::SimdLevel::AVX2)
   {
-    bary::detail::set_avx512_enabled(true);
+    bary::detail::set_avx512_enabled(before);
     state.SkipWithError("this CPU lacks the instruction set asked for");
     return;
   }
@@ -247,7 +248,7 @@ void BBWHandBlock(benchmark::State& state)
     solver.compute_principal(Q, rows, settings);
     benchmark::DoNotOptimize(solver.min_pivot());
   }
-  bary::detail::set_avx512_enabled(true);
+  bary::detail::set_avx512_enabled(before);
   state.counters["block"] = static_cast<double>(rows.size());
   state.counters["entries"] = solver.factor_entries();
   state.counters["flops"] = solver.factor_flops();

@@ -798,20 +798,23 @@ TEST(SparseCholesky, SupernodalAvx512KernelsMatchAvx2BitForBit)
   // entry is still summed over the same columns in the same order with the same FMAs, so the
   // factor and the solutions must be identical, not merely close. Sizes 11^3 and 7^3 with a
   // random ordering (masked row tails of 1-15 rows, 1-7 column tails) and 9^3 natural order.
+  const bool before = detail::avx512_enabled();
   if (detail::set_simd_level(detail::SimdLevel::AVX2) != detail::SimdLevel::AVX2 ||
     !detail::set_avx512_enabled(true))
   {
     detail::set_simd_level(detail::supported_simd_level());
+    detail::set_avx512_enabled(before);
     GTEST_SKIP() << "no AVX-512 on this CPU";
   }
   struct Restore
   {
+    bool avx512;
     ~Restore()
     {
       detail::set_simd_level(detail::supported_simd_level());
-      detail::set_avx512_enabled(true);
+      detail::set_avx512_enabled(avx512);
     }
-  } restore;
+  } restore{ before };
   for (int size : { 11, 7, 9 })
   {
     const SparseMatrix A = grid_bilaplacian_3d(size);
